@@ -1,0 +1,18 @@
+// glTF 2.0 import (.gltf with external or data-URI buffers, and binary .glb) through tinygltf.
+#pragma once
+
+#include "lodforge/mesh.h"
+#include "lodforge/progress.h"
+
+#include <string>
+
+namespace lodforge {
+
+// Every triangle primitive of every mesh reachable from the default scene (or all scenes' roots when
+// none is default) is appended with its node's world transform applied to positions and normals.
+// POSITION, NORMAL, COLOR_0, TEXCOORD_0/1 are kept; each primitive's material becomes a Material
+// (face_materials per triangle). Textures keep their URI or embedded bytes. Vertices are never welded:
+// position_ids identify the accessor's stored vertices.
+Mesh read_gltf(const std::string& path, Progress* progress = nullptr);
+
+}  // namespace lodforge

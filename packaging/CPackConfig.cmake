@@ -1,0 +1,23 @@
+# `cpack -G DEB` in the build directory produces lodforge_<version>_<arch>.deb with both executables,
+# the desktop entry and the icon. Runtime dependencies are computed from the binaries by dpkg-shlibdeps.
+install(FILES ${PROJECT_SOURCE_DIR}/packaging/lodforge-studio.desktop DESTINATION share/applications)
+install(FILES ${PROJECT_SOURCE_DIR}/packaging/lodforge.svg
+        DESTINATION share/icons/hicolor/scalable/apps RENAME lodforge-studio.svg)
+install(FILES ${PROJECT_SOURCE_DIR}/packaging/lodforge.png
+        DESTINATION share/icons/hicolor/256x256/apps RENAME lodforge-studio.png)
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/resources/samples/ DESTINATION share/lodforge/samples)
+install(FILES ${PROJECT_SOURCE_DIR}/LICENSE DESTINATION share/doc/lodforge RENAME copyright)
+
+set(CPACK_PACKAGE_NAME lodforge)
+set(CPACK_PACKAGE_VENDOR "LodForge")
+set(CPACK_PACKAGE_CONTACT "LodForge developers <dev@lodforge.invalid>")
+set(CPACK_PACKAGE_DESCRIPTION_SUMMARY "Level-of-detail authoring for heavy scanned and modelled meshes")
+set(CPACK_PACKAGE_VERSION ${PROJECT_VERSION})
+set(CPACK_RESOURCE_FILE_LICENSE ${PROJECT_SOURCE_DIR}/LICENSE)
+set(CPACK_GENERATOR DEB)
+set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
+set(CPACK_DEBIAN_PACKAGE_SECTION graphics)
+set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
+set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
+set(CPACK_STRIP_FILES ON)
+include(CPack)
