@@ -1,0 +1,48 @@
+#include "lodforge/mesh.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <numeric>
+
+namespace lodforge {
+
+std::size_t Mesh::point_count() const {
+    if (position_ids.empty()) return positions.size();
+    // Ids are dense by contract, so the largest id names the count without building a set.
+    return static_cast<std::size_t>(*std::max_element(position_ids.begin(), position_ids.end())) + 1;
+}
+
+Bounds Mesh::bounds() const {
+    Bounds b;
+    for (const Vec3f& p : positions) b.add(p);
+    return b;
+}
+
+std::string Mesh::resolve_texture_path(const TextureRef& texture) const {
+    if (texture.path.empty() || !texture.bytes.empty()) return {};
+    std::filesystem::path p(texture.path);
+    if (p.is_absolute() || source_dir.empty()) return p.string();
+    return (std::filesystem::path(source_dir) / p).lexically_normal().string();
+}
+
+std::uint32_t duplicate_vertex(Mesh& mesh, std::uint32_t from) {
+    ensure_position_ids(mesh);
+    const auto index = static_cast<std::uint32_t>(mesh.positions.size());
+    // Copy through a value first: push_back of an element of the same vector may reallocate under it.
+    const Vec3f p = mesh.positions[from];
+    mesh.positions.push_back(p);
+    if (!mesh.normals.empty()) { const Vec3f n = mesh.normals[from]; mesh.normals.push_back(n); }
+    if (!mesh.colors.empty()) { const Vec4f c = mesh.colors[from]; mesh.colors.push_back(c); }
+    for (auto& set : mesh.texcoords) { const Vec2f t = set[from]; set.push_back(t); }
+    const std::uint32_t id = mesh.position_ids[from];
+    mesh.position_ids.push_back(id);
+    return index;
+}
+
+void ensure_position_ids(Mesh& mesh) {
+    if (mesh.position_ids.size() == mesh.positions.size()) return;
+    mesh.position_ids.resize(mesh.positions.size());
+    std::iota(mesh.position_ids.begin(), mesh.position_ids.end(), 0u);
+}
+
+}  // namespace lodforge

@@ -1,0 +1,105 @@
+#include "lodforge/mesh_io.h"
+
+#include "lodforge/error.h"
+#include "lodforge/gltf_io.h"
+#include "lodforge/mesh_validate.h"
+#include "lodforge/obj_io.h"
+#include "lodforge/ply.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+
+namespace lodforge {
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string lower_extension(const std::string& path) {
+    std::string ext = fs::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+    return ext;
+}
+
+// Turns the usual reasons a file cannot be read into one clear sentence before any parser runs.
+void check_readable(const std::string& path) {
+    std::error_code ec;
+    const auto status = fs::status(path, ec);
+    if (ec || !fs::exists(status)) throw_error(Error::Kind::io, path, "no such file");
+    if (fs::is_directory(status)) throw_error(Error::Kind::io, path, "is a directory, not a mesh file");
+    std::ifstream probe(path, std::ios::binary);
+    if (!probe) throw_error(Error::Kind::io, path, std::string("cannot open: ") + std::strerror(errno));
+}
+
+}  // namespace
+
+FileFormat format_from_extension(const std::string& path) {
+    const std::string ext = lower_extension(path);
+    if (ext == ".ply") return FileFormat::ply;
+    if (ext == ".obj") return FileFormat::obj;
+    if (ext == ".gltf") return FileFormat::gltf;
+    if (ext == ".glb") return FileFormat::glb;
+    return FileFormat::unknown;
+}
+
+FileFormat detect_format(const std::string& path) {
+    if (const FileFormat f = format_from_extension(path); f != FileFormat::unknown) return f;
+    std::ifstream in(path, std::ios::binary);
+    char magic[4] = {};
+    in.read(magic, 4);
+    if (in.gcount() == 4) {
+        if (std::memcmp(magic, "ply", 3) == 0 && (magic[3] == '\n' || magic[3] == '\r')) return FileFormat::ply;
+        if (std::memcmp(magic, "glTF", 4) == 0) return FileFormat::glb;
+    }
+    return FileFormat::unknown;
+}
+
+const char* format_name(FileFormat format) {
+    switch (format) {
+        case FileFormat::ply: return "PLY";
+        case FileFormat::obj: return "OBJ";
+        case FileFormat::gltf: return "glTF";
+        case FileFormat::glb: return "GLB";
+        case FileFormat::unknown: break;
+    }
+    return "unknown";
+}
+
+Mesh read_mesh(const std::string& path, const ReadOptions& options, Progress* progress) {
+    check_readable(path);
+    Mesh mesh;
+    switch (detect_format(path)) {
+        case FileFormat::ply: mesh = read_ply(path, progress); break;
+        case FileFormat::obj: mesh = read_obj(path, progress); break;
+        case FileFormat::gltf:
+        case FileFormat::glb: mesh = read_gltf(path, progress); break;
+        case FileFormat::unknown:
+            throw_error(Error::Kind::unsupported, path,
+                        "unknown mesh format (supported: .ply, .obj, .gltf, .glb)");
+    }
+    if (options.validate) {
+        const ValidationReport report = validate(mesh);
+        for (const auto& finding : report.findings)
+            if (finding.severity == ValidationFinding::Severity::error)
+                throw_error(Error::Kind::invalid, path, finding.message);
+    }
+    return mesh;
+}
+
+void write_mesh(const Mesh& mesh, const std::string& path, const WriteOptions& options, Progress* progress) {
+    switch (format_from_extension(path)) {
+        case FileFormat::ply: write_ply(mesh, path, options, progress); return;
+        case FileFormat::obj: write_obj(mesh, path, options, progress); return;
+        case FileFormat::gltf:
+        case FileFormat::glb:
+            throw_error(Error::Kind::unsupported, path,
+                        "glTF output is written by LOD pack export; convert to .ply or .obj here");
+        case FileFormat::unknown: break;
+    }
+    throw_error(Error::Kind::unsupported, path, "unknown output format (use .ply or .obj)");
+}
+
+}  // namespace lodforge

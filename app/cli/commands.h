@@ -1,0 +1,16 @@
+// Each subcommand registers itself on the CLI11 app and runs through a callback; one file per
+// command keeps main.cpp a table of contents.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+namespace lodforge::cli {
+
+struct GlobalOptions {
+    bool quiet = false;     // no progress bar
+};
+
+void add_info_command(CLI::App& app, const GlobalOptions& global);
+void add_convert_command(CLI::App& app, const GlobalOptions& global);
+
+}  // namespace lodforge::cli

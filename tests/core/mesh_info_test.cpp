@@ -1,0 +1,36 @@
+#include "lodforge/mesh_info.h"
+#include "lodforge/mesh_io.h"
+#include "support/test_paths.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+using namespace lodforge;
+
+TEST(MeshInfo, JsonOfTheSpotSampleHasCountsAttributesTextureAndBounds) {
+    const std::string path = test::sample("spot/spot_triangulated.obj");
+    const MeshInfo info = mesh_info(read_mesh(path), path, "OBJ");
+    const auto j = nlohmann::json::parse(to_json(info));
+    EXPECT_EQ(j["vertices"], 2930);
+    EXPECT_EQ(j["triangles"], 5856);
+    EXPECT_GT(j["wedges"].get<int>(), 2930) << "UV seams must be split into wedges";
+    const auto attrs = j["attributes"].get<std::vector<std::string>>();
+    EXPECT_NE(std::find(attrs.begin(), attrs.end(), "texcoord0"), attrs.end());
+    ASSERT_EQ(j["textures"].size(), 1u);
+    EXPECT_NE(j["textures"][0].get<std::string>().find("spot_texture.png"), std::string::npos);
+    EXPECT_TRUE(j["missing_textures"].empty());
+    ASSERT_TRUE(j["bounds"].is_object());
+    EXPECT_GT(j["bounds"]["diagonal"].get<double>(), 1.0);
+}
+
+TEST(MeshInfo, MissingTexturesAreListed) {
+    Mesh m;
+    m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    m.indices = {0, 1, 2};
+    m.source_dir = "/nonexistent-dir";
+    m.materials.push_back(Material{.name = "m", .base_color_texture = {.path = "gone.png"}});
+    const MeshInfo info = mesh_info(m);
+    ASSERT_EQ(info.missing_textures.size(), 1u);
+    EXPECT_EQ(info.missing_textures[0], "/nonexistent-dir/gone.png");
+    EXPECT_NE(to_text(info).find("MISSING"), std::string::npos);
+}
