@@ -12,14 +12,14 @@
 
 namespace {
 
-struct Run {
+struct CliRun {
     int exit_code = -1;
     std::string out;  // stdout and stderr together
 };
 
-Run lodforge(const std::string& args) {
+CliRun run_cli(const std::string& args) {
     const std::string cmd = std::string(LODFORGE_BIN_DIR) + "/lodforge --quiet " + args + " 2>&1";
-    Run r;
+    CliRun r;
     FILE* pipe = popen(cmd.c_str(), "r");
     if (!pipe) return r;
     std::array<char, 4096> buf{};
@@ -34,20 +34,20 @@ std::string quoted(const std::string& s) { return "'" + s + "'"; }
 }  // namespace
 
 TEST(Cli, HelpListsTheCommands) {
-    const Run r = lodforge("--help");
+    const CliRun r = run_cli("--help");
     EXPECT_EQ(r.exit_code, 0);
     EXPECT_NE(r.out.find("info"), std::string::npos);
     EXPECT_NE(r.out.find("convert"), std::string::npos);
-    EXPECT_EQ(lodforge("info --help").exit_code, 0);
+    EXPECT_EQ(run_cli("info --help").exit_code, 0);
 }
 
 TEST(Cli, NoCommandOrUnknownOptionIsAUsageError) {
-    EXPECT_NE(lodforge("").exit_code, 0);
-    EXPECT_NE(lodforge("info --bogus x.ply").exit_code, 0);
+    EXPECT_NE(run_cli("").exit_code, 0);
+    EXPECT_NE(run_cli("info --bogus x.ply").exit_code, 0);
 }
 
 TEST(Cli, InfoJsonOnTheDragonHasTheReadmeCounts) {
-    const Run r = lodforge("info --json " + quoted(lodforge::test::shared_data("scan-dragon/dragon_vrip_res2.ply")));
+    const CliRun r = run_cli("info --json " + quoted(lodforge::test::shared_data("scan-dragon/dragon_vrip_res2.ply")));
     ASSERT_EQ(r.exit_code, 0) << r.out;
     const auto j = nlohmann::json::parse(r.out);
     EXPECT_EQ(j["vertices"], 100250);
@@ -57,7 +57,7 @@ TEST(Cli, InfoJsonOnTheDragonHasTheReadmeCounts) {
 }
 
 TEST(Cli, InfoOnColouredScanListsNormalsAndColours) {
-    const Run r = lodforge("info --json " + quoted(lodforge::test::shared_data("color-open3d-frag115/frag_115.ply")));
+    const CliRun r = run_cli("info --json " + quoted(lodforge::test::shared_data("color-open3d-frag115/frag_115.ply")));
     ASSERT_EQ(r.exit_code, 0) << r.out;
     const auto j = nlohmann::json::parse(r.out);
     EXPECT_EQ(j["vertices"], 64365);
@@ -75,7 +75,7 @@ TEST(Cli, InfoTextReportsValidationFindings) {
                "element face 3\nproperty list uchar int vertex_indices\nend_header\n"
                "0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 2 1 0\n3 0 0 3\n";
     }
-    const Run r = lodforge("info " + quoted(dir.file("dup.ply")));
+    const CliRun r = run_cli("info " + quoted(dir.file("dup.ply")));
     ASSERT_EQ(r.exit_code, 0) << r.out;
     EXPECT_NE(r.out.find("duplicate triangles"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("degenerate triangles"), std::string::npos) << r.out;
@@ -88,10 +88,10 @@ TEST(Cli, ErrorsExitNonZeroAndNameTheFile) {
         out << "ply\nformat ascii 1.0\nelement vertex 10\nproperty float x\nproperty float y\nproperty float z\n"
                "end_header\n0 0 0\n1 1 1\n";
     }
-    Run r = lodforge("info " + quoted(dir.file("truncated.ply")));
+    CliRun r = run_cli("info " + quoted(dir.file("truncated.ply")));
     EXPECT_EQ(r.exit_code, 1) << r.out;
     EXPECT_NE(r.out.find("truncated.ply"), std::string::npos) << r.out;
-    r = lodforge("info " + quoted(dir.file("missing.obj")));
+    r = run_cli("info " + quoted(dir.file("missing.obj")));
     EXPECT_EQ(r.exit_code, 1);
     EXPECT_NE(r.out.find("missing.obj: no such file"), std::string::npos) << r.out;
 }
@@ -101,9 +101,9 @@ TEST(Cli, ConvertObjToPlyAndBackKeepsCounts) {
     const std::string spot = lodforge::test::sample("spot/spot_triangulated.obj");
     for (const char* enc : {"ascii", "binary", "binary-be"}) {
         const std::string out = dir.file(std::string("spot-") + enc + ".ply");
-        Run r = lodforge("convert --encoding " + std::string(enc) + " " + quoted(spot) + " " + quoted(out));
+        CliRun r = run_cli("convert --encoding " + std::string(enc) + " " + quoted(spot) + " " + quoted(out));
         ASSERT_EQ(r.exit_code, 0) << r.out;
-        r = lodforge("info --json " + quoted(out));
+        r = run_cli("info --json " + quoted(out));
         ASSERT_EQ(r.exit_code, 0) << r.out;
         const auto j = nlohmann::json::parse(r.out);
         EXPECT_EQ(j["triangles"], 5856) << enc;
@@ -111,18 +111,18 @@ TEST(Cli, ConvertObjToPlyAndBackKeepsCounts) {
         EXPECT_NE(std::find(attrs.begin(), attrs.end(), "texcoord0"), attrs.end()) << enc;
     }
     const std::string obj = dir.file("again.obj");
-    ASSERT_EQ(lodforge("convert " + quoted(dir.file("spot-binary.ply")) + " " + quoted(obj)).exit_code, 0);
-    const auto j = nlohmann::json::parse(lodforge("info --json " + quoted(obj)).out);
+    ASSERT_EQ(run_cli("convert " + quoted(dir.file("spot-binary.ply")) + " " + quoted(obj)).exit_code, 0);
+    const auto j = nlohmann::json::parse(run_cli("info --json " + quoted(obj)).out);
     EXPECT_EQ(j["triangles"], 5856);
 }
 
 TEST(Cli, ConvertToAnUnwritablePlaceFailsWithoutPartialOutput) {
     lodforge::test::ScratchDir dir("cli-unwritable");
     const std::string spot = lodforge::test::sample("spot/spot_triangulated.obj");
-    const Run r = lodforge("convert " + quoted(spot) + " " + quoted(dir.file("no/such/dir/out.ply")));
+    const CliRun r = run_cli("convert " + quoted(spot) + " " + quoted(dir.file("no/such/dir/out.ply")));
     EXPECT_EQ(r.exit_code, 1);
     EXPECT_NE(r.out.find("out.ply"), std::string::npos) << r.out;
-    const Run bad = lodforge("convert " + quoted(spot) + " " + quoted(dir.file("out.stl")));
+    const CliRun bad = run_cli("convert " + quoted(spot) + " " + quoted(dir.file("out.stl")));
     EXPECT_NE(bad.exit_code, 0);
     EXPECT_TRUE(std::filesystem::is_empty(dir.path()));
 }

@@ -28,7 +28,9 @@ TEST(MeshInfo, MissingTexturesAreListed) {
     m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
     m.indices = {0, 1, 2};
     m.source_dir = "/nonexistent-dir";
-    m.materials.push_back(Material{.name = "m", .base_color_texture = {.path = "gone.png"}});
+    Material material;
+    material.base_color_texture.path = "gone.png";
+    m.materials.push_back(material);
     const MeshInfo info = mesh_info(m);
     ASSERT_EQ(info.missing_textures.size(), 1u);
     EXPECT_EQ(info.missing_textures[0], "/nonexistent-dir/gone.png");

@@ -50,9 +50,10 @@ TEST(Mesh, BoundsAndDiagonal) {
 TEST(Mesh, ResolvesRelativeTexturePathsAgainstTheSourceDirectory) {
     Mesh m;
     m.source_dir = "/data/models";
-    TextureRef rel{.path = "tex/a.png"};
-    TextureRef abs{.path = "/x/b.png"};
-    TextureRef embedded{.path = "", .bytes = {1, 2, 3}};
+    TextureRef rel, abs, embedded;
+    rel.path = "tex/a.png";
+    abs.path = "/x/b.png";
+    embedded.bytes = {1, 2, 3};
     EXPECT_EQ(m.resolve_texture_path(rel), "/data/models/tex/a.png");
     EXPECT_EQ(m.resolve_texture_path(abs), "/x/b.png");
     EXPECT_EQ(m.resolve_texture_path(embedded), "");

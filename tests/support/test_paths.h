@@ -3,6 +3,7 @@
 
 #include <filesystem>
 #include <string>
+#include <unistd.h>
 
 namespace lodforge::test {
 
@@ -34,5 +35,3 @@ private:
 };
 
 }  // namespace lodforge::test
-
-#include <unistd.h>
