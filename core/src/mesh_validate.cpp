@@ -21,13 +21,14 @@ public:
         ++finding_.count;
     }
     void add_many(std::size_t count) { finding_.count += count; }
-    // `what` is the plural noun phrase, `item` names the example kind ("face", "vertex").
-    void emit(ValidationReport& report, const std::string& what, const std::string& item) {
+    // `what` is the plural noun phrase, `item`/`items` name the example kind ("face"/"faces").
+    void emit(ValidationReport& report, const std::string& what, const std::string& item,
+              const std::string& items) {
         if (finding_.count == 0) return;
         std::ostringstream s;
         s << finding_.count << ' ' << what;
         if (!finding_.examples.empty()) {
-            s << " (e.g. " << item << (finding_.examples.size() > 1 ? "s " : " ");
+            s << " (e.g. " << (finding_.examples.size() > 1 ? items : item) << ' ';
             for (std::size_t i = 0; i < finding_.examples.size(); ++i) s << (i ? ", " : "") << finding_.examples[i];
             s << ')';
         }
@@ -70,13 +71,13 @@ ValidationReport validate(const Mesh& mesh, const ValidationParams& params) {
     if (!mesh.position_ids.empty() && mesh.position_ids.size() != n) sizes.add_many(1);
     if (mesh.indices.size() % 3 != 0) sizes.add_many(1);
     if (!mesh.face_materials.empty() && mesh.face_materials.size() != mesh.triangle_count()) sizes.add_many(1);
-    sizes.emit(report, "attribute arrays whose length does not match their element count", "array");
+    sizes.emit(report, "attribute arrays whose length does not match their element count", "array", "arrays");
     if (report.has_errors()) return report;  // the checks below index these arrays
 
     FindingBuilder nan_pos(Severity::error, "non_finite_position", max_ex);
     for (std::size_t v = 0; v < n; ++v)
         if (!is_finite(mesh.positions[v])) nan_pos.add(v);
-    nan_pos.emit(report, "vertices with NaN or infinite coordinates", "vertex");
+    nan_pos.emit(report, "vertices with NaN or infinite coordinates", "vertex", "vertices");
 
     FindingBuilder nan_attr(Severity::error, "non_finite_attribute", max_ex);
     for (std::size_t v = 0; v < n; ++v) {
@@ -85,19 +86,19 @@ ValidationReport validate(const Mesh& mesh, const ValidationParams& params) {
         for (const auto& set : mesh.texcoords) bad = bad || !finite2(set[v]);
         if (bad) nan_attr.add(v);
     }
-    nan_attr.emit(report, "vertices with NaN or infinite normals, colours or texture coordinates", "vertex");
+    nan_attr.emit(report, "vertices with NaN or infinite normals, colours or texture coordinates", "vertex", "vertices");
 
     const std::size_t tris = mesh.triangle_count();
     FindingBuilder range(Severity::error, "index_out_of_range", max_ex);
     for (std::size_t t = 0; t < tris; ++t)
         for (int k = 0; k < 3; ++k)
             if (mesh.indices[3 * t + k] >= n) { range.add(t); break; }
-    range.emit(report, "triangles referencing a vertex that does not exist", "face");
+    range.emit(report, "triangles referencing a vertex that does not exist", "face", "faces");
 
     FindingBuilder material(Severity::error, "material_out_of_range", max_ex);
     for (std::size_t t = 0; t < mesh.face_materials.size(); ++t)
         if (mesh.face_materials[t] >= mesh.materials.size()) material.add(t);
-    material.emit(report, "triangles referencing a material that does not exist", "face");
+    material.emit(report, "triangles referencing a material that does not exist", "face", "faces");
     if (report.has_errors()) return report;
 
     // Topology is judged on surface points, not wedges: two wedges of one point are one vertex.
@@ -122,15 +123,15 @@ ValidationReport validate(const Mesh& mesh, const ValidationParams& params) {
         std::sort(key.begin(), key.begin() + 3);
         sorted_faces.push_back(key);
     }
-    degenerate.emit(report, "degenerate triangles (a vertex repeated)", "face");
-    zero_area.emit(report, "triangles with zero area", "face");
+    degenerate.emit(report, "degenerate triangles (a vertex repeated)", "face", "faces");
+    zero_area.emit(report, "triangles with zero area", "face", "faces");
 
     FindingBuilder duplicate(Severity::warning, "duplicate_triangle", max_ex);
     std::sort(sorted_faces.begin(), sorted_faces.end());
     for (std::size_t i = 1; i < sorted_faces.size(); ++i)
         if (std::equal(sorted_faces[i].begin(), sorted_faces[i].begin() + 3, sorted_faces[i - 1].begin()))
             duplicate.add(sorted_faces[i][3]);
-    duplicate.emit(report, "duplicate triangles (same three vertices as an earlier face)", "face");
+    duplicate.emit(report, "duplicate triangles (same three vertices as an earlier face)", "face", "faces");
 
     // Sorting packed edge keys beats a hash map here and keeps memory at 8 bytes per half-edge.
     std::vector<std::uint64_t> edges;
@@ -148,7 +149,7 @@ ValidationReport validate(const Mesh& mesh, const ValidationParams& params) {
         if (j - i > 2) non_manifold.add(static_cast<std::size_t>(edges[i] >> 32));
         i = j;
     }
-    non_manifold.emit(report, "non-manifold edges (shared by more than two triangles)", "edge starting at point");
+    non_manifold.emit(report, "non-manifold edges (shared by more than two triangles)", "edge at point", "edges at points");
 
     // A mesh without triangles is a point cloud (valid input for the marching-cube octree), where
     // unreferenced vertices are the point of the file rather than a defect.
@@ -158,7 +159,7 @@ ValidationReport validate(const Mesh& mesh, const ValidationParams& params) {
     for (std::uint32_t v : mesh.indices) used[point(v)] = true;
     for (std::size_t p = 0; p < used.size(); ++p)
         if (!used[p]) unused.add(p);
-    unused.emit(report, "vertices not used by any triangle", "vertex");
+    unused.emit(report, "vertices not used by any triangle", "vertex", "vertices");
     return report;
 }
 
