@@ -1,0 +1,467 @@
+// glTF 2.0 import: the real samples of ../shared/data with their README counts and textures, node
+// transforms, primitive modes, accessor variants, and malformed files generated at test time.
+#include "io_test_util.h"
+
+#include "lodforge/gltf_io.h"
+#include "lodforge/image_decode.h"
+#include "lodforge/mesh_io.h"
+#include "lodforge/progress.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <string_view>
+
+namespace lodforge {
+namespace {
+namespace fs = std::filesystem;
+using nlohmann::json;
+using test::expect_error;
+using test::expect_well_formed;
+using test::shared_data;
+
+json load_json(const std::string& path) {
+    std::ifstream in(path);
+    return json::parse(in);
+}
+
+struct Sample {
+    const char* path;
+    std::size_t points, triangles;
+};
+const Sample kSamples[] = {
+    {"tex-duck/glTF/Duck.gltf", 2399, 4212},
+    {"tex-duck/glTF_Binary/Duck.glb", 2399, 4212},
+    {"tex-water-bottle/WaterBottle.gltf", 2549, 4510},
+    {"tex-cesium-milk-truck/CesiumMilkTruck.gltf", 2978, 2856},
+    {"morph-animated-morph-cube/AnimatedMorphCube.gltf", 24, 12},
+    {"morph-animated-morph-sphere/AnimatedMorphSphere.gltf", 1876, 960},
+};
+
+TEST(GltfReader, SamplesMatchReadmeCounts) {
+    for (const Sample& s : kSamples) {
+        SCOPED_TRACE(s.path);
+        const Mesh mesh = read_mesh(shared_data(s.path));
+        expect_well_formed(mesh);
+        EXPECT_EQ(mesh.point_count(), s.points);
+        EXPECT_EQ(mesh.triangle_count(), s.triangles);
+        EXPECT_TRUE(mesh.has_normals());
+        EXPECT_EQ(mesh.face_materials.size(), mesh.triangle_count());
+        for (const Vec3f& n : mesh.normals) ASSERT_NEAR(length(n), 1.0f, 1e-3f);
+    }
+}
+
+TEST(GltfReader, EveryGltfInSharedDataLoads) {
+    std::size_t files = 0;
+    for (const auto& entry : fs::recursive_directory_iterator(LODFORGE_SHARED_DATA)) {
+        const std::string ext = entry.path().extension().string();
+        if (ext != ".gltf" && ext != ".glb") continue;
+        ++files;
+        SCOPED_TRACE(entry.path().string());
+        const Mesh mesh = read_gltf(entry.path().string());
+        expect_well_formed(mesh);
+        EXPECT_GT(mesh.triangle_count(), 0u);
+        for (const Material& m : mesh.materials)
+            for (const TextureRef* t : {&m.base_color_texture, &m.normal_texture, &m.metallic_roughness_texture,
+                                        &m.occlusion_texture, &m.emissive_texture})
+                if (!t->empty() && t->bytes.empty()) {
+                    EXPECT_TRUE(fs::is_regular_file(mesh.resolve_texture_path(*t))) << t->path;
+                }
+    }
+    EXPECT_EQ(files, 6u);
+}
+
+TEST(GltfReader, DuckTextureAndTransform) {
+    const std::string path = shared_data("tex-duck/glTF/Duck.gltf");
+    const Mesh mesh = read_gltf(path);
+    ASSERT_EQ(mesh.materials.size(), 1u);
+    EXPECT_EQ(mesh.materials[0].name, "blinn3-fx");
+    EXPECT_EQ(mesh.materials[0].metallic, 0.f);
+    const TextureRef& tex = mesh.materials[0].base_color_texture;
+    EXPECT_EQ(tex.path, "DuckCM.png");
+    EXPECT_TRUE(fs::is_regular_file(mesh.resolve_texture_path(tex)));
+    const Image image = decode_texture(mesh, tex);
+    EXPECT_EQ(image.width, 512);
+    EXPECT_EQ(image.height, 512);
+    ASSERT_EQ(mesh.texcoords.size(), 1u);
+
+    // The root node scales by 0.01: bounds are the POSITION accessor's min/max times 0.01.
+    const json doc = load_json(path);
+    const json& pos = doc["accessors"][doc["meshes"][0]["primitives"][0]["attributes"]["POSITION"].get<int>()];
+    const Bounds b = mesh.bounds();
+    for (int c = 0; c < 3; ++c) {
+        EXPECT_NEAR(b.min[c], pos["min"][c].get<double>() * 0.01, 1e-4);
+        EXPECT_NEAR(b.max[c], pos["max"][c].get<double>() * 0.01, 1e-4);
+    }
+    // V is flipped to the OpenGL convention (v' = 1 - v).
+    const json& uv = doc["accessors"][doc["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"].get<int>()];
+    float vmin = 2, vmax = -2;
+    for (const Vec2f& t : mesh.texcoords[0]) {
+        vmin = std::min(vmin, t.y);
+        vmax = std::max(vmax, t.y);
+    }
+    EXPECT_NEAR(vmin, 1.0 - uv["max"][1].get<double>(), 1e-6);
+    EXPECT_NEAR(vmax, 1.0 - uv["min"][1].get<double>(), 1e-6);
+}
+
+TEST(GltfReader, DuckGlbEqualsGltfAndEmbeddedTextureDecodes) {
+    const Mesh text = read_gltf(shared_data("tex-duck/glTF/Duck.gltf"));
+    const Mesh binary = read_gltf(shared_data("tex-duck/glTF_Binary/Duck.glb"));
+    EXPECT_EQ(text.positions, binary.positions);
+    EXPECT_EQ(text.indices, binary.indices);
+    EXPECT_EQ(text.texcoords, binary.texcoords);
+    const TextureRef& tex = binary.materials.at(0).base_color_texture;
+    ASSERT_FALSE(tex.bytes.empty());
+    EXPECT_EQ(tex.mime_type, "image/png");
+    EXPECT_TRUE(binary.resolve_texture_path(tex).empty());
+    const Image embedded = decode_texture(binary, tex);
+    const Image file = decode_texture(text, text.materials[0].base_color_texture);
+    EXPECT_EQ(embedded.width, 512);
+    EXPECT_EQ(embedded.height, 512);
+    EXPECT_EQ(embedded.rgba, file.rgba);
+}
+
+TEST(GltfReader, WaterBottlePbrTextures) {
+    const Mesh mesh = read_gltf(shared_data("tex-water-bottle/WaterBottle.gltf"));
+    ASSERT_EQ(mesh.materials.size(), 1u);
+    const Material& m = mesh.materials[0];
+    EXPECT_EQ(m.name, "BottleMat");
+    EXPECT_EQ(m.base_color_texture.path, "WaterBottle_baseColor.png");
+    EXPECT_EQ(m.metallic_roughness_texture.path, "WaterBottle_roughnessMetallic.png");
+    EXPECT_EQ(m.normal_texture.path, "WaterBottle_normal.png");
+    EXPECT_EQ(m.occlusion_texture.path, "WaterBottle_occlusion.png");
+    EXPECT_EQ(m.emissive_texture.path, "WaterBottle_emissive.png");
+    for (const TextureRef* t : {&m.base_color_texture, &m.metallic_roughness_texture, &m.normal_texture,
+                                &m.occlusion_texture, &m.emissive_texture})
+        EXPECT_TRUE(fs::is_regular_file(mesh.resolve_texture_path(*t))) << t->path;
+    EXPECT_EQ(m.emissive, (Vec3f{1, 1, 1}));
+    EXPECT_EQ(mesh.texcoords.size(), 1u);
+}
+
+TEST(GltfReader, MilkTruckMaterialsAndInstancing) {
+    const std::string path = shared_data("tex-cesium-milk-truck/CesiumMilkTruck.gltf");
+    const Mesh mesh = read_gltf(path);
+    ASSERT_EQ(mesh.materials.size(), 4u);  // every primitive has a material: no default added
+    EXPECT_EQ(mesh.materials[0].name, "truck");
+    EXPECT_EQ(mesh.materials[3].name, "wheels");
+    EXPECT_EQ(mesh.materials[0].base_color_texture.path, "CesiumMilkTruck.png");
+    EXPECT_TRUE(mesh.materials[1].base_color_texture.empty());
+    // Triangles per material are the primitives' index counts / 3; the wheel mesh, instanced by two
+    // nodes, is imported once.
+    const json doc = load_json(path);
+    std::map<int, std::size_t> expected;
+    for (const json& gm : doc["meshes"])
+        for (const json& p : gm["primitives"])
+            expected[p["material"].get<int>()] += doc["accessors"][p["indices"].get<int>()]["count"].get<std::size_t>() / 3;
+    std::map<int, std::size_t> actual;
+    for (std::uint32_t m : mesh.face_materials) ++actual[static_cast<int>(m)];
+    EXPECT_EQ(actual, expected);
+}
+
+TEST(GltfReader, MorphTargetsIgnoredBaseGeometryLoaded) {
+    const Mesh mesh = read_gltf(shared_data("morph-animated-morph-cube/AnimatedMorphCube.gltf"));
+    EXPECT_EQ(mesh.vertex_count(), 24u);
+    EXPECT_EQ(mesh.point_count(), 24u);
+    EXPECT_FALSE(mesh.has_texcoords());
+}
+
+// ---- generated files ------------------------------------------------------------------------------
+
+// Builds a small glTF: raw little-endian data in one buffer, accessors appended on demand.
+class GltfBuilder {
+public:
+    GltfBuilder() {
+        doc_ = {{"asset", {{"version", "2.0"}}},
+                {"scene", 0},
+                {"scenes", json::array({{{"nodes", json::array({0})}}})},
+                {"nodes", json::array({{{"mesh", 0}}})},
+                {"meshes", json::array({{{"primitives", json::array()}}})},
+                {"buffers", json::array()},
+                {"bufferViews", json::array()},
+                {"accessors", json::array()}};
+    }
+
+    template <typename T>
+    int accessor(const std::vector<T>& values, int component_type, const char* type, std::size_t count,
+                 bool normalized = false) {
+        while (bin_.size() % 4) bin_.push_back(0);
+        const std::size_t offset = bin_.size();
+        bin_.resize(offset + values.size() * sizeof(T));
+        std::memcpy(bin_.data() + offset, values.data(), values.size() * sizeof(T));
+        doc_["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", offset}, {"byteLength", values.size() * sizeof(T)}});
+        json a = {{"bufferView", doc_["bufferViews"].size() - 1},
+                  {"componentType", component_type},
+                  {"count", count},
+                  {"type", type}};
+        if (normalized) a["normalized"] = true;
+        doc_["accessors"].push_back(a);
+        return static_cast<int>(doc_["accessors"].size() - 1);
+    }
+    int floats(const std::vector<float>& v, const char* type, std::size_t per) {
+        return accessor(v, 5126, type, v.size() / per);
+    }
+    int indices(const std::vector<std::uint16_t>& v) { return accessor(v, 5123, "SCALAR", v.size()); }
+
+    json& primitive(json attributes, int indices = -1, int mode = -1) {
+        json p = {{"attributes", attributes}};
+        if (indices >= 0) p["indices"] = indices;
+        if (mode >= 0) p["mode"] = mode;
+        doc_["meshes"][0]["primitives"].push_back(p);
+        return doc_["meshes"][0]["primitives"].back();
+    }
+
+    json& doc() { return doc_; }
+
+    // Writes <name>.gltf + <name>.bin into `dir`; returns the .gltf path.
+    std::string write(const test::ScratchDir& dir, const std::string& name) {
+        doc_["buffers"] = json::array({{{"uri", name + ".bin"}, {"byteLength", bin_.size()}}});
+        test::write_bytes(dir.file(name + ".bin"), bin_);
+        test::write_text(dir.file(name + ".gltf"), doc_.dump(1));
+        return dir.file(name + ".gltf");
+    }
+
+private:
+    json doc_;
+    std::vector<std::uint8_t> bin_;
+};
+
+const std::vector<float> kQuad = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
+
+TEST(GltfReader, TrsTransformNegativeScaleFlipsWinding) {
+    test::ScratchDir dir("gltf-trs");
+    GltfBuilder b;
+    const int pos = b.floats(kQuad, "VEC3", 3);
+    const int nrm = b.floats({0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1}, "VEC3", 3);
+    b.primitive({{"POSITION", pos}, {"NORMAL", nrm}}, b.indices({0, 1, 2, 0, 2, 3}));
+    // Parent translates, child rotates 90° about Y and mirrors X.
+    b.doc()["nodes"] = json::array({{{"translation", {10, 0, 0}}, {"children", {1}}},
+                                    {{"mesh", 0}, {"rotation", {0, 0.70710678, 0, 0.70710678}}, {"scale", {-2, 1, 1}}}});
+    const Mesh mesh = read_gltf(b.write(dir, "trs"));
+    ASSERT_EQ(mesh.vertex_count(), 4u);
+    // x' = R * (S * x) + T: (1,0,0) -> S (-2,0,0) -> R(90° about Y) (0,0,2) -> +T (10,0,2).
+    EXPECT_NEAR(mesh.positions[1].x, 10.f, 1e-5f);
+    EXPECT_NEAR(mesh.positions[1].y, 0.f, 1e-5f);
+    EXPECT_NEAR(mesh.positions[1].z, 2.f, 1e-5f);
+    // Normal (0,0,1): inverse transpose of R*S keeps it unit length; Rotating +Z by 90° about Y gives +X.
+    EXPECT_NEAR(mesh.normals[0].x, 1.f, 1e-5f);
+    EXPECT_NEAR(length(mesh.normals[0]), 1.f, 1e-5f);
+    // det < 0: winding flipped so faces stay counter-clockwise.
+    const std::vector<std::uint32_t> expected = {0, 2, 1, 0, 3, 2};
+    EXPECT_EQ(mesh.indices, expected);
+    // The flipped triangle's geometric normal agrees with the transformed vertex normal.
+    const Vec3f n = cross(mesh.positions[2] - mesh.positions[0], mesh.positions[1] - mesh.positions[0]);
+    EXPECT_GT(dot(n, mesh.normals[0]), 0.f);
+}
+
+TEST(GltfReader, StripsFansNonIndexedAndSkippedModes) {
+    test::ScratchDir dir("gltf-modes");
+    GltfBuilder b;
+    const std::vector<float> five = {0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0, 0, 2, 0};
+    b.primitive({{"POSITION", b.floats(five, "VEC3", 3)}}, -1, 5);                                      // strip: 3 tris
+    b.primitive({{"POSITION", b.floats(five, "VEC3", 3)}}, b.indices({0, 1, 3, 4}), 6);                 // fan: 2 tris
+    b.primitive({{"POSITION", b.floats(kQuad, "VEC3", 3)}}, -1, 1);                                     // lines: skipped
+    b.primitive({{"POSITION", b.floats({0, 0, 0, 1, 0, 0, 0, 1, 0}, "VEC3", 3)}});                       // triangles, no indices
+    const Mesh mesh = read_gltf(b.write(dir, "modes"));
+    expect_well_formed(mesh);
+    EXPECT_EQ(mesh.point_count(), 5u + 5u + 3u);
+    const std::vector<std::uint32_t> expected = {0, 1, 2, 1, 3, 2, 2, 3, 4,  // strip, odd triangle reordered
+                                                 6, 8, 5, 8, 9, 5,           // fan around the first index
+                                                 10, 11, 12};
+    EXPECT_EQ(mesh.indices, expected);
+    ASSERT_EQ(mesh.materials.size(), 1u);
+    EXPECT_EQ(mesh.materials[0].name, "default");
+}
+
+TEST(GltfReader, NormalizedColoursTexcoordSetsAndSparse) {
+    test::ScratchDir dir("gltf-attrs");
+    GltfBuilder b;
+    const int pos = b.floats({0, 0, 0, 1, 0, 0, 0, 1, 0}, "VEC3", 3);
+    const int col = b.accessor(std::vector<std::uint8_t>{255, 0, 0, 0, 255, 0, 0, 0, 255, 0, 0, 0}, 5121, "VEC3", 3, true);
+    const int uv0 = b.accessor(std::vector<std::uint16_t>{0, 0, 65535, 0, 0, 65535}, 5123, "VEC2", 3, true);
+    const int uv1 = b.floats({0.25f, 0.25f, 0.5f, 0.5f, 0.75f, 0.75f}, "VEC2", 2);
+    b.primitive({{"POSITION", pos}, {"COLOR_0", col}, {"TEXCOORD_0", uv0}, {"TEXCOORD_1", uv1}});
+    // Second primitive: sparse positions on top of zeros (no bufferView), no colour, no uv.
+    const int sparse_idx = b.accessor(std::vector<std::uint8_t>{1, 2, 0, 0}, 5121, "SCALAR", 2);
+    const int sparse_val = b.floats({5, 5, 5, 6, 6, 6}, "VEC3", 3);
+    json& doc = b.doc();
+    const int view_idx = doc["accessors"][sparse_idx]["bufferView"];
+    const int view_val = doc["accessors"][sparse_val]["bufferView"];
+    doc["accessors"].push_back({{"componentType", 5126},
+                                {"count", 3},
+                                {"type", "VEC3"},
+                                {"sparse",
+                                 {{"count", 2},
+                                  {"indices", {{"bufferView", view_idx}, {"componentType", 5121}}},
+                                  {"values", {{"bufferView", view_val}}}}}});
+    b.primitive({{"POSITION", static_cast<int>(doc["accessors"].size() - 1)}});
+    const Mesh mesh = read_gltf(b.write(dir, "attrs"));
+    expect_well_formed(mesh);
+    ASSERT_EQ(mesh.vertex_count(), 6u);
+    ASSERT_TRUE(mesh.has_colors());
+    EXPECT_EQ(mesh.colors[0], (Vec4f{1, 0, 0, 1}));
+    EXPECT_EQ(mesh.colors[2], (Vec4f{0, 0, 1, 1}));
+    EXPECT_EQ(mesh.colors[4], (Vec4f{1, 1, 1, 1}));  // primitive without COLOR_0: white
+    ASSERT_EQ(mesh.texcoords.size(), 2u);
+    EXPECT_EQ(mesh.texcoords[0][1], (Vec2f{1, 1}));  // (1, 0) with v flipped
+    EXPECT_EQ(mesh.texcoords[0][2], (Vec2f{0, 0}));
+    EXPECT_EQ(mesh.texcoords[1][0], (Vec2f{0.25f, 0.75f}));
+    EXPECT_EQ(mesh.texcoords[1][4], (Vec2f{0, 0}));  // absent set filled with zeros
+    EXPECT_EQ(mesh.positions[3], (Vec3f{0, 0, 0}));
+    EXPECT_EQ(mesh.positions[4], (Vec3f{5, 5, 5}));
+    EXPECT_EQ(mesh.positions[5], (Vec3f{6, 6, 6}));
+}
+
+TEST(GltfReader, SharedPositionAccessorStoresPointsOnce) {
+    test::ScratchDir dir("gltf-shared");
+    GltfBuilder b;
+    const int pos = b.floats(kQuad, "VEC3", 3);
+    const int uv_a = b.floats({0, 0, 1, 0, 1, 1, 0, 1}, "VEC2", 2);
+    const int uv_b = b.floats({0.5f, 0.5f, 0.5f, 0.5f, 0.5f, 0.5f, 0.5f, 0.5f}, "VEC2", 2);
+    b.primitive({{"POSITION", pos}, {"TEXCOORD_0", uv_a}}, b.indices({0, 1, 2}));
+    b.primitive({{"POSITION", pos}, {"TEXCOORD_0", uv_a}}, b.indices({0, 2, 3}));  // same attributes: same vertices
+    b.primitive({{"POSITION", pos}, {"TEXCOORD_0", uv_b}}, b.indices({0, 2, 3}));  // different uv: wedges
+    // A second node instancing the same mesh adds nothing.
+    b.doc()["nodes"] = json::array({{{"mesh", 0}}, {{"mesh", 0}, {"translation", {5, 0, 0}}}});
+    b.doc()["scenes"][0]["nodes"] = {0, 1};
+    const Mesh mesh = read_gltf(b.write(dir, "shared"));
+    expect_well_formed(mesh);
+    EXPECT_EQ(mesh.point_count(), 4u);
+    EXPECT_EQ(mesh.vertex_count(), 7u);
+    EXPECT_EQ(mesh.triangle_count(), 3u);
+    const std::vector<std::uint32_t> expected = {0, 1, 2, 0, 2, 3, 4, 5, 6};
+    EXPECT_EQ(mesh.indices, expected);
+    EXPECT_EQ(mesh.position_ids[5], 2u);
+    EXPECT_EQ(mesh.texcoords[0][5], (Vec2f{0.5f, 0.5f}));
+}
+
+TEST(GltfReader, MissingFileIsIoError) {
+    expect_error([] { read_gltf("/nonexistent/model.gltf"); }, Error::Kind::io, {"model.gltf"});
+}
+
+TEST(GltfReader, MissingBinIsIoErrorNamingBoth) {
+    test::ScratchDir dir("gltf-nobin");
+    GltfBuilder b;
+    b.primitive({{"POSITION", b.floats(kQuad, "VEC3", 3)}});
+    const std::string path = b.write(dir, "nobin");
+    fs::remove(dir.file("nobin.bin"));
+    expect_error([&] { read_gltf(path); }, Error::Kind::io, {"nobin.gltf", "nobin.bin"});
+}
+
+TEST(GltfReader, MissingTextureStillOpensAndIsListed) {
+    test::ScratchDir dir("gltf-notex");
+    GltfBuilder b;
+    b.primitive({{"POSITION", b.floats(kQuad, "VEC3", 3)}, {"TEXCOORD_0", b.floats({0, 0, 1, 0, 1, 1, 0, 1}, "VEC2", 2)}},
+                b.indices({0, 1, 2, 0, 2, 3}))["material"] = 0;
+    b.doc()["materials"] = json::array({{{"name", "painted"},
+                                         {"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}}});
+    b.doc()["textures"] = json::array({{{"source", 0}}});
+    b.doc()["images"] = json::array({{{"uri", "gone%20away.png"}}});
+    const Mesh mesh = read_gltf(b.write(dir, "notex"));
+    ASSERT_EQ(mesh.materials.size(), 1u);
+    const TextureRef& tex = mesh.materials[0].base_color_texture;
+    EXPECT_EQ(tex.path, "gone away.png");
+    const std::string resolved = mesh.resolve_texture_path(tex);
+    EXPECT_FALSE(resolved.empty());
+    EXPECT_FALSE(fs::exists(resolved));
+    expect_error([&] { decode_texture(mesh, tex); }, Error::Kind::io, {"gone away.png"});
+}
+
+TEST(GltfReader, InvalidJsonIsFormatError) {
+    test::ScratchDir dir("gltf-json");
+    test::write_text(dir.file("bad.gltf"), "{ \"asset\": { \"version\": \"2.0\" }, \"meshes\": [ ");
+    expect_error([&] { read_gltf(dir.file("bad.gltf")); }, Error::Kind::format, {"bad.gltf"});
+    test::write_text(dir.file("empty.gltf"), "");
+    expect_error([&] { read_gltf(dir.file("empty.gltf")); }, Error::Kind::format, {"empty.gltf"});
+}
+
+TEST(GltfReader, IndexOutOfRangeIsInvalid) {
+    test::ScratchDir dir("gltf-range");
+    GltfBuilder b;
+    b.primitive({{"POSITION", b.floats(kQuad, "VEC3", 3)}}, b.indices({0, 1, 9}));
+    expect_error([&] { read_gltf(b.write(dir, "range")); }, Error::Kind::invalid, {"range.gltf", "index 9"});
+}
+
+TEST(GltfReader, AccessorBeyondBufferIsFormatError) {
+    test::ScratchDir dir("gltf-overrun");
+    GltfBuilder b;
+    const int pos = b.floats(kQuad, "VEC3", 3);
+    b.primitive({{"POSITION", pos}});
+    b.doc()["accessors"][pos]["count"] = 400;
+    expect_error([&] { read_gltf(b.write(dir, "overrun")); }, Error::Kind::format, {"overrun.gltf"});
+}
+
+TEST(GltfReader, RequiredDracoIsUnsupported) {
+    test::ScratchDir dir("gltf-draco");
+    GltfBuilder b;
+    b.primitive({{"POSITION", b.floats(kQuad, "VEC3", 3)}});
+    b.doc()["extensionsUsed"] = {"KHR_draco_mesh_compression"};
+    b.doc()["extensionsRequired"] = {"KHR_draco_mesh_compression"};
+    expect_error([&] { read_gltf(b.write(dir, "draco")); }, Error::Kind::unsupported, {"draco.gltf", "KHR_draco"});
+}
+
+TEST(GltfReader, TruncatedGlbPrefixesThrowAndNeverCrash) {
+    const std::vector<std::uint8_t> glb = test::read_bytes(shared_data("tex-duck/glTF_Binary/Duck.glb"));
+    ASSERT_GT(glb.size(), 1000u);
+    test::ScratchDir dir("gltf-trunc");
+    const std::string path = dir.file("t.glb");
+    std::size_t step = 1;
+    for (std::size_t n = 0; n < glb.size(); n += step) {
+        step = n < 64 ? 1 : 997;  // every byte of the header, then a sweep through the chunks
+        test::write_bytes(path, std::vector<std::uint8_t>(glb.begin(), glb.begin() + static_cast<std::ptrdiff_t>(n)));
+        SCOPED_TRACE(n);
+        expect_error([&] { read_gltf(path); }, Error::Kind::format, {"t.glb"});
+    }
+}
+
+TEST(GltfReader, CorruptedGlbBytesNeverCrash) {
+    // Flipping bytes inside the JSON chunk must give either a mesh or a lodforge::Error.
+    const std::vector<std::uint8_t> glb = test::read_bytes(shared_data("tex-duck/glTF_Binary/Duck.glb"));
+    test::ScratchDir dir("gltf-corrupt");
+    const std::string path = dir.file("c.glb");
+    std::uint32_t json_length = 0;
+    std::memcpy(&json_length, glb.data() + 12, 4);
+    for (std::size_t i = 20; i < 20 + json_length; i += 37) {
+        std::vector<std::uint8_t> copy = glb;
+        copy[i] = static_cast<std::uint8_t>(copy[i] ^ 0x5A);
+        test::write_bytes(path, copy);
+        try {
+            expect_well_formed(read_gltf(path));
+        } catch (const Error&) {
+        }
+    }
+}
+
+}  // namespace
+}  // namespace lodforge
+
+namespace lodforge {
+namespace {
+
+struct RecordingProgress : Progress {
+    std::vector<double> fractions;
+    void report(double fraction, std::string_view) override { fractions.push_back(fraction); }
+};
+struct CancelledProgress : CancelFlagProgress {
+    void report(double, std::string_view) override {}
+};
+
+TEST(GltfReader, ReportsProgressAndHonoursCancel) {
+    RecordingProgress progress;
+    read_gltf(test::shared_data("tex-cesium-milk-truck/CesiumMilkTruck.gltf"), &progress);
+    ASSERT_GE(progress.fractions.size(), 2u);
+    EXPECT_TRUE(std::is_sorted(progress.fractions.begin(), progress.fractions.end()));
+    EXPECT_EQ(progress.fractions.back(), 1.0);
+    CancelledProgress cancel;
+    cancel.cancel();
+    test::expect_error([&] { read_gltf(test::shared_data("tex-duck/glTF/Duck.gltf"), &cancel); },
+                       Error::Kind::cancelled, {});
+}
+
+}  // namespace
+}  // namespace lodforge
