@@ -321,7 +321,11 @@ private:
             for (std::size_t p = 0; p < gm.primitives.size(); ++p) {
                 const tinygltf::Primitive& prim = gm.primitives[p];
                 const int mode = prim.mode < 0 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
-                if (mode <= TINYGLTF_MODE_LINE_STRIP) continue;  // points and lines carry no surface
+                if (mode <= TINYGLTF_MODE_LINE_STRIP) {  // points and lines carry no surface
+                    mesh_.warnings.push_back("mesh " + std::to_string(instance.mesh) + " primitive " +
+                                             std::to_string(p) + ": points/lines skipped");
+                    continue;
+                }
                 PrimitiveJob job;
                 job.mesh = instance.mesh;
                 job.primitive = static_cast<int>(p);
@@ -767,6 +771,7 @@ Mesh read_gltf(const std::string& path, Progress* progress) {
     check_progress(progress, 0.2, "Reading glTF");
     GltfImporter importer(path, model, progress);
     Mesh mesh = importer.run();
+    add_warning_lines(mesh, warn);
     std::error_code ec;
     const fs::path dir = fs::path(path).parent_path().empty() ? fs::path(".") : fs::path(path).parent_path();
     const fs::path absolute = fs::absolute(dir, ec);

@@ -25,6 +25,18 @@ std::string Mesh::resolve_texture_path(const TextureRef& texture) const {
     return (std::filesystem::path(source_dir) / p).lexically_normal().string();
 }
 
+void add_warning_lines(Mesh& mesh, const std::string& text) {
+    std::size_t start = 0;
+    while (start < text.size()) {
+        std::size_t end = text.find('\n', start);
+        if (end == std::string::npos) end = text.size();
+        std::string line = text.substr(start, end - start);
+        while (!line.empty() && (line.back() == '\r' || line.back() == ' ')) line.pop_back();
+        if (!line.empty()) mesh.warnings.push_back(std::move(line));
+        start = end + 1;
+    }
+}
+
 std::uint32_t duplicate_vertex(Mesh& mesh, std::uint32_t from) {
     ensure_position_ids(mesh);
     const auto index = static_cast<std::uint32_t>(mesh.positions.size());

@@ -40,6 +40,7 @@ MeshInfo mesh_info(const Mesh& mesh, const std::string& path, const std::string&
             if (!std::filesystem::is_regular_file(resolved, ec)) info.missing_textures.push_back(resolved);
         }
     }
+    info.warnings = mesh.warnings;
     info.bounds = mesh.bounds();
     info.validation = validate(mesh);
     return info;
@@ -58,6 +59,7 @@ std::string to_json(const MeshInfo& info, int indent) {
     j["materials"] = info.materials;
     j["textures"] = info.textures;
     j["missing_textures"] = info.missing_textures;
+    j["warnings"] = info.warnings;
     if (info.bounds.empty()) {
         j["bounds"] = nullptr;
     } else {
@@ -90,6 +92,7 @@ std::string to_text(const MeshInfo& info) {
     s << "\nmaterials:   " << info.materials << '\n';
     for (const auto& t : info.textures) s << "texture:     " << t << '\n';
     for (const auto& t : info.missing_textures) s << "MISSING:     " << t << '\n';
+    for (const auto& w : info.warnings) s << "note:        " << w << '\n';
     if (info.bounds.empty()) {
         s << "bounds:      empty\n";
     } else {

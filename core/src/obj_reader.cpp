@@ -355,6 +355,7 @@ Mesh read_obj(const std::string& path, Progress* progress) {
                                "Reading OBJ");
         }
     }
+    add_warning_lines(mesh, warn);
     check_progress(progress, 1.0, "Reading OBJ");
     return mesh;
 }

@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <fstream>
+
 using namespace lodforge;
 
 TEST(MeshInfo, JsonOfTheSpotSampleHasCountsAttributesTextureAndBounds) {
@@ -35,4 +37,18 @@ TEST(MeshInfo, MissingTexturesAreListed) {
     ASSERT_EQ(info.missing_textures.size(), 1u);
     EXPECT_EQ(info.missing_textures[0], "/nonexistent-dir/gone.png");
     EXPECT_NE(to_text(info).find("MISSING"), std::string::npos);
+}
+
+TEST(MeshInfo, ImporterWarningsReachTheReport) {
+    test::ScratchDir dir("info-warnings");
+    {
+        std::ofstream out(dir.file("lonely.obj"));
+        out << "mtllib nothere.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    }
+    const MeshInfo info = mesh_info(read_mesh(dir.file("lonely.obj")));
+    ASSERT_FALSE(info.warnings.empty());
+    EXPECT_NE(info.warnings.front().find("nothere.mtl"), std::string::npos) << info.warnings.front();
+    EXPECT_NE(to_text(info).find("nothere.mtl"), std::string::npos);
+    const auto j = nlohmann::json::parse(to_json(info));
+    EXPECT_FALSE(j["warnings"].empty());
 }

@@ -9,7 +9,8 @@
 namespace lodforge {
 
 // Every triangle primitive of every mesh reachable from the default scene (or all scenes' roots when
-// none is default) is appended with its node's world transform applied to positions and normals.
+// none is default) is appended once, placed by the world transform of its first instance in
+// depth-first order (further instances add nothing: counts match the data as stored).
 // POSITION, NORMAL, COLOR_0, TEXCOORD_0/1 are kept; each primitive's material becomes a Material
 // (face_materials per triangle). Textures keep their URI or embedded bytes. Vertices are never welded:
 // position_ids identify the accessor's stored vertices.

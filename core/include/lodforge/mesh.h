@@ -59,6 +59,9 @@ struct Mesh {
 
     std::vector<Material> materials;
     std::string source_dir;  // directory relative texture paths are resolved against
+    // Notes from the importer a user should see but that did not stop the import (missing material
+    // library, skipped line primitives, ...). Shown by `lodforge info` and the studio.
+    std::vector<std::string> warnings;
 
     std::size_t vertex_count() const { return positions.size(); }
     std::size_t triangle_count() const { return indices.size() / 3; }
@@ -73,6 +76,9 @@ struct Mesh {
     // Resolve a texture's path against source_dir; empty when the texture is embedded or absent.
     std::string resolve_texture_path(const TextureRef& texture) const;
 };
+
+// Appends each non-empty line of `text` (a loader's warning text) to mesh.warnings.
+void add_warning_lines(Mesh& mesh, const std::string& text);
 
 // Adds a vertex copying every present attribute of `from` (used by importers splitting wedges):
 // the new vertex has the same position_id. Returns its index.

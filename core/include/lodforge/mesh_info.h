@@ -20,6 +20,7 @@ struct MeshInfo {
     std::size_t materials = 0;
     std::vector<std::string> textures;    // paths (or "<embedded image/png>") of every texture used
     std::vector<std::string> missing_textures;  // textures whose file does not exist
+    std::vector<std::string> warnings;          // importer notes (Mesh::warnings)
     Bounds bounds;
     ValidationReport validation;
 };

@@ -15,7 +15,7 @@ namespace lodforge {
 // (the mesh opens untextured, the texture keeps its path so callers can report it missing).
 Mesh read_obj(const std::string& path, Progress* progress = nullptr);
 
-// Writes `v`/`vt`/`vn` per vertex (wedges as they are), `usemtl` groups per face material and a
+// Writes one `v` per surface point (so wedges of a point stay one point) and `vt`/`vn` per vertex, `usemtl` groups per face material and a
 // sibling .mtl when the mesh has materials; textures are copied (or extracted, when embedded) next to
 // the output when options.copy_textures is set.
 void write_obj(const Mesh& mesh, const std::string& path, const WriteOptions& options = {},

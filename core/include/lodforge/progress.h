@@ -23,6 +23,7 @@ void check_progress(Progress* progress, double fraction, std::string_view stage)
 // A Progress whose cancel flag can be set from another thread (GUI Cancel button, SIGINT).
 class CancelFlagProgress : public Progress {
 public:
+    void report(double, std::string_view) override {}
     void cancel() { cancel_.store(true, std::memory_order_relaxed); }
     bool cancelled() const override { return cancel_.load(std::memory_order_relaxed); }
 

@@ -1,0 +1,103 @@
+// In-core edge-collapse simplification with generalized quadrics (see docs/simplification.md).
+//
+//   SimplifyParams p;  p.target_ratio = 0.1f;
+//   SimplifyResult r = simplify(mesh, p);   // r.mesh, r.reason, r.error, r.collapses
+//
+// Collapses are half-edge collapses on *points* (Mesh::position_ids): all wedges of the removed point move
+// onto wedges of the kept point, so UV seams and hard-normal creases move together and stay welded. The
+// kept vertices are a subset of the input vertices with their attributes unchanged, which makes the
+// collapse sequence replayable (progressive meshes, LODStrips).
+#pragma once
+
+#include "lodforge/mesh.h"
+#include "lodforge/progress.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+namespace lodforge {
+
+// Attribute weights: attributes are compared in their natural units (normals: unit vectors, colours:
+// [0, 1] RGBA, texcoords: UV units), geometry in units of the bounding-box diagonal. A weight w makes an
+// attribute difference of 1 cost as much as a geometric deviation of w diagonals. 0 ignores the attribute.
+struct SimplifyWeights {
+    float normal = 0.05f;
+    float color = 0.1f;
+    float texcoord = 0.1f;                // every texcoord set without an entry in `texcoord_sets`
+    std::vector<float> texcoord_sets;     // per-set override, index = set
+};
+
+enum class Placement {
+    half_edge,  // the removed point moves onto the kept one (vertex subset; replayable sequence)
+    optimal,    // the kept point moves to the quadric-optimal position (lower error; positions change,
+                // the collapse sequence still reproduces the connectivity)
+};
+
+struct SimplifyParams {
+    std::size_t target_triangles = 0;  // stop at or below this many triangles (0 = unused)
+    float target_ratio = 0.f;          // or at this fraction of the input triangles (0 = unused)
+    // Stop before a collapse whose error estimate (Q/weight, square-rooted) exceeds this, relative to the
+    // bounding-box diagonal of the input. Infinity = no limit. With neither target set the error alone
+    // decides. When both targets are set, the larger triangle count wins.
+    float max_error = std::numeric_limits<float>::infinity();
+    SimplifyWeights weights;
+    bool lock_border = false;     // border points are never removed (else they slide along the border)
+    bool preserve_seams = true;   // a seam point only moves along its seam; false lets seams close
+    bool weld = true;             // also treat vertices at bit-identical positions as one point (glTF)
+    Placement placement = Placement::half_edge;
+    // A collapse is refused when it turns a face's normal by more than acos(min_normal_dot).
+    float min_normal_dot = 0.2f;
+};
+
+// One point collapse: every vertex (wedge) of point `from_point` moves onto a vertex of `to_point`.
+// Indices are into the input mesh (vertices, and points as welded: SimplifyResult::input_points).
+struct Collapse {
+    std::uint32_t from_point = 0;
+    std::uint32_t to_point = 0;
+    std::uint32_t moves_begin = 0;  // range [moves_begin, moves_end) of SimplifyResult::moves
+    std::uint32_t moves_end = 0;
+};
+
+struct VertexMove {
+    std::uint32_t from = 0;  // input vertex removed
+    std::uint32_t to = 0;    // input vertex that replaces it in every face
+};
+
+struct SimplifyResult {
+    enum class StopReason {
+        target_reached,  // the triangle target was reached
+        error_limit,     // the next collapse would exceed max_error
+        topology_limit,  // no valid collapse left (locked borders, seams, flips, closed small shells)
+    };
+    Mesh mesh;
+    std::size_t triangles = 0;
+    float error = 0;           // largest collapse error estimate, model units
+    float error_relative = 0;  // the same relative to the input's bounding-box diagonal
+    StopReason reason = StopReason::target_reached;
+    std::vector<Collapse> collapses;        // in order: replaying the first k gives level k
+    std::vector<VertexMove> moves;
+    std::vector<std::uint32_t> vertex_map;  // output vertex → input vertex
+    std::vector<std::uint32_t> input_points;  // input vertex → point id used (position_ids + welding)
+};
+
+// Throws Error(argument) on bad parameters, Error(cancelled) when progress asks to stop. Input faces that
+// are degenerate on points (two corners on one point) or repeat an earlier face's three points
+// (either winding) are dropped. Output vertices keep the input order
+// (one vertex per point first, extra wedges after, as Mesh requires) and faces the input order.
+SimplifyResult simplify(const Mesh& mesh, const SimplifyParams& params, Progress* progress = nullptr);
+
+// Index buffer (input vertex indices) after replaying the first `k` collapses of `result` on `input`:
+// faces keep the input order; faces simplify() drops up front are absent, and a face disappears once two
+// of its corners are on one point. For
+// Placement::half_edge, replaying all collapses gives exactly result.mesh's faces (through vertex_map).
+std::vector<std::uint32_t> replay_collapses(const Mesh& input, const SimplifyResult& result, std::size_t k);
+
+// Derives position_ids so that vertices at the same position are one point: existing ids are kept
+// (merged further), and vertices closer than `tolerance` (0 = bit-identical positions) are joined and
+// snapped to the first one's position. Returns the mesh re-laid out as Mesh requires (one vertex per
+// point first); faces and attributes are unchanged.
+Mesh weld_seams(const Mesh& mesh, float tolerance = 0.f);
+
+}  // namespace lodforge
