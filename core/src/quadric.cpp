@@ -1,0 +1,156 @@
+// Plane quadrics (Garland & Heckbert 1997) and Hoppe's 1999 memory-efficient attribute quadrics.
+// See lodforge/quadric.h for the definitions.
+#include "lodforge/quadric.h"
+
+#include <Eigen/Dense>
+
+#include <cmath>
+
+namespace lodforge {
+namespace {
+
+Vec3d sub(Vec3d a, Vec3d b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+Vec3d crossd(Vec3d a, Vec3d b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
+double dotd(Vec3d a, Vec3d b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+
+}  // namespace
+
+Quadric Quadric::from_plane(Vec3d n, double d, double weight) {
+    Quadric q;
+    q.a00 = weight * n.x * n.x;
+    q.a01 = weight * n.x * n.y;
+    q.a02 = weight * n.x * n.z;
+    q.a11 = weight * n.y * n.y;
+    q.a12 = weight * n.y * n.z;
+    q.a22 = weight * n.z * n.z;
+    q.b0 = weight * n.x * d;
+    q.b1 = weight * n.y * d;
+    q.b2 = weight * n.z * d;
+    q.c = weight * d * d;
+    q.weight = weight;
+    return q;
+}
+
+Quadric& Quadric::operator+=(const Quadric& q) {
+    a00 += q.a00; a01 += q.a01; a02 += q.a02; a11 += q.a11; a12 += q.a12; a22 += q.a22;
+    b0 += q.b0; b1 += q.b1; b2 += q.b2;
+    c += q.c;
+    weight += q.weight;
+    return *this;
+}
+
+double Quadric::evaluate(Vec3d p) const {
+    const double x = p.x, y = p.y, z = p.z;
+    const double r = a00 * x * x + a11 * y * y + a22 * z * z + 2 * (a01 * x * y + a02 * x * z + a12 * y * z) +
+                     2 * (b0 * x + b1 * y + b2 * z) + c;
+    return r > 0 ? r : 0;  // rounding can push a sum of squares slightly negative
+}
+
+AttributeQuadrics::AttributeQuadrics(std::size_t count, std::size_t dimension)
+    : m_(dimension), data_(count * (11 + 4 * dimension), 0.0) {}
+
+void AttributeQuadrics::add_triangle(std::size_t index, Vec3d p0, Vec3d p1, Vec3d p2, const double* s0,
+                                     const double* s1, const double* s2, double weight) {
+    if (m_ == 0) return;
+    const Vec3d e1 = sub(p1, p0), e2 = sub(p2, p0);
+    const Vec3d n = crossd(e1, e2);
+    const double nn = dotd(n, n);
+    if (!(nn > 0) || !(weight > 0)) return;  // a degenerate face has no attribute gradient
+    // g·e1 = Δs1, g·e2 = Δs2, g·n = 0  ⇒  g = (Δs1 (e2×n) + Δs2 (n×e1)) / |n|²
+    const Vec3d u = crossd(e2, n), v = crossd(n, e1);
+    double* q = &data_[index * stride()];
+    double* G = q + 11;
+    double* D = q + 11 + 3 * m_;
+    for (std::size_t j = 0; j < m_; ++j) {
+        const double d1 = s1[j] - s0[j], d2 = s2[j] - s0[j];
+        const Vec3d g{(d1 * u.x + d2 * v.x) / nn, (d1 * u.y + d2 * v.y) / nn, (d1 * u.z + d2 * v.z) / nn};
+        const double d = s0[j] - dotd(g, p0);
+        q[0] += weight * g.x * g.x;
+        q[1] += weight * g.x * g.y;
+        q[2] += weight * g.x * g.z;
+        q[3] += weight * g.y * g.y;
+        q[4] += weight * g.y * g.z;
+        q[5] += weight * g.z * g.z;
+        q[6] += weight * d * g.x;
+        q[7] += weight * d * g.y;
+        q[8] += weight * d * g.z;
+        q[9] += weight * d * d;
+        G[3 * j + 0] += weight * g.x;
+        G[3 * j + 1] += weight * g.y;
+        G[3 * j + 2] += weight * g.z;
+        D[j] += weight * d;
+    }
+    q[10] += weight;
+}
+
+void AttributeQuadrics::accumulate(std::size_t dst, std::size_t src) {
+    if (m_ == 0 || dst == src) return;
+    double* a = &data_[dst * stride()];
+    const double* b = &data_[src * stride()];
+    for (std::size_t i = 0; i < stride(); ++i) a[i] += b[i];
+}
+
+double AttributeQuadrics::evaluate(std::size_t index, Vec3d p, const double* s) const {
+    if (m_ == 0) return 0;
+    const double* q = &data_[index * stride()];
+    const double x = p.x, y = p.y, z = p.z;
+    double r = q[0] * x * x + q[3] * y * y + q[5] * z * z + 2 * (q[1] * x * y + q[2] * x * z + q[4] * y * z) +
+               2 * (q[6] * x + q[7] * y + q[8] * z) + q[9];
+    const double area = q[10];
+    const double* G = q + 11;
+    const double* D = q + 11 + 3 * m_;
+    for (std::size_t j = 0; j < m_; ++j) {
+        const double lin = G[3 * j] * x + G[3 * j + 1] * y + G[3 * j + 2] * z + D[j];
+        r += area * s[j] * s[j] - 2 * s[j] * lin;
+    }
+    return r > 0 ? r : 0;
+}
+
+bool AttributeQuadrics::optimal_attributes(std::size_t index, Vec3d p, double* s) const {
+    if (m_ == 0) return true;
+    const double* q = &data_[index * stride()];
+    const double area = q[10];
+    if (!(area > 0)) return false;
+    const double* G = q + 11;
+    const double* D = q + 11 + 3 * m_;
+    for (std::size_t j = 0; j < m_; ++j)
+        s[j] = (G[3 * j] * p.x + G[3 * j + 1] * p.y + G[3 * j + 2] * p.z + D[j]) / area;
+    return true;
+}
+
+Quadric AttributeQuadrics::eliminated(std::size_t index) const {
+    Quadric r;
+    if (m_ == 0) return r;
+    const double* q = &data_[index * stride()];
+    const double area = q[10];
+    if (!(area > 0)) return r;
+    r.a00 = q[0]; r.a01 = q[1]; r.a02 = q[2]; r.a11 = q[3]; r.a12 = q[4]; r.a22 = q[5];
+    r.b0 = q[6]; r.b1 = q[7]; r.b2 = q[8];
+    r.c = q[9];
+    const double* G = q + 11;
+    const double* D = q + 11 + 3 * m_;
+    for (std::size_t j = 0; j < m_; ++j) {
+        const double gx = G[3 * j], gy = G[3 * j + 1], gz = G[3 * j + 2], d = D[j];
+        r.a00 -= gx * gx / area; r.a01 -= gx * gy / area; r.a02 -= gx * gz / area;
+        r.a11 -= gy * gy / area; r.a12 -= gy * gz / area; r.a22 -= gz * gz / area;
+        r.b0 -= d * gx / area; r.b1 -= d * gy / area; r.b2 -= d * gz / area;
+        r.c -= d * d / area;
+    }
+    return r;
+}
+
+bool optimal_position(const Quadric& q, Vec3d& out) {
+    Eigen::Matrix3d A;
+    A << q.a00, q.a01, q.a02, q.a01, q.a11, q.a12, q.a02, q.a12, q.a22;
+    const Eigen::Vector3d b(q.b0, q.b1, q.b2);
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(A, Eigen::EigenvaluesOnly);
+    const Eigen::Vector3d ev = eig.eigenvalues();  // ascending
+    const double largest = std::fabs(ev(2));
+    if (!(largest > 0) || ev(0) < 1e-4 * largest) return false;
+    const Eigen::Vector3d x = A.ldlt().solve(-b);
+    if (!x.allFinite()) return false;
+    out = {x(0), x(1), x(2)};
+    return true;
+}
+
+}  // namespace lodforge

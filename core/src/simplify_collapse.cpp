@@ -1,0 +1,819 @@
+// Edge-collapse simplification with quadric error metrics.
+//
+// Based on:
+//  - M. Garland, P. Heckbert, "Surface Simplification Using Quadric Error Metrics", SIGGRAPH 1997
+//    (plane quadrics, greedy collapse order by a priority queue, border constraint planes);
+//  - M. Garland, P. Heckbert, "Simplifying Surfaces with Color and Texture using Quadric Error Metrics",
+//    IEEE Visualization 1998 (attributes in the quadric);
+//  - H. Hoppe, "New Quadric Metric for Simplifying Meshes with Appearance Attributes", IEEE Visualization
+//    1999 (memory-efficient attribute quadrics per wedge, seams as wedges of one point);
+//  - T. Dey, H. Edelsbrunner et al., "Topology Preserving Edge Contraction", 1999 (link condition).
+//
+// Layout: flat arrays. Faces keep their input index and store wedge (vertex) ids; each point has a list of
+// its faces that grows by merging on collapse. Costs sit in a binary heap with lazy invalidation: an entry
+// carries the version stamps of both points and is dropped when either changed.
+#include "lodforge/simplify.h"
+
+#include "lodforge/error.h"
+#include "lodforge/quadric.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numeric>
+#include <queue>
+#include <string>
+#include <unordered_map>
+
+namespace lodforge {
+namespace {
+
+constexpr std::uint32_t kNone = 0xffffffffu;
+constexpr int kMaxClasses = 16;  // (wedge, material) classes around one point; more = locked point
+
+// ---------------------------------------------------------------------------------------------------
+// Welding and output layout (shared by weld_seams and simplify)
+
+std::uint32_t find_root(std::vector<std::uint32_t>& parent, std::uint32_t x) {
+    while (parent[x] != x) {
+        parent[x] = parent[parent[x]];
+        x = parent[x];
+    }
+    return x;
+}
+
+void unite(std::vector<std::uint32_t>& parent, std::uint32_t a, std::uint32_t b) {
+    a = find_root(parent, a);
+    b = find_root(parent, b);
+    if (a == b) return;
+    if (a < b) parent[b] = a;  // the smallest vertex index stays the root (the point's representative)
+    else parent[a] = b;
+}
+
+// Point id of every vertex: dense, numbered by first occurrence; `representative` gets the first vertex
+// of each point.
+std::vector<std::uint32_t> derive_points(const Mesh& mesh, bool weld, float tolerance,
+                                         std::vector<std::uint32_t>& representative) {
+    const std::size_t n = mesh.vertex_count();
+    std::vector<std::uint32_t> parent(n);
+    std::iota(parent.begin(), parent.end(), 0u);
+    if (mesh.position_ids.size() == n) {
+        std::vector<std::uint32_t> first(mesh.point_count(), kNone);
+        for (std::uint32_t v = 0; v < n; ++v) {
+            std::uint32_t& f = first[mesh.position_ids[v]];
+            if (f == kNone) f = v;
+            else unite(parent, f, v);
+        }
+    }
+    if (weld && tolerance <= 0.f) {
+        std::vector<std::uint32_t> order(n);
+        std::iota(order.begin(), order.end(), 0u);
+        const auto& P = mesh.positions;
+        std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+            if (P[a].x != P[b].x) return P[a].x < P[b].x;
+            if (P[a].y != P[b].y) return P[a].y < P[b].y;
+            if (P[a].z != P[b].z) return P[a].z < P[b].z;
+            return a < b;
+        });
+        for (std::size_t i = 1; i < n; ++i)
+            if (P[order[i]] == P[order[i - 1]]) unite(parent, order[i - 1], order[i]);
+    } else if (weld) {
+        // Grid of cell size `tolerance`: a vertex joins the first earlier vertex within tolerance found
+        // in the 27 cells around it.
+        auto key = [](std::int64_t x, std::int64_t y, std::int64_t z) {
+            return static_cast<std::uint64_t>((x * 73856093) ^ (y * 19349663) ^ (z * 83492791));
+        };
+        std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> grid;
+        const double inv = 1.0 / tolerance;
+        const double tol2 = static_cast<double>(tolerance) * tolerance;
+        for (std::uint32_t v = 0; v < n; ++v) {
+            const Vec3f p = mesh.positions[v];
+            const auto cx = static_cast<std::int64_t>(std::floor(p.x * inv));
+            const auto cy = static_cast<std::int64_t>(std::floor(p.y * inv));
+            const auto cz = static_cast<std::int64_t>(std::floor(p.z * inv));
+            std::uint32_t found = kNone;
+            for (int dx = -1; dx <= 1 && found == kNone; ++dx)
+                for (int dy = -1; dy <= 1 && found == kNone; ++dy)
+                    for (int dz = -1; dz <= 1 && found == kNone; ++dz) {
+                        auto it = grid.find(key(cx + dx, cy + dy, cz + dz));
+                        if (it == grid.end()) continue;
+                        for (std::uint32_t o : it->second) {
+                            const Vec3f d = mesh.positions[o] - p;
+                            if (static_cast<double>(dot(d, d)) <= tol2) { found = o; break; }
+                        }
+                    }
+            if (found != kNone) unite(parent, found, v);
+            else grid[key(cx, cy, cz)].push_back(v);
+        }
+    }
+    std::vector<std::uint32_t> point(n);
+    std::vector<std::uint32_t> id_of_root(n, kNone);
+    representative.clear();
+    for (std::uint32_t v = 0; v < n; ++v) {
+        const std::uint32_t r = find_root(parent, v);
+        if (id_of_root[r] == kNone) {
+            id_of_root[r] = static_cast<std::uint32_t>(representative.size());
+            representative.push_back(r);
+        }
+        point[v] = id_of_root[r];
+    }
+    return point;
+}
+
+// A mesh made of the faces `corners` (input vertex ids; `face_source` = input face of each) with the
+// vertices they use, laid out as Mesh requires: one vertex per point first (input order), extra wedges
+// after. `vertex_map` receives output vertex → input vertex. Normals are renormalised.
+Mesh build_mesh(const Mesh& src, const std::vector<std::uint32_t>& point_of, const std::vector<Vec3f>* positions,
+                const std::vector<std::uint32_t>& corners, const std::vector<std::uint32_t>& face_source,
+                std::vector<std::uint32_t>& vertex_map) {
+    const std::size_t n = src.vertex_count();
+    std::vector<std::uint8_t> used(n, 0);
+    for (std::uint32_t c : corners) used[c] = 1;
+    std::vector<std::uint32_t> new_point(point_of.empty() ? 0 : *std::max_element(point_of.begin(), point_of.end()) + 1,
+                                         kNone);
+    std::vector<std::uint32_t> firsts, extras;
+    std::uint32_t points = 0;
+    for (std::uint32_t v = 0; v < n; ++v) {
+        if (!used[v]) continue;
+        std::uint32_t& np = new_point[point_of[v]];
+        if (np == kNone) {
+            np = points++;
+            firsts.push_back(v);
+        } else {
+            extras.push_back(v);
+        }
+    }
+    vertex_map = firsts;
+    vertex_map.insert(vertex_map.end(), extras.begin(), extras.end());
+    std::vector<std::uint32_t> new_index(n, kNone);
+    for (std::uint32_t i = 0; i < vertex_map.size(); ++i) new_index[vertex_map[i]] = i;
+
+    Mesh out;
+    const std::size_t m = vertex_map.size();
+    out.positions.resize(m);
+    out.position_ids.resize(m);
+    if (src.has_normals()) out.normals.resize(m);
+    if (src.has_colors()) out.colors.resize(m);
+    out.texcoords.assign(src.texcoords.size(), std::vector<Vec2f>(m));
+    for (std::size_t i = 0; i < m; ++i) {
+        const std::uint32_t v = vertex_map[i];
+        out.positions[i] = positions ? (*positions)[point_of[v]] : src.positions[v];
+        out.position_ids[i] = new_point[point_of[v]];
+        if (src.has_normals()) {
+            Vec3f nn = src.normals[v];
+            const float len = length(nn);
+            if (len > 0.f) nn = nn * (1.f / len);
+            out.normals[i] = nn;
+        }
+        if (src.has_colors()) out.colors[i] = src.colors[v];
+        for (std::size_t s = 0; s < src.texcoords.size(); ++s) out.texcoords[s][i] = src.texcoords[s][v];
+    }
+    out.indices.resize(corners.size());
+    for (std::size_t i = 0; i < corners.size(); ++i) out.indices[i] = new_index[corners[i]];
+    if (!src.face_materials.empty()) {
+        out.face_materials.resize(face_source.size());
+        for (std::size_t f = 0; f < face_source.size(); ++f) out.face_materials[f] = src.face_materials[face_source[f]];
+    }
+    out.materials = src.materials;
+    out.source_dir = src.source_dir;
+    return out;
+}
+
+// Faces the simplifier starts from: not degenerate on points, and not a repeat of an earlier face's
+// points (scans carry such duplicates; they would pin their points as non-manifold).
+std::vector<std::uint8_t> initial_faces(const Mesh& mesh, const std::vector<std::uint32_t>& point) {
+    const std::size_t nf = mesh.triangle_count();
+    std::vector<std::uint8_t> keep(nf, 0);
+    std::vector<std::array<std::uint32_t, 4>> sorted;
+    sorted.reserve(nf);
+    for (std::size_t f = 0; f < nf; ++f) {
+        std::array<std::uint32_t, 3> p{point[mesh.indices[3 * f]], point[mesh.indices[3 * f + 1]],
+                                       point[mesh.indices[3 * f + 2]]};
+        if (p[0] == p[1] || p[1] == p[2] || p[0] == p[2]) continue;
+        // Either winding: a face and its reverse are a zero-thickness sheet that no collapse can pass
+        // (the link condition sees two surfaces); the first one stays.
+        std::sort(p.begin(), p.end());
+        sorted.push_back({p[0], p[1], p[2], static_cast<std::uint32_t>(f)});
+    }
+    std::sort(sorted.begin(), sorted.end());
+    for (std::size_t i = 0; i < sorted.size(); ++i)
+        if (i == 0 || sorted[i][0] != sorted[i - 1][0] || sorted[i][1] != sorted[i - 1][1] ||
+            sorted[i][2] != sorted[i - 1][2])
+            keep[sorted[i][3]] = 1;  // the earliest face of each point set (sort is by index last)
+    return keep;
+}
+
+// ---------------------------------------------------------------------------------------------------
+// The collapse engine
+
+// complex: on a non-manifold edge or where several fans meet; it may move along any edge the full link
+// condition allows (the quadric keeps its shape).
+enum class Kind : std::uint8_t { interior, border, complex, locked };
+
+struct Entry {
+    float cost;
+    std::uint32_t from, to;
+    std::uint32_t stamp_from, stamp_to;
+    std::uint32_t retried;  // 1 when this is the reverse direction pushed after the cheaper one failed
+};
+struct EntryGreater {
+    bool operator()(const Entry& a, const Entry& b) const { return a.cost > b.cost; }
+};
+
+// How the (wedge, material) classes of the removed point map onto wedges of the kept point.
+struct Plan {
+    int count = 0;
+    std::uint32_t wedge[kMaxClasses];
+    std::uint32_t material[kMaxClasses];
+    std::uint32_t target[kMaxClasses];
+    int edge_faces = 0;
+    Vec3d position;
+};
+
+Vec3d to3d(Vec3f p) { return {p.x, p.y, p.z}; }
+Vec3d sub(Vec3d a, Vec3d b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+Vec3d crossd(Vec3d a, Vec3d b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
+double dotd(Vec3d a, Vec3d b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+
+class Simplifier {
+public:
+    Simplifier(const Mesh& mesh, const SimplifyParams& params, Progress* progress)
+        : mesh_(mesh), params_(params), progress_(progress) {}
+
+    SimplifyResult run();
+
+private:
+    void setup();
+    void classify_points();
+    std::uint32_t point(std::uint32_t wedge) const { return pid_[wedge]; }
+    const double* attr(std::uint32_t wedge) const { return &attrs_[wedge * dims_]; }
+    std::uint32_t material(std::uint32_t face) const {
+        return mesh_.face_materials.empty() ? 0 : mesh_.face_materials[face];
+    }
+    // Lists hold live faces only: collapse() removes dead faces from every list that had them.
+    const std::vector<std::uint32_t>& faces_of(std::uint32_t p) const { return pfaces_[p]; }
+    void neighbours(std::uint32_t p, std::vector<std::uint32_t>& out);
+    double evaluate(std::uint32_t u, std::uint32_t v, Plan& plan, bool full);
+    bool valid(std::uint32_t u, std::uint32_t v, const Plan& plan);
+    void collapse(std::uint32_t u, std::uint32_t v, const Plan& plan);
+    void push_edge(std::uint32_t a, std::uint32_t b);
+
+    const Mesh& mesh_;
+    const SimplifyParams& params_;
+    Progress* progress_;
+
+    std::vector<std::uint32_t> pid_;          // wedge → point
+    std::vector<std::uint32_t> representative_;
+    std::size_t points_ = 0;
+    std::vector<Vec3d> pos_;                  // per point, normalised (centre 0, diagonal 1)
+    Vec3d centre_;
+    double scale_ = 1;                        // model units per normalised unit (the diagonal)
+    std::vector<std::uint32_t> corners_;      // per face, wedges
+    std::vector<std::uint8_t> face_alive_;
+    std::vector<std::vector<std::uint32_t>> pfaces_;
+    std::vector<std::uint32_t> wedge_begin_, wedge_list_;  // point → its wedges (CSR)
+    std::vector<Kind> kind_;
+    std::vector<std::uint8_t> point_alive_, deferred_;
+    std::vector<std::uint32_t> stamp_;
+    std::vector<Quadric> geo_;
+    AttributeQuadrics aq_;
+    std::size_t dims_ = 0;
+    std::vector<double> attrs_;               // per wedge, weighted attribute vector
+    std::priority_queue<Entry, std::vector<Entry>, EntryGreater> heap_;
+    std::size_t alive_faces_ = 0;
+    std::vector<std::uint32_t> scratch_a_, scratch_b_;
+    SimplifyResult result_;
+};
+
+void Simplifier::setup() {
+    const std::size_t nv = mesh_.vertex_count();
+    pid_ = derive_points(mesh_, params_.weld, 0.f, representative_);
+    points_ = representative_.size();
+
+    const Bounds b = mesh_.bounds();
+    const double diag = b.diagonal();
+    scale_ = diag > 0 ? diag : 1.0;
+    centre_ = to3d(b.center());
+    pos_.resize(points_);
+    for (std::size_t p = 0; p < points_; ++p) {
+        const Vec3d q = to3d(mesh_.positions[representative_[p]]);
+        pos_[p] = {(q.x - centre_.x) / scale_, (q.y - centre_.y) / scale_, (q.z - centre_.z) / scale_};
+    }
+
+    // Wedges of each point.
+    wedge_begin_.assign(points_ + 1, 0);
+    for (std::uint32_t w = 0; w < nv; ++w) ++wedge_begin_[pid_[w] + 1];
+    for (std::size_t p = 0; p < points_; ++p) wedge_begin_[p + 1] += wedge_begin_[p];
+    wedge_list_.resize(nv);
+    {
+        std::vector<std::uint32_t> fill(wedge_begin_.begin(), wedge_begin_.end() - 1);
+        for (std::uint32_t w = 0; w < nv; ++w) wedge_list_[fill[pid_[w]]++] = w;
+    }
+
+    // Faces: drop those degenerate on points.
+    const std::size_t nf = mesh_.triangle_count();
+    corners_.assign(mesh_.indices.begin(), mesh_.indices.end());
+    face_alive_ = initial_faces(mesh_, pid_);
+    std::vector<std::uint32_t> degree(points_, 0);
+    for (std::size_t f = 0; f < nf; ++f) {
+        if (!face_alive_[f]) continue;
+        const std::uint32_t a = pid_[corners_[3 * f]], bb = pid_[corners_[3 * f + 1]], c = pid_[corners_[3 * f + 2]];
+        ++alive_faces_;
+        ++degree[a]; ++degree[bb]; ++degree[c];
+    }
+    pfaces_.resize(points_);
+    for (std::size_t p = 0; p < points_; ++p) pfaces_[p].reserve(degree[p]);
+    for (std::uint32_t f = 0; f < nf; ++f)
+        if (face_alive_[f])
+            for (int k = 0; k < 3; ++k) pfaces_[pid_[corners_[3 * f + k]]].push_back(f);
+
+    // Attributes, weighted so a difference of 1 costs like a deviation of `weight` diagonals.
+    const auto& w = params_.weights;
+    struct Channel { const float* base; std::size_t stride, count; double weight; };
+    std::vector<Channel> channels;
+    if (mesh_.has_normals() && w.normal > 0)
+        channels.push_back({&mesh_.normals[0].x, 3, 3, w.normal});
+    if (mesh_.has_colors() && w.color > 0)
+        channels.push_back({&mesh_.colors[0].x, 4, 4, w.color});
+    for (std::size_t s = 0; s < mesh_.texcoords.size(); ++s) {
+        const float ws = s < w.texcoord_sets.size() ? w.texcoord_sets[s] : w.texcoord;
+        if (ws > 0 && !mesh_.texcoords[s].empty()) channels.push_back({&mesh_.texcoords[s][0].x, 2, 2, ws});
+    }
+    dims_ = 0;
+    for (const Channel& c : channels) dims_ += c.count;
+    if (nv == 0) dims_ = 0;
+    attrs_.assign(nv * dims_, 0.0);
+    if (dims_ > 0) {
+        for (std::size_t v = 0; v < nv; ++v) {
+            std::size_t j = 0;
+            for (const Channel& c : channels)
+                for (std::size_t k = 0; k < c.count; ++k) attrs_[v * dims_ + j++] = c.weight * c.base[v * c.stride + k];
+        }
+    }
+    aq_ = AttributeQuadrics(nv, dims_);
+
+    // Quadrics.
+    geo_.assign(points_, Quadric{});
+    for (std::uint32_t f = 0; f < nf; ++f) {
+        if (!face_alive_[f]) continue;
+        const std::uint32_t* c = &corners_[3 * f];
+        const Vec3d p0 = pos_[pid_[c[0]]], p1 = pos_[pid_[c[1]]], p2 = pos_[pid_[c[2]]];
+        const Vec3d n = crossd(sub(p1, p0), sub(p2, p0));
+        const double len = std::sqrt(dotd(n, n));
+        if (!(len > 0)) continue;
+        const double area = 0.5 * len;
+        const Vec3d un{n.x / len, n.y / len, n.z / len};
+        const Quadric q = Quadric::from_plane(un, -dotd(un, p0), area);
+        for (int k = 0; k < 3; ++k) geo_[pid_[c[k]]] += q;
+        if (dims_ > 0)
+            for (int k = 0; k < 3; ++k)
+                aq_.add_triangle(c[k], p0, p1, p2, attr(c[0]), attr(c[1]), attr(c[2]), area);
+    }
+    kind_.assign(points_, Kind::interior);
+    point_alive_.assign(points_, 1);
+    deferred_.assign(points_, 0);
+    stamp_.assign(points_, 0);
+}
+
+void Simplifier::classify_points() {
+    // Neighbour counts per point: an edge with one face is a border edge, with more than two non-manifold.
+    std::vector<std::pair<std::uint32_t, int>> counts;
+    for (std::uint32_t p = 0; p < points_; ++p) {
+        counts.clear();
+        for (std::uint32_t f : pfaces_[p])
+            for (int k = 0; k < 3; ++k) {
+                const std::uint32_t q = pid_[corners_[3 * f + k]];
+                if (q == p) continue;
+                auto it = std::find_if(counts.begin(), counts.end(), [q](const auto& e) { return e.first == q; });
+                if (it == counts.end()) counts.emplace_back(q, 1);
+                else ++it->second;
+            }
+        int border = 0;
+        bool complex = false;
+        for (const auto& [q, c] : counts) {
+            if (c == 1) {
+                ++border;
+                if (q > p) {
+                    // Border constraint plane through the edge, perpendicular to its face (GH97 §6.1).
+                    for (std::uint32_t f : pfaces_[p]) {
+                        const std::uint32_t* cc = &corners_[3 * f];
+                        if (pid_[cc[0]] != q && pid_[cc[1]] != q && pid_[cc[2]] != q) continue;
+                        const Vec3d a0 = pos_[pid_[cc[0]]], a1 = pos_[pid_[cc[1]]], a2 = pos_[pid_[cc[2]]];
+                        const Vec3d n = crossd(sub(a1, a0), sub(a2, a0));
+                        const Vec3d e = sub(pos_[q], pos_[p]);
+                        Vec3d m = crossd(e, n);
+                        const double len = std::sqrt(dotd(m, m));
+                        if (!(len > 0)) break;
+                        m = {m.x / len, m.y / len, m.z / len};
+                        Quadric bq = Quadric::from_plane(m, -dotd(m, pos_[p]), dotd(e, e));
+                        bq.weight = 0;  // a constraint, not surface: it must not dilute the mean
+                        geo_[p] += bq;
+                        geo_[q] += bq;
+                        break;
+                    }
+                }
+            } else if (c > 2) {
+                complex = true;
+            }
+        }
+        if (complex || (border != 0 && border != 2))
+            kind_[p] = params_.lock_border && border != 0 ? Kind::locked : Kind::complex;
+        else if (border == 2) kind_[p] = params_.lock_border ? Kind::locked : Kind::border;
+        // A point with many (wedge, material) classes (a corner of several seams) stays.
+        int classes = 0;
+        for (std::uint32_t i = wedge_begin_[p]; i < wedge_begin_[p + 1]; ++i) ++classes;
+        if (classes > kMaxClasses / 2) kind_[p] = Kind::locked;
+    }
+}
+
+void Simplifier::neighbours(std::uint32_t p, std::vector<std::uint32_t>& out) {
+    out.clear();
+    for (std::uint32_t f : faces_of(p))
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t q = pid_[corners_[3 * f + k]];
+            if (q != p && std::find(out.begin(), out.end(), q) == out.end()) out.push_back(q);
+        }
+}
+
+// Cost of moving point u onto point v (infinity when not allowed); fills the wedge mapping. Without
+// `full`, an interior point with one wedge moving onto a point with one wedge skips the face walk (the
+// mapping is trivial); the collapse itself always re-evaluates with `full`.
+double Simplifier::evaluate(std::uint32_t u, std::uint32_t v, Plan& plan, bool full) {
+    constexpr double inf = std::numeric_limits<double>::infinity();
+    if (kind_[u] == Kind::locked) return inf;  // locked points stay, but others may move onto them
+    plan.count = 0;
+    plan.edge_faces = 0;
+    if (!full && kind_[u] == Kind::interior && mesh_.face_materials.empty() &&
+        wedge_begin_[u + 1] - wedge_begin_[u] == 1 && wedge_begin_[v + 1] - wedge_begin_[v] == 1) {
+        plan.count = 1;
+        plan.wedge[0] = wedge_list_[wedge_begin_[u]];
+        plan.material[0] = 0;
+        plan.target[0] = wedge_list_[wedge_begin_[v]];
+        plan.edge_faces = -1;  // not counted
+    }
+    if (plan.count == 0) for (std::uint32_t f : faces_of(u)) {
+        const std::uint32_t* c = &corners_[3 * f];
+        std::uint32_t wu = kNone, wv = kNone;
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t q = pid_[c[k]];
+            if (q == u) wu = c[k];
+            else if (q == v) wv = c[k];
+        }
+        const std::uint32_t mat = material(f);
+        int i = 0;
+        while (i < plan.count && !(plan.wedge[i] == wu && plan.material[i] == mat)) ++i;
+        if (i == plan.count) {
+            if (plan.count == kMaxClasses) return inf;
+            plan.wedge[i] = wu;
+            plan.material[i] = mat;
+            plan.target[i] = kNone;
+            ++plan.count;
+        }
+        if (wv == kNone) continue;
+        ++plan.edge_faces;
+        if (plan.target[i] == kNone) plan.target[i] = wv;
+        else if (plan.target[i] != wv) return inf;  // the class would have to split
+    }
+    if (plan.edge_faces == 0) return inf;
+    if (kind_[u] == Kind::border && plan.edge_faces != 1) return inf;  // border points slide along the border
+    // Every class must be carried by a collapsing face: otherwise a seam (or material border) through u
+    // would be dragged across the surface.
+    for (int i = 0; i < plan.count; ++i) {
+        if (plan.target[i] != kNone) continue;
+        if (params_.preserve_seams) return inf;
+        // Seams may close: take the target of another class of the same wedge, or any target.
+        for (int j = 0; j < plan.count; ++j)
+            if (plan.target[j] != kNone && (plan.wedge[j] == plan.wedge[i] || plan.target[i] == kNone))
+                plan.target[i] = plan.target[j];
+    }
+    // One wedge must map to one wedge (two materials sharing a wedge must agree).
+    for (int i = 0; i < plan.count; ++i)
+        for (int j = i + 1; j < plan.count; ++j)
+            if (plan.wedge[i] == plan.wedge[j] && plan.target[i] != plan.target[j]) return inf;
+
+    Quadric q = geo_[u];
+    q += geo_[v];
+    plan.position = pos_[v];
+    if (params_.placement == Placement::optimal) {
+        Vec3d p;
+        if (optimal_position(q, p)) {
+            // Keep the optimum near the edge: far solutions come from nearly flat quadrics.
+            const Vec3d e = sub(pos_[u], pos_[v]);
+            const Vec3d d = sub(p, pos_[v]);
+            if (dotd(d, d) <= 4 * dotd(e, e)) plan.position = p;
+        }
+        if (q.evaluate(pos_[u]) < q.evaluate(plan.position) && kind_[v] == Kind::interior) plan.position = pos_[u];
+    }
+    double cost = q.evaluate(plan.position);
+    if (dims_ > 0) {
+        for (int i = 0; i < plan.count; ++i) {
+            bool first = true;  // a wedge with two material classes is counted once
+            for (int j = 0; j < i; ++j) first = first && plan.wedge[j] != plan.wedge[i];
+            if (first) cost += aq_.evaluate(plan.wedge[i], plan.position, attr(plan.target[i]));
+        }
+        for (std::uint32_t k = wedge_begin_[v]; k < wedge_begin_[v + 1]; ++k) {
+            const std::uint32_t w = wedge_list_[k];
+            cost += aq_.evaluate(w, plan.position, attr(w));
+        }
+    }
+    const double weight = q.weight;
+    return weight > 0 ? cost / weight : cost * 1e12;
+}
+
+bool Simplifier::valid(std::uint32_t u, std::uint32_t v, const Plan& plan) {
+    // Link condition on points: the common neighbours of u and v are exactly the apexes of uv's faces.
+    neighbours(u, scratch_a_);
+    neighbours(v, scratch_b_);
+    int common = 0;
+    for (std::uint32_t a : scratch_a_)
+        if (std::find(scratch_b_.begin(), scratch_b_.end(), a) != scratch_b_.end()) ++common;
+    if (common != plan.edge_faces) return false;
+
+    const double min_dot = params_.min_normal_dot;
+    auto face_ok = [&](std::uint32_t f, std::uint32_t moved) {
+        const std::uint32_t* c = &corners_[3 * f];
+        Vec3d p[3], q[3];
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t pt = pid_[c[k]];
+            p[k] = pos_[pt];
+            q[k] = pt == moved ? plan.position : pos_[pt];
+        }
+        const Vec3d n0 = crossd(sub(p[1], p[0]), sub(p[2], p[0]));
+        const Vec3d n1 = crossd(sub(q[1], q[0]), sub(q[2], q[0]));
+        const double l0 = dotd(n0, n0), l1 = dotd(n1, n1);
+        if (!(l0 > 0)) return true;  // was degenerate already: nothing to flip
+        double longest = 0;
+        for (int k = 0; k < 3; ++k) {
+            const Vec3d e = sub(q[(k + 1) % 3], q[k]);
+            longest = std::max(longest, dotd(e, e));
+        }
+        if (!(l1 > 1e-12 * longest * longest)) return false;  // would become a needle or collapse
+        return dotd(n0, n1) >= min_dot * std::sqrt(l0 * l1);
+    };
+    for (std::uint32_t f : pfaces_[u]) {
+        const std::uint32_t* c = &corners_[3 * f];
+        const std::uint32_t a = pid_[c[0]], b = pid_[c[1]], cc = pid_[c[2]];
+        if (a == v || b == v || cc == v) continue;  // removed with the collapse
+        if (!face_ok(f, u)) return false;
+        // A face whose other two points are both common neighbours may already exist around v
+        // (tetrahedron-like configurations the vertex link test misses).
+        const std::uint32_t o1 = a == u ? b : a, o2 = cc == u ? b : cc;
+        const bool c1 = std::find(scratch_b_.begin(), scratch_b_.end(), o1) != scratch_b_.end();
+        const bool c2 = std::find(scratch_b_.begin(), scratch_b_.end(), o2) != scratch_b_.end();
+        if (c1 && c2) {
+            for (std::uint32_t g : pfaces_[v]) {
+                const std::uint32_t* d = &corners_[3 * g];
+                int hits = 0;
+                for (int k = 0; k < 3; ++k) hits += (pid_[d[k]] == o1 || pid_[d[k]] == o2);
+                if (hits == 2) return false;
+            }
+        }
+    }
+    if (params_.placement == Placement::optimal) {
+        for (std::uint32_t f : pfaces_[v]) {
+            const std::uint32_t* c = &corners_[3 * f];
+            if (pid_[c[0]] == u || pid_[c[1]] == u || pid_[c[2]] == u) continue;
+            if (!face_ok(f, v)) return false;
+        }
+    }
+    return true;
+}
+
+void Simplifier::collapse(std::uint32_t u, std::uint32_t v, const Plan& plan) {
+    // Wedge targets (a wedge of u that no face uses follows the first class, so replays stay exact).
+    auto target_of = [&](std::uint32_t w) {
+        for (int i = 0; i < plan.count; ++i)
+            if (plan.wedge[i] == w) return plan.target[i];
+        return plan.target[0];
+    };
+    auto& fv = pfaces_[v];
+    for (std::uint32_t f : pfaces_[u]) {
+        std::uint32_t* c = &corners_[3 * f];
+        if (pid_[c[0]] == v || pid_[c[1]] == v || pid_[c[2]] == v) {
+            face_alive_[f] = 0;
+            --alive_faces_;
+            for (int k = 0; k < 3; ++k) {
+                const std::uint32_t apex = pid_[c[k]];
+                if (apex != u && apex != v) std::erase(pfaces_[apex], f);
+            }
+            continue;
+        }
+        for (int k = 0; k < 3; ++k)
+            if (pid_[c[k]] == u) c[k] = target_of(c[k]);
+        fv.push_back(f);
+    }
+    std::vector<std::uint32_t>().swap(pfaces_[u]);
+    std::erase_if(fv, [&](std::uint32_t f) { return !face_alive_[f]; });
+
+    geo_[v] += geo_[u];
+    Collapse rec;
+    rec.from_point = u;
+    rec.to_point = v;
+    rec.moves_begin = static_cast<std::uint32_t>(result_.moves.size());
+    for (std::uint32_t k = wedge_begin_[u]; k < wedge_begin_[u + 1]; ++k) {
+        const std::uint32_t w = wedge_list_[k];
+        const std::uint32_t t = target_of(w);
+        if (dims_ > 0) aq_.accumulate(t, w);
+        result_.moves.push_back({w, t});
+    }
+    rec.moves_end = static_cast<std::uint32_t>(result_.moves.size());
+    result_.collapses.push_back(rec);
+    pos_[v] = plan.position;
+    point_alive_[u] = 0;
+    ++stamp_[v];
+}
+
+void Simplifier::push_edge(std::uint32_t a, std::uint32_t b) {
+    Plan pa, pb;
+    const double ca = evaluate(a, b, pa, false);
+    const double cb = evaluate(b, a, pb, false);
+    if (!std::isfinite(ca) && !std::isfinite(cb)) return;
+    if (ca <= cb) heap_.push({static_cast<float>(ca), a, b, stamp_[a], stamp_[b], 0});
+    else heap_.push({static_cast<float>(cb), b, a, stamp_[b], stamp_[a], 0});
+}
+
+SimplifyResult Simplifier::run() {
+    const auto& p = params_;
+    if (!(p.target_ratio >= 0.f && p.target_ratio <= 1.f))
+        throw Error(Error::Kind::argument, "simplify: target_ratio must be in [0, 1], got " + std::to_string(p.target_ratio));
+    if (!(p.max_error >= 0.f))
+        throw Error(Error::Kind::argument, "simplify: max_error must be >= 0, got " + std::to_string(p.max_error));
+    if (p.target_triangles == 0 && p.target_ratio == 0.f && std::isinf(p.max_error))
+        throw Error(Error::Kind::argument, "simplify: set target_triangles, target_ratio or max_error");
+    const auto& w = p.weights;
+    bool weights_ok = w.normal >= 0 && w.color >= 0 && w.texcoord >= 0 && std::isfinite(w.normal) &&
+                      std::isfinite(w.color) && std::isfinite(w.texcoord);
+    for (float t : w.texcoord_sets) weights_ok = weights_ok && t >= 0 && std::isfinite(t);
+    if (!weights_ok) throw Error(Error::Kind::argument, "simplify: attribute weights must be finite and >= 0");
+    if (!(p.min_normal_dot >= -1.f && p.min_normal_dot <= 1.f))
+        throw Error(Error::Kind::argument, "simplify: min_normal_dot must be in [-1, 1]");
+
+    check_progress(progress_, 0.0, "simplify");
+    setup();
+    classify_points();
+
+    std::size_t target = p.target_triangles;
+    if (p.target_ratio > 0.f)
+        target = std::max(target, static_cast<std::size_t>(std::llround(p.target_ratio * double(mesh_.triangle_count()))));
+    const std::size_t start = alive_faces_;
+
+    // Initial candidates: each edge once, from its lower point.
+    for (std::uint32_t a = 0; a < points_; ++a) {
+        if (alive_faces_ <= target) break;
+        neighbours(a, scratch_a_);
+        for (std::uint32_t b : scratch_a_)
+            if (b > a) push_edge(a, b);
+        if ((a & 0xffff) == 0) check_progress(progress_, 0.0, "simplify");
+    }
+
+    const double limit = std::isinf(p.max_error) ? std::numeric_limits<double>::infinity()
+                                                 : double(p.max_error) * double(p.max_error);
+    double max_cost = 0;
+    result_.reason = SimplifyResult::StopReason::topology_limit;
+    std::size_t iterations = 0;
+    Plan plan;
+    std::vector<std::uint32_t> ring;
+    while (true) {
+        if (alive_faces_ <= target) {
+            result_.reason = SimplifyResult::StopReason::target_reached;
+            break;
+        }
+        if (heap_.empty()) break;
+        if ((++iterations & 1023) == 0 && progress_) {
+            const double span = double(start - std::min(start, target));
+            check_progress(progress_, span > 0 ? double(start - alive_faces_) / span : 1.0, "simplify");
+        }
+        const Entry e = heap_.top();
+        heap_.pop();
+        if (!point_alive_[e.from] || !point_alive_[e.to]) continue;
+        if (stamp_[e.from] != e.stamp_from || stamp_[e.to] != e.stamp_to) continue;
+        const double cost = evaluate(e.from, e.to, plan, true);
+        if (!std::isfinite(cost)) continue;
+        if (cost > double(e.cost) * (1 + 1e-5) + 1e-30) {  // stale (a neighbour's seam moved): requeue
+            heap_.push({static_cast<float>(cost), e.from, e.to, e.stamp_from, e.stamp_to, e.retried});
+            continue;
+        }
+        if (cost > limit) {
+            result_.reason = SimplifyResult::StopReason::error_limit;
+            break;
+        }
+        if (!valid(e.from, e.to, plan)) {
+            if (!e.retried) {
+                Plan rev;
+                const double rc = evaluate(e.to, e.from, rev, false);
+                if (std::isfinite(rc)) heap_.push({static_cast<float>(rc), e.to, e.from, e.stamp_to, e.stamp_from, 1});
+            }
+            deferred_[e.from] = deferred_[e.to] = 1;
+            continue;
+        }
+        max_cost = std::max(max_cost, cost);
+        collapse(e.from, e.to, plan);
+        const std::uint32_t v = e.to;
+        neighbours(v, ring);
+        for (std::uint32_t n : ring) {
+            push_edge(n, v);
+            if (deferred_[n]) {
+                deferred_[n] = 0;
+                neighbours(n, scratch_a_);
+                const std::vector<std::uint32_t> around = scratch_a_;
+                for (std::uint32_t m : around)
+                    if (m != v) push_edge(n, m);
+            }
+        }
+        deferred_[v] = 0;
+    }
+    check_progress(progress_, 1.0, "simplify");
+
+    // Output: surviving faces in input order.
+    std::vector<std::uint32_t> corners, sources;
+    corners.reserve(alive_faces_ * 3);
+    sources.reserve(alive_faces_);
+    for (std::uint32_t f = 0; f < face_alive_.size(); ++f) {
+        if (!face_alive_[f]) continue;
+        corners.insert(corners.end(), &corners_[3 * f], &corners_[3 * f] + 3);
+        sources.push_back(f);
+    }
+    std::vector<Vec3f> moved;
+    if (p.placement == Placement::optimal) {
+        moved.resize(points_);
+        for (std::size_t i = 0; i < points_; ++i)
+            moved[i] = {static_cast<float>(pos_[i].x * scale_ + centre_.x), static_cast<float>(pos_[i].y * scale_ + centre_.y),
+                        static_cast<float>(pos_[i].z * scale_ + centre_.z)};
+    }
+    result_.mesh = build_mesh(mesh_, pid_, moved.empty() ? nullptr : &moved, corners, sources, result_.vertex_map);
+    result_.triangles = result_.mesh.triangle_count();
+    result_.error_relative = static_cast<float>(std::sqrt(max_cost));
+    result_.error = static_cast<float>(std::sqrt(max_cost) * scale_);
+    result_.input_points = std::move(pid_);
+    return std::move(result_);
+}
+
+}  // namespace
+
+SimplifyResult simplify(const Mesh& mesh, const SimplifyParams& params, Progress* progress) {
+    Simplifier s(mesh, params, progress);
+    return s.run();
+}
+
+std::vector<std::uint32_t> replay_collapses(const Mesh& input, const SimplifyResult& result, std::size_t k) {
+    if (k > result.collapses.size())
+        throw Error(Error::Kind::argument, "replay_collapses: " + std::to_string(k) + " collapses requested, " +
+                                               std::to_string(result.collapses.size()) + " recorded");
+    if (result.input_points.size() != input.vertex_count())
+        throw Error(Error::Kind::argument, "replay_collapses: the result was not made from this mesh");
+    std::vector<std::uint32_t> to(input.vertex_count());
+    std::iota(to.begin(), to.end(), 0u);
+    for (std::size_t i = 0; i < k; ++i) {
+        const Collapse& c = result.collapses[i];
+        for (std::uint32_t m = c.moves_begin; m < c.moves_end; ++m) to[result.moves[m].from] = result.moves[m].to;
+    }
+    auto resolve = [&](std::uint32_t w) {
+        std::uint32_t r = w;
+        while (to[r] != r) r = to[r];
+        while (to[w] != r) {  // path compression
+            const std::uint32_t next = to[w];
+            to[w] = r;
+            w = next;
+        }
+        return r;
+    };
+    std::vector<std::uint32_t> out;
+    const auto& pts = result.input_points;
+    const std::vector<std::uint8_t> start = initial_faces(input, pts);
+    for (std::size_t f = 0; f < input.triangle_count(); ++f) {
+        if (!start[f]) continue;
+        const std::uint32_t a = resolve(input.indices[3 * f]), b = resolve(input.indices[3 * f + 1]),
+                            c = resolve(input.indices[3 * f + 2]);
+        if (pts[a] == pts[b] || pts[b] == pts[c] || pts[a] == pts[c]) continue;
+        out.push_back(a);
+        out.push_back(b);
+        out.push_back(c);
+    }
+    return out;
+}
+
+Mesh weld_seams(const Mesh& mesh, float tolerance) {
+    if (!(tolerance >= 0.f) || !std::isfinite(tolerance))
+        throw Error(Error::Kind::argument, "weld_seams: tolerance must be finite and >= 0");
+    std::vector<std::uint32_t> representative;
+    const std::vector<std::uint32_t> point = derive_points(mesh, true, tolerance, representative);
+    std::vector<Vec3f> snapped(representative.size());
+    for (std::size_t i = 0; i < representative.size(); ++i) snapped[i] = mesh.positions[representative[i]];
+    // Keep every vertex (unused ones too): list them all as "corners" of a pseudo face set, then restore
+    // the real faces.
+    std::vector<std::uint32_t> all(mesh.vertex_count());
+    std::iota(all.begin(), all.end(), 0u);
+    std::vector<std::uint32_t> map;
+    Mesh out = build_mesh(mesh, point, &snapped, all, {}, map);
+    std::vector<std::uint32_t> inverse(mesh.vertex_count());
+    for (std::uint32_t i = 0; i < map.size(); ++i) inverse[map[i]] = i;
+    out.indices.resize(mesh.indices.size());
+    for (std::size_t i = 0; i < mesh.indices.size(); ++i) out.indices[i] = inverse[mesh.indices[i]];
+    out.face_materials = mesh.face_materials;
+    // build_mesh renormalises normals; welding must not change attributes.
+    if (mesh.has_normals())
+        for (std::uint32_t i = 0; i < map.size(); ++i) out.normals[i] = mesh.normals[map[i]];
+    return out;
+}
+
+}  // namespace lodforge

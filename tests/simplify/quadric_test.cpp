@@ -1,0 +1,62 @@
+#include "lodforge/quadric.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+using namespace lodforge;
+
+TEST(Quadric, PlaneQuadricIsWeightedSquaredDistance) {
+    const Quadric q = Quadric::from_plane({0, 0, 1}, -2.0, 3.0);  // plane z = 2, weight 3
+    EXPECT_NEAR(q.evaluate({5, -7, 2}), 0.0, 1e-12);
+    EXPECT_NEAR(q.evaluate({1, 1, 5}), 3.0 * 9.0, 1e-9);
+    EXPECT_DOUBLE_EQ(q.weight, 3.0);
+}
+
+TEST(Quadric, OptimalPositionIsThePlanesIntersection) {
+    Quadric q = Quadric::from_plane({1, 0, 0}, -1.0, 1.0);
+    q += Quadric::from_plane({0, 1, 0}, -2.0, 1.0);
+    q += Quadric::from_plane({0, 0, 1}, -3.0, 1.0);
+    Vec3d p;
+    ASSERT_TRUE(optimal_position(q, p));
+    EXPECT_NEAR(p.x, 1.0, 1e-9);
+    EXPECT_NEAR(p.y, 2.0, 1e-9);
+    EXPECT_NEAR(p.z, 3.0, 1e-9);
+    // Two planes: the minimisers form a line, no unique answer.
+    Quadric flat = Quadric::from_plane({1, 0, 0}, 0.0, 1.0);
+    flat += Quadric::from_plane({0, 1, 0}, 0.0, 1.0);
+    EXPECT_FALSE(optimal_position(flat, p));
+}
+
+TEST(AttributeQuadric, ZeroOnTheInterpolatedAttributesAndGrowsOffThem) {
+    AttributeQuadrics aq(1, 2);
+    const double s0[2] = {0, 1}, s1[2] = {1, 1}, s2[2] = {0, 3};
+    aq.add_triangle(0, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, s0, s1, s2, 0.5);
+    // At a corner with its own attributes: no error; the attribute field is s = (x, 1 + 2y).
+    EXPECT_NEAR(aq.evaluate(0, {1, 0, 0}, s1), 0.0, 1e-12);
+    const double mid[2] = {0.25, 1.5};
+    EXPECT_NEAR(aq.evaluate(0, {0.25, 0.25, 0}, mid), 0.0, 1e-12);
+    // Off the plane the attribute gradient does not change (it lies in the face plane).
+    EXPECT_NEAR(aq.evaluate(0, {0.25, 0.25, 4}, mid), 0.0, 1e-12);
+    const double off[2] = {0.25 + 0.1, 1.5};
+    EXPECT_NEAR(aq.evaluate(0, {0.25, 0.25, 0}, off), 0.5 * 0.01, 1e-12);
+    double best[2];
+    ASSERT_TRUE(aq.optimal_attributes(0, {0.5, 0.25, 0}, best));
+    EXPECT_NEAR(best[0], 0.5, 1e-12);
+    EXPECT_NEAR(best[1], 1.5, 1e-12);
+    // With the attributes eliminated, the quadric in p alone is zero everywhere (the field is linear).
+    const Quadric e = aq.eliminated(0);
+    EXPECT_NEAR(e.evaluate({0.3, 0.7, 2}), 0.0, 1e-9);
+}
+
+TEST(AttributeQuadric, AccumulateAddsErrors) {
+    AttributeQuadrics aq(2, 1);
+    const double a[1] = {0}, b[1] = {1}, c[1] = {0};
+    aq.add_triangle(0, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, a, b, c, 1.0);
+    aq.add_triangle(1, {0, 0, 0}, {0, 1, 0}, {-1, 0, 0}, a, c, b, 1.0);
+    const double s[1] = {0.7};
+    const double e0 = aq.evaluate(0, {0.1, 0.1, 0}, s), e1 = aq.evaluate(1, {0.1, 0.1, 0}, s);
+    aq.accumulate(0, 1);
+    EXPECT_NEAR(aq.evaluate(0, {0.1, 0.1, 0}, s), e0 + e1, 1e-12);
+    EXPECT_DOUBLE_EQ(aq.weight(0), 2.0);
+}

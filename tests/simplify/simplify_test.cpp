@@ -1,0 +1,348 @@
+#include "lodforge/error.h"
+#include "lodforge/mesh_io.h"
+#include "lodforge/metrics.h"
+#include "lodforge/simplify.h"
+
+#include "simplify/simplify_test_util.h"
+#include "support/test_paths.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+#include <numeric>
+
+using namespace lodforge;
+using lodforge::test::count_degenerate;
+using lodforge::test::count_edges;
+using lodforge::test::EdgeCounts;
+
+namespace {
+
+const Mesh& bunny() {
+    static const Mesh m = read_mesh(test::shared_data("scan-bunny/bun_zipper.ply"));
+    return m;
+}
+const Mesh& dragon_res2() {
+    static const Mesh m = read_mesh(test::shared_data("scan-dragon/dragon_vrip_res2.ply"));
+    return m;
+}
+const Mesh& spot() {
+    static const Mesh m = read_mesh(test::sample("spot/spot_triangulated.obj"));
+    return m;
+}
+
+SimplifyParams ratio(float r) {
+    SimplifyParams p;
+    p.target_ratio = r;
+    return p;
+}
+
+void expect_target(const Mesh& in, const SimplifyResult& r, float ratio_wanted) {
+    const double target = double(in.triangle_count()) * ratio_wanted;
+    EXPECT_EQ(r.reason, SimplifyResult::StopReason::target_reached);
+    EXPECT_NEAR(double(r.triangles), target, 0.01 * target + 1) << "ratio " << ratio_wanted;
+    EXPECT_EQ(r.triangles, r.mesh.triangle_count());
+}
+
+// Faces whose normal points against the input surface normal at their corners (area-weighted input
+// point normals): fold-overs.
+std::size_t count_folded(const Mesh& in, const std::vector<std::uint32_t>& input_points, const Mesh& m,
+                         const std::vector<std::uint32_t>& vertex_map) {
+    std::vector<Vec3f> pn(in.vertex_count());
+    for (std::size_t f = 0; f < in.triangle_count(); ++f) {
+        const std::uint32_t* i = &in.indices[3 * f];
+        const Vec3f n = cross(in.positions[i[1]] - in.positions[i[0]], in.positions[i[2]] - in.positions[i[0]]);
+        for (int k = 0; k < 3; ++k) pn[input_points[i[k]]] = pn[input_points[i[k]]] + n;
+    }
+    std::size_t folded = 0;
+    for (std::size_t f = 0; f < m.triangle_count(); ++f) {
+        const std::uint32_t* i = &m.indices[3 * f];
+        const Vec3f n = cross(m.positions[i[1]] - m.positions[i[0]], m.positions[i[2]] - m.positions[i[0]]);
+        Vec3f avg;
+        for (int k = 0; k < 3; ++k) avg = avg + pn[input_points[vertex_map[i[k]]]];
+        if (dot(n, avg) < 0) ++folded;
+    }
+    return folded;
+}
+
+void check_levels(const Mesh& in, const char* name) {
+    // Judge against the input as the simplifier sees it (welded points, exact duplicate faces dropped):
+    // ratio 1 performs no collapse. Scans also fold on themselves in places, so folds are counted
+    // relative to the input's own.
+    const SimplifyResult points = simplify(in, ratio(1.f));
+    ASSERT_TRUE(points.collapses.empty());
+    const EdgeCounts before = count_edges(points.mesh);
+    std::vector<std::uint32_t> identity(in.vertex_count());
+    std::iota(identity.begin(), identity.end(), 0u);
+    const std::size_t folded_before = count_folded(in, points.input_points, in, identity);
+    float last_error = 0;
+    for (float r : {0.5f, 0.1f, 0.01f}) {
+        SCOPED_TRACE(std::string(name) + " ratio " + std::to_string(r));
+        const SimplifyResult s = simplify(in, ratio(r));
+        expect_target(in, s, r);
+        EXPECT_EQ(count_degenerate(s.mesh), 0u);
+        const EdgeCounts after = count_edges(s.mesh);
+        EXPECT_LE(after.non_manifold, before.non_manifold);
+        EXPECT_LE(after.border, before.border);
+        EXPECT_LE(count_folded(in, s.input_points, s.mesh, s.vertex_map), folded_before + s.triangles / 200 + 1);
+        EXPECT_GE(s.error, last_error);
+        EXPECT_GT(s.error, 0.f);
+        EXPECT_NEAR(s.error_relative, s.error / in.bounds().diagonal(), 1e-6f * s.error_relative + 1e-12f);
+        last_error = s.error;
+    }
+}
+
+}  // namespace
+
+TEST(Simplify, BunnyReachesTargetsWithValidTopology) { check_levels(bunny(), "bunny"); }
+
+TEST(Simplify, DragonRes2ReachesTargetsWithValidTopology) { check_levels(dragon_res2(), "dragon_res2"); }
+
+TEST(Simplify, OutputFollowsTheMeshLayoutContract) {
+    const SimplifyResult s = simplify(bunny(), ratio(0.1f));
+    const Mesh& m = s.mesh;
+    ASSERT_EQ(m.position_ids.size(), m.vertex_count());
+    ASSERT_EQ(s.vertex_map.size(), m.vertex_count());
+    // Stored points first: vertex i < point_count() is point i.
+    for (std::size_t i = 0; i < m.point_count(); ++i) EXPECT_EQ(m.position_ids[i], i);
+    for (std::size_t i = 0; i < m.vertex_count(); ++i) EXPECT_EQ(m.positions[i], bunny().positions[s.vertex_map[i]]);
+    for (std::uint32_t i : m.indices) EXPECT_LT(i, m.vertex_count());
+}
+
+TEST(Simplify, ReplayingTheCollapsesReproducesEveryLevel) {
+    const Mesh& in = bunny();
+    const SimplifyResult s = simplify(in, ratio(0.05f));
+    // All collapses: exactly the output triangles.
+    const std::vector<std::uint32_t> all = replay_collapses(in, s, s.collapses.size());
+    ASSERT_EQ(all.size(), s.mesh.indices.size());
+    for (std::size_t i = 0; i < all.size(); ++i) ASSERT_EQ(all[i], s.vertex_map[s.mesh.indices[i]]) << i;
+    // A prefix is a valid intermediate level: each collapse removes one or two triangles.
+    std::size_t previous = in.triangle_count();
+    for (std::size_t k : {std::size_t{0}, std::size_t{1}, s.collapses.size() / 3, s.collapses.size() / 2}) {
+        const std::vector<std::uint32_t> level = replay_collapses(in, s, k);
+        EXPECT_LE(level.size() / 3, previous);
+        EXPECT_GE(level.size() / 3 + 2 * k, in.triangle_count());
+        EXPECT_LE(level.size() / 3 + k, in.triangle_count());
+        previous = level.size() / 3;
+    }
+    // The first k collapses of a longer run are the whole run of a shorter one.
+    const SimplifyResult half = simplify(in, ratio(0.5f));
+    ASSERT_LE(half.collapses.size(), s.collapses.size());
+    for (std::size_t i = 0; i < half.collapses.size(); ++i) {
+        ASSERT_EQ(half.collapses[i].from_point, s.collapses[i].from_point) << i;
+        ASSERT_EQ(half.collapses[i].to_point, s.collapses[i].to_point) << i;
+    }
+    const std::vector<std::uint32_t> level = replay_collapses(in, s, half.collapses.size());
+    ASSERT_EQ(level.size(), half.mesh.indices.size());
+    for (std::size_t i = 0; i < level.size(); ++i) ASSERT_EQ(level[i], half.vertex_map[half.mesh.indices[i]]);
+    EXPECT_THROW(replay_collapses(in, s, s.collapses.size() + 1), Error);
+}
+
+TEST(Simplify, ClosedTexturedSpotKeepsClosedAndSeamsIntact) {
+    const Mesh& in = spot();
+    ASSERT_GT(in.vertex_count(), in.point_count());  // UV seams exist as extra wedges
+    ASSERT_EQ(count_edges(in).border, 0u);
+    const SimplifyResult s = simplify(in, ratio(0.1f));
+    expect_target(in, s, 0.1f);
+    EXPECT_EQ(count_edges(s.mesh).border, 0u);
+    EXPECT_EQ(count_edges(s.mesh).non_manifold, 0u);
+    EXPECT_EQ(count_degenerate(s.mesh), 0u);
+
+    // UV islands of the input: faces connected through edges whose both wedges are shared.
+    const std::size_t nf = in.triangle_count();
+    std::vector<std::uint32_t> parent(nf);
+    std::iota(parent.begin(), parent.end(), 0u);
+    auto find = [&](std::uint32_t x) {
+        while (parent[x] != x) x = parent[x] = parent[parent[x]];
+        return x;
+    };
+    std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> wedge_edges;
+    for (std::uint32_t f = 0; f < nf; ++f)
+        for (int k = 0; k < 3; ++k) {
+            std::uint32_t a = in.indices[3 * f + k], b = in.indices[3 * f + (k + 1) % 3];
+            if (a > b) std::swap(a, b);
+            auto [it, inserted] = wedge_edges.emplace(std::make_pair(a, b), f);
+            if (!inserted) parent[find(f)] = find(it->second);
+        }
+    std::vector<std::uint32_t> island_of_wedge(in.vertex_count(), 0);
+    for (std::uint32_t f = 0; f < nf; ++f)
+        for (int k = 0; k < 3; ++k) island_of_wedge[in.indices[3 * f + k]] = find(f);
+    std::size_t across = 0;
+    for (std::size_t f = 0; f < s.mesh.triangle_count(); ++f) {
+        const std::uint32_t* i = &s.mesh.indices[3 * f];
+        const std::uint32_t a = island_of_wedge[s.vertex_map[i[0]]], b = island_of_wedge[s.vertex_map[i[1]]],
+                            c = island_of_wedge[s.vertex_map[i[2]]];
+        across += (a != b || b != c);
+    }
+    EXPECT_EQ(across, 0u);
+    // Seam wedges stay welded: output points still carry several wedges where seams run.
+    EXPECT_GT(s.mesh.vertex_count(), s.mesh.point_count());
+}
+
+TEST(Simplify, NormalsAndColoursSurviveAndStayUnitLength) {
+    const Mesh in = read_mesh(test::shared_data("color-open3d-frag115/frag_115.ply"));
+    ASSERT_TRUE(in.has_normals());
+    ASSERT_TRUE(in.has_colors());
+    const SimplifyResult s = simplify(in, ratio(0.1f));
+    expect_target(in, s, 0.1f);
+    ASSERT_TRUE(s.mesh.has_normals());
+    ASSERT_TRUE(s.mesh.has_colors());
+    for (const Vec3f& n : s.mesh.normals) ASSERT_NEAR(length(n), 1.f, 1e-5f);
+    EXPECT_EQ(count_degenerate(s.mesh), 0u);
+
+    // The attribute quadrics must pay off: colour error well below geometry-only simplification.
+    SimplifyParams geometry_only = ratio(0.1f);
+    geometry_only.weights.color = 0;
+    geometry_only.weights.normal = 0;
+    const SimplifyResult g = simplify(in, geometry_only);
+    const DistanceResult with = compare(in, s.mesh);
+    const DistanceResult without = compare(in, g.mesh);
+    ASSERT_TRUE(with.has_color_error);
+    EXPECT_LT(with.color_rms, without.color_rms);
+    std::printf("frag_115 10%%: colour RMS %.2f (geometry only %.2f), Hausdorff %.2e / %.2e\n", with.color_rms,
+                without.color_rms, with.hausdorff_relative, without.hausdorff_relative);
+}
+
+TEST(Simplify, GltfSeamsAreWeldedAndKept) {
+    const Mesh in = read_mesh(test::shared_data("tex-duck/glTF/Duck.gltf"));
+    // The importer keeps every glTF vertex its own point; welding finds the seams.
+    const Mesh welded = weld_seams(in);
+    EXPECT_LT(welded.point_count(), in.point_count());
+    EXPECT_EQ(welded.vertex_count(), in.vertex_count());
+    EXPECT_EQ(welded.triangle_count(), in.triangle_count());
+    for (std::size_t i = 0; i < welded.point_count(); ++i) EXPECT_EQ(welded.position_ids[i], i);
+    const std::size_t borders = count_edges(welded).border;
+
+    const SimplifyResult s = simplify(in, ratio(0.2f));
+    expect_target(in, s, 0.2f);
+    // Judged on the simplifier's own (welded) points: no new holes along the former seams.
+    EXPECT_LE(count_edges(s.mesh).border, borders);
+    EXPECT_EQ(count_degenerate(s.mesh), 0u);
+
+    SimplifyParams unwelded = ratio(0.2f);
+    unwelded.weld = false;
+    const SimplifyResult open = simplify(in, unwelded);
+    // Without welding, seams are borders that must not move: the shape holds, but fewer collapses fit.
+    EXPECT_GE(open.mesh.triangle_count(), s.mesh.triangle_count());
+}
+
+TEST(Simplify, WeldToleranceJoinsNearbyVertices) {
+    Mesh m;
+    m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1e-4f, 0, 0}, {1, 1, 0}};
+    m.indices = {0, 1, 2, 3, 4, 2};
+    EXPECT_EQ(weld_seams(m).point_count(), 5u);
+    const Mesh w = weld_seams(m, 1e-3f);
+    EXPECT_EQ(w.point_count(), 4u);
+    EXPECT_EQ(w.vertex_count(), 5u);
+    EXPECT_THROW(weld_seams(m, -1.f), Error);
+}
+
+TEST(Simplify, LockedBorderStaysPut) {
+    const Mesh& in = bunny();
+    SimplifyParams p = ratio(0.2f);
+    p.lock_border = true;
+    const SimplifyResult s = simplify(in, p);
+    // Every border point of the input survives.
+    std::vector<std::uint8_t> kept(in.vertex_count(), 0);
+    for (std::uint32_t v : s.vertex_map) kept[s.input_points[v]] = 1;
+    std::map<std::pair<std::uint32_t, std::uint32_t>, int> edges;
+    for (std::size_t f = 0; f < in.triangle_count(); ++f)
+        for (int k = 0; k < 3; ++k) {
+            std::uint32_t a = in.indices[3 * f + k], b = in.indices[3 * f + (k + 1) % 3];
+            if (a > b) std::swap(a, b);
+            ++edges[{a, b}];
+        }
+    std::size_t border_points = 0, lost = 0;
+    for (const auto& [e, n] : edges)
+        if (n == 1) {
+            border_points += 2;
+            lost += !kept[s.input_points[e.first]] + !kept[s.input_points[e.second]];
+        }
+    ASSERT_GT(border_points, 0u);
+    EXPECT_EQ(lost, 0u);
+}
+
+TEST(Simplify, ErrorLimitStopsEarly) {
+    SimplifyParams p;
+    p.max_error = 1e-4f;
+    const SimplifyResult s = simplify(bunny(), p);
+    EXPECT_EQ(s.reason, SimplifyResult::StopReason::error_limit);
+    EXPECT_LE(s.error_relative, 1e-4f);
+    EXPECT_LT(s.triangles, bunny().triangle_count());
+    EXPECT_GT(s.triangles, bunny().triangle_count() / 100);
+}
+
+TEST(Simplify, TopologyLimitIsReported) {
+    // A tetrahedron cannot lose a triangle without becoming degenerate.
+    Mesh m;
+    m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    m.indices = {0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3};
+    SimplifyParams p;
+    p.target_triangles = 1;
+    const SimplifyResult s = simplify(m, p);
+    EXPECT_EQ(s.reason, SimplifyResult::StopReason::topology_limit);
+    EXPECT_EQ(s.triangles, 4u);
+}
+
+TEST(Simplify, OptimalPlacementLowersTheError) {
+    const Mesh& in = dragon_res2();
+    SimplifyParams p = ratio(0.1f);
+    const SimplifyResult half = simplify(in, p);
+    p.placement = Placement::optimal;
+    const SimplifyResult opt = simplify(in, p);
+    expect_target(in, opt, 0.1f);
+    EXPECT_EQ(count_degenerate(opt.mesh), 0u);
+    const DistanceResult dh = compare(in, half.mesh), dopt = compare(in, opt.mesh);
+    std::printf("dragon_res2 10%%: half-edge max %.2e mean %.2e; optimal max %.2e mean %.2e\n",
+                dh.hausdorff_relative, dh.mean_relative, dopt.hausdorff_relative, dopt.mean_relative);
+    EXPECT_LT(dopt.mean_relative, dh.mean_relative);
+}
+
+TEST(Simplify, CancellationThrows) {
+    CancelFlagProgress progress;
+    progress.cancel();
+    try {
+        simplify(dragon_res2(), ratio(0.1f), &progress);
+        FAIL() << "no exception";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.kind(), Error::Kind::cancelled);
+    }
+}
+
+TEST(Simplify, CancellationMidwayThrows) {
+    struct CancelLater : Progress {
+        int calls = 0;
+        void report(double, std::string_view) override { ++calls; }
+        bool cancelled() const override { return calls > 20; }
+    } progress;
+    EXPECT_THROW(simplify(dragon_res2(), ratio(0.01f), &progress), Error);
+    EXPECT_GT(progress.calls, 20);
+}
+
+TEST(Simplify, BadParametersAreArgumentErrors) {
+    auto kind_of = [](const SimplifyParams& p) {
+        try {
+            simplify(spot(), p);
+        } catch (const Error& e) {
+            return e.kind();
+        }
+        return Error::Kind::io;
+    };
+    EXPECT_EQ(kind_of(SimplifyParams{}), Error::Kind::argument);  // nothing to stop at
+    EXPECT_EQ(kind_of(ratio(1.5f)), Error::Kind::argument);
+    EXPECT_EQ(kind_of(ratio(NAN)), Error::Kind::argument);
+    SimplifyParams p = ratio(0.5f);
+    p.weights.color = -1;
+    EXPECT_EQ(kind_of(p), Error::Kind::argument);
+    p = ratio(0.5f);
+    p.max_error = NAN;
+    EXPECT_EQ(kind_of(p), Error::Kind::argument);
+}
+
+TEST(Simplify, EmptyMeshIsReturnedAsIs) {
+    Mesh m;
+    const SimplifyResult s = simplify(m, ratio(0.5f));
+    EXPECT_EQ(s.triangles, 0u);
+    EXPECT_EQ(s.reason, SimplifyResult::StopReason::target_reached);
+}
