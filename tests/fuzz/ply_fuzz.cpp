@@ -1,0 +1,84 @@
+// libFuzzer target for the PLY reader. Each input is read twice: from memory with read_ply (the whole
+// importer: wedges, strips, materials), and from a temporary file through the streaming PlyReader with
+// a tiny read buffer and small chunks, so buffer refills, growth and seeks run on every input.
+// Invariants the Mesh contract promises are checked with __builtin_trap so a violation is a crash.
+
+#include "ply_internal.h"
+
+#include "lodforge/error.h"
+#include "lodforge/ply.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+#include <string>
+#include <unistd.h>
+#include <vector>
+
+namespace {
+
+void check(bool ok) {
+    if (!ok) __builtin_trap();
+}
+
+void check_mesh(const lodforge::Mesh& m) {
+    const std::size_t n = m.positions.size();
+    check(m.normals.empty() || m.normals.size() == n);
+    check(m.colors.empty() || m.colors.size() == n);
+    for (const auto& set : m.texcoords) check(set.size() == n);
+    check(m.position_ids.empty() || m.position_ids.size() == n);
+    for (std::uint32_t id : m.position_ids) check(id < n);
+    check(m.indices.size() % 3 == 0);
+    for (std::uint32_t i : m.indices) check(i < n);
+    check(m.face_materials.empty() || m.face_materials.size() == m.indices.size() / 3);
+    for (std::uint32_t f : m.face_materials) check(f < m.materials.size());
+    for (const auto& p : m.positions) check(lodforge::is_finite(p));
+}
+
+const std::string& temp_path() {
+    static const std::string path = "/tmp/lodforge-ply-fuzz-" + std::to_string(::getpid()) + ".ply";
+    return path;
+}
+
+void read_streaming(const std::string& path) {
+    lodforge::PlyReader reader(path);
+    std::vector<lodforge::Vec3f> p(5), n(5);
+    std::vector<lodforge::Vec4f> c(5);
+    std::vector<lodforge::Vec2f> t(5);
+    lodforge::PlyFaceChunk faces;
+    const std::uint64_t vertices = reader.vertex_count();
+    while (reader.current_element()) {
+        const std::uint64_t before = reader.position();
+        if (reader.at_vertices()) {
+            check(reader.read_vertices(p, n, c, t) > 0);
+        } else if (reader.at_faces()) {
+            faces.clear();
+            check(reader.read_faces(3, faces) > 0);
+            for (std::uint32_t i : faces.indices) check(i < vertices);
+        } else {
+            reader.skip_element();
+        }
+        check(reader.position() >= before);
+    }
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+    try {
+        lodforge::PlyReader reader({reinterpret_cast<const std::byte*>(data), size}, "fuzz.ply");
+        check_mesh(lodforge::read_ply(reader));
+    } catch (const lodforge::Error&) {
+    }
+
+    if (std::FILE* f = std::fopen(temp_path().c_str(), "wb")) {
+        std::fwrite(data, 1, size, f);
+        std::fclose(f);
+        lodforge::ply_detail::set_file_buffer_size(1 + size % 61);
+        try {
+            read_streaming(temp_path());
+        } catch (const lodforge::Error&) {
+        }
+    }
+    return 0;
+}
