@@ -1,0 +1,22 @@
+// How the 3D view draws a mesh. One options model shared by the studio's View menu and its command line
+// (`--wireframe`, `--flat`, `--no-texture`, `--no-colors`), so both always mean the same thing.
+#pragma once
+
+#include <QColor>
+
+namespace lodforge::widgets {
+
+struct ViewOptions {
+    bool wireframe = false;     // draw triangle edges instead of filled surfaces
+    bool flatShading = false;   // one normal per triangle instead of the interpolated vertex normals
+    bool textures = true;       // apply base colour textures where the mesh has texture coordinates
+    bool vertexColors = true;   // show per-vertex colours on parts that show no texture
+
+    friend bool operator==(const ViewOptions&, const ViewOptions&) = default;
+};
+
+// The view's solid background. Tests and the screenshot checker use it to tell the model's pixels from
+// the background, so it is one constant rather than a setting.
+inline QColor viewBackgroundColor() { return QColor(46, 52, 64); }
+
+}  // namespace lodforge::widgets
