@@ -224,8 +224,8 @@ struct PrimitiveData {
 
 class GltfImporter {
 public:
-    GltfImporter(std::string path, const tinygltf::Model& model, Progress* progress)
-        : path_(std::move(path)), model_(model), progress_(progress) {}
+    GltfImporter(std::string path, const tinygltf::Model& model, Progress* progress, const GltfReadOptions& options)
+        : path_(std::move(path)), model_(model), progress_(progress), options_(options) {}
 
     Mesh run() {
         check_required_extensions();
@@ -274,6 +274,13 @@ private:
         std::vector<char> on_path(model_.nodes.size(), 0);
         std::vector<char> mesh_seen(model_.meshes.size(), 0);
         for (int root : roots) visit(root, kIdentity, on_path, mesh_seen);
+        for (std::size_t m = 0; m < mesh_seen.size(); ++m) {
+            if (mesh_seen[m] < 2 || options_.place_every_instance) continue;
+            const std::string& name = model_.meshes[m].name;
+            mesh_.warnings.push_back("mesh " + std::to_string(m) + (name.empty() ? "" : " '" + name + "'") +
+                                     " is instanced by " + std::to_string(int(mesh_seen[m])) +
+                                     " nodes; imported once, at its first placement");
+        }
     }
 
     void visit(int index, const Mat4& parent, std::vector<char>& on_path, std::vector<char>& mesh_seen) {
@@ -288,8 +295,10 @@ private:
             if (static_cast<std::size_t>(node.mesh) >= model_.meshes.size())
                 fail(Error::Kind::format, "node " + std::to_string(index) + " refers to mesh " +
                                               std::to_string(node.mesh) + " of " + std::to_string(model_.meshes.size()));
-            if (!mesh_seen[static_cast<std::size_t>(node.mesh)]) {
-                mesh_seen[static_cast<std::size_t>(node.mesh)] = 1;
+            char& seen = mesh_seen[static_cast<std::size_t>(node.mesh)];
+            const bool first = seen == 0;
+            if (seen < 100) ++seen;  // a count for the note; saturates well inside char
+            if (first || options_.place_every_instance) {
                 // A skinned mesh ignores its node's transform (glTF spec); without posing the skin the
                 // mesh-space bind pose is the best geometry we have.
                 instances_.push_back({node.mesh, node.skin >= 0 ? kIdentity : world});
@@ -713,6 +722,7 @@ private:
     std::string path_;
     const tinygltf::Model& model_;
     Progress* progress_;
+    GltfReadOptions options_;
     Mesh mesh_;
     std::vector<Instance> instances_;
     std::vector<PrimitiveJob> jobs_;
@@ -737,7 +747,7 @@ std::vector<unsigned char> read_file(const std::string& path) {
 
 }  // namespace
 
-Mesh read_gltf(const std::string& path, Progress* progress) {
+Mesh read_gltf(const std::string& path, Progress* progress, const GltfReadOptions& options) {
     check_progress(progress, 0.0, "Reading glTF");
     const std::vector<unsigned char> data = read_file(path);
     if (data.size() > std::numeric_limits<unsigned int>::max())
@@ -769,7 +779,7 @@ Mesh read_gltf(const std::string& path, Progress* progress) {
         throw_error(Error::Kind::format, path, "cannot parse glTF: " + (reason.empty() ? "unknown error" : reason));
     }
     check_progress(progress, 0.2, "Reading glTF");
-    GltfImporter importer(path, model, progress);
+    GltfImporter importer(path, model, progress, options);
     Mesh mesh = importer.run();
     add_warning_lines(mesh, warn);
     std::error_code ec;

@@ -75,7 +75,12 @@ Mesh read_mesh(const std::string& path, const ReadOptions& options, Progress* pr
         case FileFormat::ply: mesh = read_ply(path, progress); break;
         case FileFormat::obj: mesh = read_obj(path, progress); break;
         case FileFormat::gltf:
-        case FileFormat::glb: mesh = read_gltf(path, progress); break;
+        case FileFormat::glb: {
+            GltfReadOptions gltf;
+            gltf.place_every_instance = options.place_every_instance;
+            mesh = read_gltf(path, progress, gltf);
+            break;
+        }
         case FileFormat::unknown:
             throw_error(Error::Kind::unsupported, path,
                         "unknown mesh format (supported: .ply, .obj, .gltf, .glb)");

@@ -360,6 +360,12 @@ void WidgetsTest::statsPanelShowsInfo() {
     QVERIFY2(text.contains(QStringLiteral("Validation")), qPrintable(text));
     panel.clear();
     QVERIFY(!panel.text().contains(QStringLiteral("Triangles")));
+
+    lodforge::MeshInfo withNotes = result.model->info;
+    withNotes.warnings = {"material library gone.mtl not found"};
+    panel.showInfo(withNotes, -1, {});
+    QVERIFY2(panel.text().contains(QStringLiteral("Import notes")), qPrintable(panel.text()));
+    QVERIFY2(panel.text().contains(QStringLiteral("gone.mtl")), qPrintable(panel.text()));
 }
 
 int main(int argc, char* argv[]) {

@@ -16,6 +16,8 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <set>
+#include <tuple>
 #include <string_view>
 
 namespace lodforge {
@@ -465,3 +467,26 @@ TEST(GltfReader, ReportsProgressAndHonoursCancel) {
 
 }  // namespace
 }  // namespace lodforge
+
+TEST(GltfInstances, StoredModeNotesExtraInstancesAndViewerModePlacesThem) {
+    const std::string path = lodforge::test::shared_data("tex-cesium-milk-truck/CesiumMilkTruck.gltf");
+    const lodforge::Mesh stored = lodforge::read_gltf(path);
+    EXPECT_EQ(stored.point_count(), 2978u);
+    ASSERT_FALSE(stored.warnings.empty());
+    EXPECT_NE(stored.warnings.front().find("instanced by 2 nodes"), std::string::npos) << stored.warnings.front();
+
+    lodforge::GltfReadOptions all;
+    all.place_every_instance = true;
+    const lodforge::Mesh placed = lodforge::read_gltf(path, nullptr, all);
+    // The wheel mesh appears twice: the extra copy adds its points and triangles once more.
+    EXPECT_GT(placed.point_count(), stored.point_count());
+    EXPECT_GT(placed.triangle_count(), stored.triangle_count());
+    EXPECT_TRUE(placed.warnings.empty());
+    // The copy sits elsewhere, not stacked on the first: it adds new distinct positions.
+    auto distinct = [](const lodforge::Mesh& m) {
+        std::set<std::tuple<float, float, float>> s;
+        for (const auto& p : m.positions) s.insert({p.x, p.y, p.z});
+        return s.size();
+    };
+    EXPECT_GT(distinct(placed), distinct(stored));
+}

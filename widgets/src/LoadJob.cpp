@@ -89,7 +89,9 @@ LoadResult LoadJob::load(const QString& path, Progress* progress) {
         auto model = std::make_shared<LoadedModel>();
         model->path = path;
         const std::string file = QFile::encodeName(path).toStdString();
-        model->mesh = read_mesh(file, ReadOptions{}, progress);
+        ReadOptions read;
+        read.place_every_instance = true;  // a viewer shows every placement of an instanced glTF mesh
+        model->mesh = read_mesh(file, read, progress);
         const std::vector<std::shared_ptr<const Image>> images =
             decodeBaseColorTextures(model->mesh, model->warnings, progress);
         check_progress(progress, 0.0, "Summarising");

@@ -92,7 +92,7 @@ void StatsPanel::showInfo(const MeshInfo& info, qint64 loadMs, const QStringList
 
     QTreeWidgetItem* geometry = addSection(tr("Geometry"));
     addRow(geometry, tr("Vertices"), count(info.vertices))
-        ->setToolTip(1, tr("Surface points as stored in the file"));
+        ->setToolTip(1, tr("Surface points (as stored; each placement of an instanced glTF mesh counts)"));
     addRow(geometry, tr("Wedges"), count(info.wedges))
         ->setToolTip(1, tr("Render vertices after splitting attribute seams"));
     addRow(geometry, tr("Triangles"), count(info.triangles));
@@ -134,6 +134,11 @@ void StatsPanel::showInfo(const MeshInfo& info, qint64 loadMs, const QStringList
     for (const QString& w : warnings) {
         QTreeWidgetItem* row = addRow(materials, tr("Not shown"), w);
         row->setIcon(0, warningIcon);
+    }
+
+    if (!info.warnings.empty()) {
+        QTreeWidgetItem* notes = addSection(tr("Import notes"));
+        for (const std::string& w : info.warnings) addRow(notes, tr("Note"), QString::fromStdString(w))->setIcon(0, warningIcon);
     }
 
     QTreeWidgetItem* validation = addSection(tr("Validation"));

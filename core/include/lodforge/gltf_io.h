@@ -14,6 +14,13 @@ namespace lodforge {
 // POSITION, NORMAL, COLOR_0, TEXCOORD_0/1 are kept; each primitive's material becomes a Material
 // (face_materials per triangle). Textures keep their URI or embedded bytes. Vertices are never welded:
 // position_ids identify the accessor's stored vertices.
-Mesh read_gltf(const std::string& path, Progress* progress = nullptr);
+struct GltfReadOptions {
+    // false: each mesh once, as stored (counts match the file; LODs are built per mesh and shared by
+    // its instances), with an import note naming meshes that other nodes instance again.
+    // true: every node instance placed as its own copy (what a viewer shows).
+    bool place_every_instance = false;
+};
+
+Mesh read_gltf(const std::string& path, Progress* progress = nullptr, const GltfReadOptions& options = {});
 
 }  // namespace lodforge

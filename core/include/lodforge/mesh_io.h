@@ -20,6 +20,7 @@ const char* format_name(FileFormat format);
 struct ReadOptions {
     // Triangulate polygons with a fan from the first corner (PLY, OBJ). Polygons are always accepted.
     bool validate = true;  // run validate() and throw on its errors (index range, NaN positions)
+    bool place_every_instance = false;  // glTF: see GltfReadOptions
 };
 
 // Throws Error naming the file on any problem.
