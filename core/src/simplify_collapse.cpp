@@ -10,8 +10,9 @@
 //  - T. Dey, H. Edelsbrunner et al., "Topology Preserving Edge Contraction", 1999 (link condition).
 //
 // Layout: flat arrays. Faces keep their input index and store wedge (vertex) ids; each point has a list of
-// its faces that grows by merging on collapse. Costs sit in a binary heap with lazy invalidation: an entry
-// carries the version stamps of both points and is dropped when either changed.
+// its faces that grows by merging on collapse. Every point has one entry in an indexed binary heap: its
+// cheapest outgoing collapse. A collapse u → v re-evaluates v and, around v, only what changed (the edge
+// to v, or everything for a point whose best target was u or v), so no stale entries are ever popped.
 #include "lodforge/simplify.h"
 
 #include "lodforge/error.h"
@@ -21,7 +22,6 @@
 #include <array>
 #include <cmath>
 #include <numeric>
-#include <queue>
 #include <string>
 #include <unordered_map>
 
@@ -210,14 +210,78 @@ std::vector<std::uint8_t> initial_faces(const Mesh& mesh, const std::vector<std:
 // condition allows (the quadric keeps its shape).
 enum class Kind : std::uint8_t { interior, border, complex, locked };
 
-struct Entry {
-    float cost;
-    std::uint32_t from, to;
-    std::uint32_t stamp_from, stamp_to;
-    std::uint32_t retried;  // 1 when this is the reverse direction pushed after the cheaper one failed
-};
-struct EntryGreater {
-    bool operator()(const Entry& a, const Entry& b) const { return a.cost > b.cost; }
+// Indexed binary min-heap of points keyed by the cost of their best collapse: O(log n) insert, update and
+// remove of any point; ties go to the lower point id so runs are deterministic.
+class PointHeap {
+public:
+    void reset(std::size_t n) {
+        slot_.assign(n, kNone);
+        key_.assign(n, 0.0);
+        heap_.clear();
+        heap_.reserve(n);
+    }
+    bool empty() const { return heap_.empty(); }
+    std::uint32_t top() const { return heap_[0]; }
+    bool contains(std::uint32_t p) const { return slot_[p] != kNone; }
+    double key(std::uint32_t p) const { return key_[p]; }
+    void set(std::uint32_t p, double k) {
+        if (slot_[p] == kNone) {
+            key_[p] = k;
+            slot_[p] = static_cast<std::uint32_t>(heap_.size());
+            heap_.push_back(p);
+            up(slot_[p]);
+            return;
+        }
+        const double old = key_[p];
+        key_[p] = k;
+        if (k < old) up(slot_[p]);
+        else down(slot_[p]);
+    }
+    void remove(std::uint32_t p) {
+        const std::uint32_t i = slot_[p];
+        if (i == kNone) return;
+        slot_[p] = kNone;
+        const std::uint32_t last = heap_.back();
+        heap_.pop_back();
+        if (last == p) return;
+        heap_[i] = last;
+        slot_[last] = i;
+        up(i);
+        down(slot_[last]);
+    }
+
+private:
+    bool less(std::uint32_t a, std::uint32_t b) const { return key_[a] < key_[b] || (key_[a] == key_[b] && a < b); }
+    void up(std::uint32_t i) {
+        const std::uint32_t p = heap_[i];
+        while (i > 0) {
+            const std::uint32_t parent = (i - 1) / 2;
+            if (!less(p, heap_[parent])) break;
+            heap_[i] = heap_[parent];
+            slot_[heap_[i]] = i;
+            i = parent;
+        }
+        heap_[i] = p;
+        slot_[p] = i;
+    }
+    void down(std::uint32_t i) {
+        const std::uint32_t p = heap_[i];
+        const auto n = static_cast<std::uint32_t>(heap_.size());
+        while (true) {
+            std::uint32_t c = 2 * i + 1;
+            if (c >= n) break;
+            if (c + 1 < n && less(heap_[c + 1], heap_[c])) ++c;
+            if (!less(heap_[c], p)) break;
+            heap_[i] = heap_[c];
+            slot_[heap_[i]] = i;
+            i = c;
+        }
+        heap_[i] = p;
+        slot_[p] = i;
+    }
+
+    std::vector<std::uint32_t> heap_, slot_;
+    std::vector<double> key_;
 };
 
 // How the (wedge, material) classes of the removed point map onto wedges of the kept point.
@@ -256,7 +320,9 @@ private:
     double evaluate(std::uint32_t u, std::uint32_t v, Plan& plan, bool full);
     bool valid(std::uint32_t u, std::uint32_t v, const Plan& plan);
     void collapse(std::uint32_t u, std::uint32_t v, const Plan& plan);
-    void push_edge(std::uint32_t a, std::uint32_t b);
+    void update_best(std::uint32_t p);
+    void reroute(std::uint32_t u, std::uint32_t rejected);
+    void after_collapse(std::uint32_t u, std::uint32_t v);
 
     const Mesh& mesh_;
     const SimplifyParams& params_;
@@ -269,19 +335,24 @@ private:
     Vec3d centre_;
     double scale_ = 1;                        // model units per normalised unit (the diagonal)
     std::vector<std::uint32_t> corners_;      // per face, wedges
+    std::vector<std::uint32_t> fpt_;          // per face, points (pid_ of corners_, kept in step)
     std::vector<std::uint8_t> face_alive_;
     std::vector<std::vector<std::uint32_t>> pfaces_;
     std::vector<std::uint32_t> wedge_begin_, wedge_list_;  // point → its wedges (CSR)
     std::vector<Kind> kind_;
-    std::vector<std::uint8_t> point_alive_, deferred_;
-    std::vector<std::uint32_t> stamp_;
+    std::vector<std::uint8_t> point_alive_;
+    // constrained: the point's entry is not its cheapest edge (that one was invalid); it is fully
+    // re-evaluated when its neighbourhood changes.
+    std::vector<std::uint8_t> constrained_;
+    std::vector<std::uint32_t> best_to_;      // per point: target of its heap entry
     std::vector<Quadric> geo_;
     AttributeQuadrics aq_;
     std::size_t dims_ = 0;
     std::vector<double> attrs_;               // per wedge, weighted attribute vector
-    std::priority_queue<Entry, std::vector<Entry>, EntryGreater> heap_;
+    PointHeap heap_;
     std::size_t alive_faces_ = 0;
-    std::vector<std::uint32_t> scratch_a_, scratch_b_;
+    std::vector<std::uint32_t> scratch_a_, scratch_b_, scratch_n_, ring_;
+    std::vector<std::pair<double, std::uint32_t>> options_;
     SimplifyResult result_;
 };
 
@@ -314,6 +385,8 @@ void Simplifier::setup() {
     const std::size_t nf = mesh_.triangle_count();
     corners_.assign(mesh_.indices.begin(), mesh_.indices.end());
     face_alive_ = initial_faces(mesh_, pid_);
+    fpt_.resize(corners_.size());
+    for (std::size_t i = 0; i < corners_.size(); ++i) fpt_[i] = pid_[corners_[i]];
     std::vector<std::uint32_t> degree(points_, 0);
     for (std::size_t f = 0; f < nf; ++f) {
         if (!face_alive_[f]) continue;
@@ -371,8 +444,9 @@ void Simplifier::setup() {
     }
     kind_.assign(points_, Kind::interior);
     point_alive_.assign(points_, 1);
-    deferred_.assign(points_, 0);
-    stamp_.assign(points_, 0);
+    constrained_.assign(points_, 0);
+    best_to_.assign(points_, kNone);
+    heap_.reset(points_);
 }
 
 void Simplifier::classify_points() {
@@ -430,7 +504,7 @@ void Simplifier::neighbours(std::uint32_t p, std::vector<std::uint32_t>& out) {
     out.clear();
     for (std::uint32_t f : faces_of(p))
         for (int k = 0; k < 3; ++k) {
-            const std::uint32_t q = pid_[corners_[3 * f + k]];
+            const std::uint32_t q = fpt_[3 * f + k];
             if (q != p && std::find(out.begin(), out.end(), q) == out.end()) out.push_back(q);
         }
 }
@@ -441,6 +515,9 @@ void Simplifier::neighbours(std::uint32_t p, std::vector<std::uint32_t>& out) {
 double Simplifier::evaluate(std::uint32_t u, std::uint32_t v, Plan& plan, bool full) {
     constexpr double inf = std::numeric_limits<double>::infinity();
     if (kind_[u] == Kind::locked) return inf;  // locked points stay, but others may move onto them
+    // A complex point moving onto an interior or border point would make that one complex: it may only
+    // join complex or locked points (meshoptimizer's rule).
+    if (kind_[u] == Kind::complex && kind_[v] != Kind::complex && kind_[v] != Kind::locked) return inf;
     plan.count = 0;
     plan.edge_faces = 0;
     if (!full && kind_[u] == Kind::interior && mesh_.face_materials.empty() &&
@@ -453,9 +530,10 @@ double Simplifier::evaluate(std::uint32_t u, std::uint32_t v, Plan& plan, bool f
     }
     if (plan.count == 0) for (std::uint32_t f : faces_of(u)) {
         const std::uint32_t* c = &corners_[3 * f];
+        const std::uint32_t* fp = &fpt_[3 * f];
         std::uint32_t wu = kNone, wv = kNone;
         for (int k = 0; k < 3; ++k) {
-            const std::uint32_t q = pid_[c[k]];
+            const std::uint32_t q = fp[k];
             if (q == u) wu = c[k];
             else if (q == v) wv = c[k];
         }
@@ -491,8 +569,12 @@ double Simplifier::evaluate(std::uint32_t u, std::uint32_t v, Plan& plan, bool f
         for (int j = i + 1; j < plan.count; ++j)
             if (plan.wedge[i] == plan.wedge[j] && plan.target[i] != plan.target[j]) return inf;
 
+    // Half-edge: v stays where it is, so its own error is already paid; the cost is the error of u's
+    // region at p_v, a mean over u's area (adding v's area would let large points swallow neighbours
+    // cheaply). Optimal placement moves both, so both quadrics count.
+    const bool half_edge = params_.placement == Placement::half_edge;
     Quadric q = geo_[u];
-    q += geo_[v];
+    if (!half_edge) q += geo_[v];
     plan.position = pos_[v];
     if (params_.placement == Placement::optimal) {
         Vec3d p;
@@ -511,10 +593,11 @@ double Simplifier::evaluate(std::uint32_t u, std::uint32_t v, Plan& plan, bool f
             for (int j = 0; j < i; ++j) first = first && plan.wedge[j] != plan.wedge[i];
             if (first) cost += aq_.evaluate(plan.wedge[i], plan.position, attr(plan.target[i]));
         }
-        for (std::uint32_t k = wedge_begin_[v]; k < wedge_begin_[v + 1]; ++k) {
-            const std::uint32_t w = wedge_list_[k];
-            cost += aq_.evaluate(w, plan.position, attr(w));
-        }
+        if (!half_edge)
+            for (std::uint32_t k = wedge_begin_[v]; k < wedge_begin_[v + 1]; ++k) {
+                const std::uint32_t w = wedge_list_[k];
+                cost += aq_.evaluate(w, plan.position, attr(w));
+            }
     }
     const double weight = q.weight;
     return weight > 0 ? cost / weight : cost * 1e12;
@@ -531,10 +614,10 @@ bool Simplifier::valid(std::uint32_t u, std::uint32_t v, const Plan& plan) {
 
     const double min_dot = params_.min_normal_dot;
     auto face_ok = [&](std::uint32_t f, std::uint32_t moved) {
-        const std::uint32_t* c = &corners_[3 * f];
+        const std::uint32_t* c = &fpt_[3 * f];
         Vec3d p[3], q[3];
         for (int k = 0; k < 3; ++k) {
-            const std::uint32_t pt = pid_[c[k]];
+            const std::uint32_t pt = c[k];
             p[k] = pos_[pt];
             q[k] = pt == moved ? plan.position : pos_[pt];
         }
@@ -551,8 +634,8 @@ bool Simplifier::valid(std::uint32_t u, std::uint32_t v, const Plan& plan) {
         return dotd(n0, n1) >= min_dot * std::sqrt(l0 * l1);
     };
     for (std::uint32_t f : pfaces_[u]) {
-        const std::uint32_t* c = &corners_[3 * f];
-        const std::uint32_t a = pid_[c[0]], b = pid_[c[1]], cc = pid_[c[2]];
+        const std::uint32_t* c = &fpt_[3 * f];
+        const std::uint32_t a = c[0], b = c[1], cc = c[2];
         if (a == v || b == v || cc == v) continue;  // removed with the collapse
         if (!face_ok(f, u)) return false;
         // A face whose other two points are both common neighbours may already exist around v
@@ -562,17 +645,17 @@ bool Simplifier::valid(std::uint32_t u, std::uint32_t v, const Plan& plan) {
         const bool c2 = std::find(scratch_b_.begin(), scratch_b_.end(), o2) != scratch_b_.end();
         if (c1 && c2) {
             for (std::uint32_t g : pfaces_[v]) {
-                const std::uint32_t* d = &corners_[3 * g];
+                const std::uint32_t* d = &fpt_[3 * g];
                 int hits = 0;
-                for (int k = 0; k < 3; ++k) hits += (pid_[d[k]] == o1 || pid_[d[k]] == o2);
+                for (int k = 0; k < 3; ++k) hits += (d[k] == o1 || d[k] == o2);
                 if (hits == 2) return false;
             }
         }
     }
     if (params_.placement == Placement::optimal) {
         for (std::uint32_t f : pfaces_[v]) {
-            const std::uint32_t* c = &corners_[3 * f];
-            if (pid_[c[0]] == u || pid_[c[1]] == u || pid_[c[2]] == u) continue;
+            const std::uint32_t* c = &fpt_[3 * f];
+            if (c[0] == u || c[1] == u || c[2] == u) continue;
             if (!face_ok(f, v)) return false;
         }
     }
@@ -589,17 +672,21 @@ void Simplifier::collapse(std::uint32_t u, std::uint32_t v, const Plan& plan) {
     auto& fv = pfaces_[v];
     for (std::uint32_t f : pfaces_[u]) {
         std::uint32_t* c = &corners_[3 * f];
-        if (pid_[c[0]] == v || pid_[c[1]] == v || pid_[c[2]] == v) {
+        std::uint32_t* fp = &fpt_[3 * f];
+        if (fp[0] == v || fp[1] == v || fp[2] == v) {
             face_alive_[f] = 0;
             --alive_faces_;
             for (int k = 0; k < 3; ++k) {
-                const std::uint32_t apex = pid_[c[k]];
+                const std::uint32_t apex = fp[k];
                 if (apex != u && apex != v) std::erase(pfaces_[apex], f);
             }
             continue;
         }
         for (int k = 0; k < 3; ++k)
-            if (pid_[c[k]] == u) c[k] = target_of(c[k]);
+            if (fp[k] == u) {
+                c[k] = target_of(c[k]);
+                fp[k] = v;
+            }
         fv.push_back(f);
     }
     std::vector<std::uint32_t>().swap(pfaces_[u]);
@@ -620,16 +707,71 @@ void Simplifier::collapse(std::uint32_t u, std::uint32_t v, const Plan& plan) {
     result_.collapses.push_back(rec);
     pos_[v] = plan.position;
     point_alive_[u] = 0;
-    ++stamp_[v];
 }
 
-void Simplifier::push_edge(std::uint32_t a, std::uint32_t b) {
-    Plan pa, pb;
-    const double ca = evaluate(a, b, pa, false);
-    const double cb = evaluate(b, a, pb, false);
-    if (!std::isfinite(ca) && !std::isfinite(cb)) return;
-    if (ca <= cb) heap_.push({static_cast<float>(ca), a, b, stamp_[a], stamp_[b], 0});
-    else heap_.push({static_cast<float>(cb), b, a, stamp_[b], stamp_[a], 0});
+// The cheapest outgoing collapse of p (validity is checked when it is popped).
+void Simplifier::update_best(std::uint32_t p) {
+    constrained_[p] = 0;
+    double best = std::numeric_limits<double>::infinity();
+    std::uint32_t to = kNone;
+    Plan plan;
+    neighbours(p, scratch_n_);
+    for (std::uint32_t n : scratch_n_) {
+        const double c = evaluate(p, n, plan, false);
+        if (c < best) {
+            best = c;
+            to = n;
+        }
+    }
+    if (to == kNone) {
+        heap_.remove(p);
+        return;
+    }
+    best_to_[p] = to;
+    heap_.set(p, best);
+}
+
+// u → rejected is not allowed now: u's entry becomes its cheapest valid collapse, or u leaves the heap
+// until its neighbourhood changes.
+void Simplifier::reroute(std::uint32_t u, std::uint32_t rejected) {
+    constrained_[u] = 1;
+    Plan plan;
+    neighbours(u, scratch_n_);
+    options_.clear();
+    for (std::uint32_t n : scratch_n_) {
+        if (n == rejected) continue;
+        const double c = evaluate(u, n, plan, false);
+        if (std::isfinite(c)) options_.emplace_back(c, n);
+    }
+    std::sort(options_.begin(), options_.end());
+    for (const auto& [estimate, n] : options_) {
+        const double c = evaluate(u, n, plan, true);
+        if (!std::isfinite(c) || !valid(u, n, plan)) continue;
+        best_to_[u] = n;
+        heap_.set(u, c);
+        return;
+    }
+    heap_.remove(u);
+}
+
+// After u → v: v's costs all changed; around v only edges to v changed, unless a point's best target was u
+// or v (or its entry was constrained), which is then fully re-evaluated.
+void Simplifier::after_collapse(std::uint32_t u, std::uint32_t v) {
+    heap_.remove(u);
+    update_best(v);
+    neighbours(v, ring_);
+    Plan plan;
+    for (std::uint32_t n : ring_) {
+        if (best_to_[n] == u || best_to_[n] == v || constrained_[n] || !heap_.contains(n)) {
+            update_best(n);
+            continue;
+        }
+        const double c = evaluate(n, v, plan, false);
+        if (c < heap_.key(n)) {
+            best_to_[n] = v;
+            heap_.set(n, c);
+        }
+    }
 }
 
 SimplifyResult Simplifier::run() {
@@ -657,14 +799,12 @@ SimplifyResult Simplifier::run() {
         target = std::max(target, static_cast<std::size_t>(std::llround(p.target_ratio * double(mesh_.triangle_count()))));
     const std::size_t start = alive_faces_;
 
-    // Initial candidates: each edge once, from its lower point.
-    for (std::uint32_t a = 0; a < points_; ++a) {
-        if (alive_faces_ <= target) break;
-        neighbours(a, scratch_a_);
-        for (std::uint32_t b : scratch_a_)
-            if (b > a) push_edge(a, b);
-        if ((a & 0xffff) == 0) check_progress(progress_, 0.0, "simplify");
-    }
+    // Initial candidates: each point's cheapest outgoing collapse.
+    if (alive_faces_ > target)
+        for (std::uint32_t a = 0; a < points_; ++a) {
+            update_best(a);
+            if ((a & 0xffff) == 0) check_progress(progress_, 0.0, "simplify");
+        }
 
     const double limit = std::isinf(p.max_error) ? std::numeric_limits<double>::infinity()
                                                  : double(p.max_error) * double(p.max_error);
@@ -672,7 +812,6 @@ SimplifyResult Simplifier::run() {
     result_.reason = SimplifyResult::StopReason::topology_limit;
     std::size_t iterations = 0;
     Plan plan;
-    std::vector<std::uint32_t> ring;
     while (true) {
         if (alive_faces_ <= target) {
             result_.reason = SimplifyResult::StopReason::target_reached;
@@ -683,44 +822,27 @@ SimplifyResult Simplifier::run() {
             const double span = double(start - std::min(start, target));
             check_progress(progress_, span > 0 ? double(start - alive_faces_) / span : 1.0, "simplify");
         }
-        const Entry e = heap_.top();
-        heap_.pop();
-        if (!point_alive_[e.from] || !point_alive_[e.to]) continue;
-        if (stamp_[e.from] != e.stamp_from || stamp_[e.to] != e.stamp_to) continue;
-        const double cost = evaluate(e.from, e.to, plan, true);
-        if (!std::isfinite(cost)) continue;
-        if (cost > double(e.cost) * (1 + 1e-5) + 1e-30) {  // stale (a neighbour's seam moved): requeue
-            heap_.push({static_cast<float>(cost), e.from, e.to, e.stamp_from, e.stamp_to, e.retried});
+        const std::uint32_t u = heap_.top(), v = best_to_[u];
+        const double cost = evaluate(u, v, plan, true);
+        if (!std::isfinite(cost)) {  // the seam mapping forbids it
+            reroute(u, v);
+            continue;
+        }
+        if (cost > heap_.key(u) * (1 + 1e-9) + 1e-30) {  // dearer than estimated: requeue
+            heap_.set(u, cost);
             continue;
         }
         if (cost > limit) {
             result_.reason = SimplifyResult::StopReason::error_limit;
             break;
         }
-        if (!valid(e.from, e.to, plan)) {
-            if (!e.retried) {
-                Plan rev;
-                const double rc = evaluate(e.to, e.from, rev, false);
-                if (std::isfinite(rc)) heap_.push({static_cast<float>(rc), e.to, e.from, e.stamp_to, e.stamp_from, 1});
-            }
-            deferred_[e.from] = deferred_[e.to] = 1;
+        if (!valid(u, v, plan)) {
+            reroute(u, v);
             continue;
         }
         max_cost = std::max(max_cost, cost);
-        collapse(e.from, e.to, plan);
-        const std::uint32_t v = e.to;
-        neighbours(v, ring);
-        for (std::uint32_t n : ring) {
-            push_edge(n, v);
-            if (deferred_[n]) {
-                deferred_[n] = 0;
-                neighbours(n, scratch_a_);
-                const std::vector<std::uint32_t> around = scratch_a_;
-                for (std::uint32_t m : around)
-                    if (m != v) push_edge(n, m);
-            }
-        }
-        deferred_[v] = 0;
+        collapse(u, v, plan);
+        after_collapse(u, v);
     }
     check_progress(progress_, 1.0, "simplify");
 
