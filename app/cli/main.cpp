@@ -19,6 +19,9 @@ int main(int argc, char** argv) {
 
     add_info_command(app, global);
     add_convert_command(app, global);
+    add_simplify_command(app, global);
+    add_lod_command(app, global);
+    add_compare_command(app, global);
 
     install_interrupt_handler();
     try {

@@ -1,0 +1,105 @@
+#include "commands.h"
+#include "terminal_progress.h"
+
+#include "lodforge/error.h"
+#include "lodforge/heatmap.h"
+#include "lodforge/mesh_io.h"
+#include "lodforge/metrics.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstdio>
+
+namespace lodforge::cli {
+namespace {
+
+nlohmann::ordered_json one_sided(const OneSidedDistance& d) {
+    return {{"max", d.max}, {"mean", d.mean}, {"rms", d.rms}, {"samples", d.samples}};
+}
+
+}  // namespace
+
+void add_compare_command(CLI::App& app, const GlobalOptions& global) {
+    struct Options {
+        std::string reference, test, heatmap;
+        bool json = false;
+        long long samples = 0;
+        double range = 0;
+        std::string heatmap_on = "test";
+    };
+    auto options = std::make_shared<Options>();
+    CLI::App* cmd = app.add_subcommand("compare", "Measure the surface distance between two meshes (Metro-style)");
+    cmd->add_option("REF", options->reference, "Reference mesh (usually the original)")->required();
+    cmd->add_option("TEST", options->test, "Test mesh (usually the simplified one)")->required();
+    cmd->add_flag("--json", options->json,
+                  "Print JSON (keys: hausdorff, mean, rms and *_relative, diagonal, one-sided distances, attribute errors)");
+    cmd->add_option("--heatmap", options->heatmap, "Write TEST coloured by its distance to REF (PLY with `quality`)");
+    cmd->add_option("--heatmap-on", options->heatmap_on,
+                    "Heat map of TEST (its vertices' distance to REF) or of REF (its vertices' distance to TEST; "
+                    "use this for half-edge simplified meshes, whose vertices lie on REF)")
+        ->check(CLI::IsMember({"test", "reference"}))
+        ->capture_default_str();
+    cmd->add_option("--range", options->range, "Heat map: distance at the top of the colour map (default: the largest)");
+    cmd->add_option("--samples", options->samples, "Area-weighted samples per surface (0 = automatic)");
+    cmd->callback([options, &global] {
+        const Options& o = *options;
+        if (o.samples < 0) throw Error(Error::Kind::argument, "compare: --samples must be >= 0");
+        if (!(o.range >= 0) || !std::isfinite(o.range))
+            throw Error(Error::Kind::argument, "compare: --range must be >= 0");
+        if (!o.heatmap.empty() && format_from_extension(o.heatmap) != FileFormat::ply)
+            throw Error(Error::Kind::argument, "compare: --heatmap writes PLY; give a .ply file name");
+        TerminalProgress progress(!global.quiet && stderr_is_terminal());
+        const Mesh reference = read_mesh(o.reference, {}, &progress);
+        const Mesh test = read_mesh(o.test, {}, &progress);
+        DistanceParams params;
+        params.samples = static_cast<std::size_t>(o.samples);
+        const bool on_reference = o.heatmap_on == "reference";
+        params.vertex_errors = !o.heatmap.empty() && !on_reference;
+        const DistanceResult d = compare(reference, test, params, &progress);
+        if (!o.heatmap.empty()) {
+            if (on_reference) {
+                // The same measurement with the roles swapped gives the field on the reference's vertices.
+                params.vertex_errors = true;
+                const DistanceResult swapped = compare(test, reference, params, &progress);
+                write_heatmap_ply(make_heatmap(reference, swapped.vertex_errors, static_cast<float>(o.range)), o.heatmap);
+            } else {
+                write_heatmap_ply(make_heatmap(test, d.vertex_errors, static_cast<float>(o.range)), o.heatmap);
+            }
+        }
+        progress.finish();
+
+        if (o.json) {
+            nlohmann::ordered_json j;
+            j["reference"] = o.reference;
+            j["test"] = o.test;
+            j["hausdorff"] = d.hausdorff;
+            j["hausdorff_relative"] = d.hausdorff_relative;
+            j["mean"] = d.mean;
+            j["mean_relative"] = d.mean_relative;
+            j["rms"] = d.rms;
+            j["rms_relative"] = d.rms_relative;
+            j["diagonal"] = d.diagonal;
+            j["test_to_reference"] = one_sided(d.test_to_reference);
+            j["reference_to_test"] = one_sided(d.reference_to_test);
+            if (d.has_color_error) j["color_rms"] = d.color_rms;
+            if (d.has_texcoord_error) j["texcoord_rms"] = d.texcoord_rms;
+            j["triangles"] = {{"reference", reference.triangle_count()}, {"test", test.triangle_count()}};
+            if (!o.heatmap.empty()) j["heatmap"] = {{"file", o.heatmap}, {"mesh", o.heatmap_on}};
+            std::printf("%s\n", j.dump(2).c_str());
+            return;
+        }
+        std::printf("reference: %s (%zu triangles), test: %s (%zu triangles)\n", o.reference.c_str(),
+                    reference.triangle_count(), o.test.c_str(), test.triangle_count());
+        std::printf("hausdorff: %.6g (%.3g of the diagonal %.6g)\n", d.hausdorff, d.hausdorff_relative, d.diagonal);
+        std::printf("mean:      %.6g (%.3g)\n", d.mean, d.mean_relative);
+        std::printf("rms:       %.6g (%.3g)\n", d.rms, d.rms_relative);
+        std::printf("test -> reference: max %.6g, mean %.6g; reference -> test: max %.6g, mean %.6g\n",
+                    d.test_to_reference.max, d.test_to_reference.mean, d.reference_to_test.max, d.reference_to_test.mean);
+        if (d.has_color_error) std::printf("colour RMS: %.4g (0-255)\n", d.color_rms);
+        if (d.has_texcoord_error) std::printf("texcoord RMS: %.4g (UV units)\n", d.texcoord_rms);
+        if (!o.heatmap.empty()) std::printf("heat map: %s\n", o.heatmap.c_str());
+    });
+}
+
+}  // namespace lodforge::cli

@@ -1,0 +1,128 @@
+#include "commands.h"
+#include "simplify_options.h"
+#include "terminal_progress.h"
+
+#include "lodforge/error.h"
+#include "lodforge/mesh_io.h"
+#include "lodforge/simplify.h"
+#include "lodforge/simplify_cluster.h"
+
+#include <cmath>
+#include <cstdio>
+
+namespace lodforge::cli {
+namespace {
+
+const char* reason_text(SimplifyResult::StopReason r) {
+    switch (r) {
+    case SimplifyResult::StopReason::target_reached: return "target reached";
+    case SimplifyResult::StopReason::error_limit: return "error limit (the next collapse would exceed --max-error)";
+    case SimplifyResult::StopReason::topology_limit: return "topology limit (no valid collapse left)";
+    }
+    return "unknown";
+}
+
+const char* reason_text(ClusterResult::StopReason r) {
+    switch (r) {
+    case ClusterResult::StopReason::target_reached: return "target reached (within 1%)";
+    case ClusterResult::StopReason::closest: return "closest grid found (the count jumps over the target between cell sizes)";
+    case ClusterResult::StopReason::grid_limit: return "grid limit (the finest grid still has fewer triangles)";
+    case ClusterResult::StopReason::resolution_given: return "resolution given";
+    }
+    return "unknown";
+}
+
+}  // namespace
+
+void add_simplify_command(CLI::App& app, const GlobalOptions& global) {
+    struct Options {
+        std::string input, output;
+        double ratio = 0, max_error = 0;
+        long long triangles = 0;
+        std::string weights;
+        bool lock_border = false;
+        std::string mode = "collapse";
+    };
+    auto options = std::make_shared<Options>();
+    CLI::App* cmd = app.add_subcommand("simplify", "Simplify a mesh to a triangle ratio, count or error bound");
+    cmd->add_option("IN", options->input, "Input mesh (.ply, .obj, .gltf, .glb)")->required();
+    cmd->add_option("-o,--output", options->output, "Output mesh (.ply or .obj)")->required();
+    CLI::Option* ratio = cmd->add_option("--ratio", options->ratio, "Keep this fraction of the triangles, in (0, 1]");
+    CLI::Option* triangles = cmd->add_option("--triangles", options->triangles, "Keep this many triangles");
+    CLI::Option* max_error = cmd->add_option(
+        "--max-error", options->max_error, "Simplify until the error estimate reaches this fraction of the bounding-box diagonal");
+    cmd->add_option("--weights", options->weights, "Attribute weights, e.g. normal=0.05,color=0.1,uv=0.1");
+    CLI::Option* lock = cmd->add_flag("--lock-border", options->lock_border, "Never move border vertices (collapse mode)");
+    cmd->add_option("--mode", options->mode, "collapse: quadric edge collapse; cluster: vertex clustering (faster, coarser)")
+        ->check(CLI::IsMember({"collapse", "cluster"}))
+        ->capture_default_str();
+    cmd->callback([options, ratio, triangles, max_error, lock, &global] {
+        const Options& o = *options;
+        const int targets = static_cast<int>(ratio->count() > 0) + static_cast<int>(triangles->count() > 0) +
+                            static_cast<int>(max_error->count() > 0);
+        if (targets != 1)
+            throw Error(Error::Kind::argument, "simplify: give exactly one of --ratio, --triangles and --max-error");
+        if (ratio->count() && !(o.ratio > 0 && o.ratio <= 1))
+            throw Error(Error::Kind::argument, "simplify: --ratio must be in (0, 1], got " + std::to_string(o.ratio));
+        if (triangles->count() && o.triangles < 1)
+            throw Error(Error::Kind::argument, "simplify: --triangles must be at least 1");
+        if (max_error->count() && !(o.max_error > 0 && std::isfinite(o.max_error)))
+            throw Error(Error::Kind::argument, "simplify: --max-error must be > 0 (a fraction of the diagonal)");
+        const bool cluster = o.mode == "cluster";
+        if (cluster && max_error->count())
+            throw Error(Error::Kind::argument, "simplify: --max-error needs --mode collapse (clustering targets a triangle count)");
+        if (cluster && lock->count())
+            throw Error(Error::Kind::argument, "simplify: --lock-border needs --mode collapse");
+        const FileFormat out_format = format_from_extension(o.output);
+        if (out_format != FileFormat::ply && out_format != FileFormat::obj)
+            throw Error(Error::Kind::argument, "simplify: " + o.output + ": the output must be .ply or .obj");
+        SimplifyWeights weights;
+        if (!o.weights.empty()) parse_weights(o.weights, weights);
+
+        TerminalProgress progress(!global.quiet && stderr_is_terminal());
+        const Mesh mesh = read_mesh(o.input, {}, &progress);
+        const double diagonal = mesh.bounds().diagonal();
+        Mesh out;
+        std::size_t target = 0;
+        float error = 0, error_relative = 0;
+        std::string reason;
+        if (cluster) {
+            ClusterParams p;
+            p.target_ratio = static_cast<float>(o.ratio);
+            p.target_triangles = static_cast<std::size_t>(o.triangles);
+            p.weights = weights;
+            ClusterResult r = simplify_cluster(mesh, p, &progress);
+            target = r.target_triangles;
+            error = r.error;
+            error_relative = r.error_relative;
+            reason = reason_text(r.reason);
+            out = std::move(r.mesh);
+        } else {
+            SimplifyParams p;
+            p.target_ratio = static_cast<float>(o.ratio);
+            p.target_triangles = static_cast<std::size_t>(o.triangles);
+            if (max_error->count()) p.max_error = static_cast<float>(o.max_error);
+            p.weights = weights;
+            p.lock_border = o.lock_border;
+            SimplifyResult r = simplify(mesh, p, &progress);
+            if (!max_error->count())
+                target = o.triangles > 0 ? static_cast<std::size_t>(o.triangles)
+                                         : static_cast<std::size_t>(std::llround(o.ratio * static_cast<double>(mesh.triangle_count())));
+            error = r.error;
+            error_relative = r.error_relative;
+            reason = reason_text(r.reason);
+            out = std::move(r.mesh);
+        }
+        write_mesh(out, o.output, {}, &progress);
+        progress.finish();
+        std::printf("%s: %zu -> %zu triangles", o.output.c_str(), mesh.triangle_count(), out.triangle_count());
+        if (target) std::printf(" (target %zu)", target);
+        std::printf(", %zu vertices\n", out.point_count());
+        std::printf("mode: %s\n", cluster ? "cluster" : "collapse");
+        std::printf("error: %.6g (%.3g of the diagonal %.6g)\n", static_cast<double>(error),
+                    static_cast<double>(error_relative), diagonal);
+        std::printf("stop: %s\n", reason.c_str());
+    });
+}
+
+}  // namespace lodforge::cli

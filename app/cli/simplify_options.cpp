@@ -1,0 +1,56 @@
+#include "simplify_options.h"
+
+#include "lodforge/error.h"
+
+#include <cmath>
+#include <cstdlib>
+#include <sstream>
+
+namespace lodforge::cli {
+namespace {
+
+std::vector<std::string> split(const std::string& text, char sep) {
+    std::vector<std::string> parts;
+    std::stringstream in(text);
+    std::string part;
+    while (std::getline(in, part, sep)) parts.push_back(part);
+    if (!text.empty() && text.back() == sep) parts.emplace_back();
+    return parts;
+}
+
+double parse_number(const std::string& text, const std::string& what) {
+    const char* begin = text.c_str();
+    char* end = nullptr;
+    const double v = std::strtod(begin, &end);
+    if (text.empty() || end != begin + text.size() || !std::isfinite(v))
+        throw Error(Error::Kind::argument, what + ": '" + text + "' is not a number");
+    return v;
+}
+
+}  // namespace
+
+void parse_weights(const std::string& text, SimplifyWeights& weights) {
+    for (const std::string& item : split(text, ',')) {
+        const std::size_t eq = item.find('=');
+        if (eq == std::string::npos)
+            throw Error(Error::Kind::argument, "--weights: expected name=value, got '" + item +
+                                                   "' (names: normal, color, uv)");
+        const std::string name = item.substr(0, eq);
+        const double v = parse_number(item.substr(eq + 1), "--weights " + name);
+        if (v < 0) throw Error(Error::Kind::argument, "--weights " + name + ": must be >= 0");
+        if (name == "normal") weights.normal = static_cast<float>(v);
+        else if (name == "color" || name == "colour") weights.color = static_cast<float>(v);
+        else if (name == "uv" || name == "texcoord") weights.texcoord = static_cast<float>(v);
+        else
+            throw Error(Error::Kind::argument, "--weights: unknown attribute '" + name + "' (names: normal, color, uv)");
+    }
+}
+
+std::vector<double> parse_number_list(const std::string& text, const std::string& option) {
+    std::vector<double> values;
+    for (const std::string& item : split(text, ',')) values.push_back(parse_number(item, option));
+    if (values.empty()) throw Error(Error::Kind::argument, option + ": give at least one value");
+    return values;
+}
+
+}  // namespace lodforge::cli

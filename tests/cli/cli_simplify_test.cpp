@@ -1,0 +1,257 @@
+// `lodforge simplify`, `lod` and `compare` run as users run them: the real executable through popen.
+#include "lodforge/mesh_io.h"
+#include "lodforge/ply.h"
+
+#include "support/test_paths.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sys/wait.h>
+#include <tuple>
+
+namespace {
+
+struct CliRun {
+    int exit_code = -1;
+    std::string out;  // stdout and stderr together
+};
+
+CliRun run(const std::string& args, bool merge_stderr = true) {
+    const std::string cmd = std::string(LODFORGE_BIN_DIR) + "/lodforge --quiet " + args + (merge_stderr ? " 2>&1" : " 2>/dev/null");
+    CliRun r;
+    FILE* pipe = popen(cmd.c_str(), "r");
+    if (!pipe) return r;
+    std::array<char, 4096> buf{};
+    while (std::size_t n = std::fread(buf.data(), 1, buf.size(), pipe)) r.out.append(buf.data(), n);
+    const int status = pclose(pipe);
+    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    return r;
+}
+
+std::string q(const std::string& s) { return "'" + s + "'"; }
+
+std::string bunny() { return lodforge::test::shared_data("scan-bunny/bun_zipper.ply"); }
+
+bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+}  // namespace
+
+TEST(CliSimplify, HelpListsTheNewCommands) {
+    const CliRun r = run("--help");
+    EXPECT_EQ(r.exit_code, 0);
+    for (const char* cmd : {"simplify", "lod", "compare"}) EXPECT_TRUE(contains(r.out, cmd)) << cmd;
+    EXPECT_EQ(run("simplify --help").exit_code, 0);
+    EXPECT_EQ(run("lod --help").exit_code, 0);
+    EXPECT_EQ(run("compare --help").exit_code, 0);
+}
+
+TEST(CliSimplify, RatioTargetIsReachedAndReported) {
+    lodforge::test::ScratchDir dir("cli-simplify");
+    const std::string out = dir.file("bunny10.ply");
+    const CliRun r = run("simplify " + q(bunny()) + " -o " + q(out) + " --ratio 0.1 --weights normal=0.1,color=0.2");
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    EXPECT_TRUE(contains(r.out, "-> 6944 triangles") || contains(r.out, "-> 6945 triangles")) << r.out;
+    EXPECT_TRUE(contains(r.out, "stop: target reached")) << r.out;
+    EXPECT_TRUE(contains(r.out, "of the diagonal")) << r.out;
+    const lodforge::Mesh m = lodforge::read_mesh(out);
+    EXPECT_NEAR(double(m.triangle_count()), 6945.0, 1.0);
+}
+
+TEST(CliSimplify, TriangleCountAndErrorTargetsAndBorderLock) {
+    lodforge::test::ScratchDir dir("cli-simplify-targets");
+    const std::string spot = lodforge::test::sample("spot/spot_triangulated.obj");
+    CliRun r = run("simplify " + q(spot) + " -o " + q(dir.file("spot.obj")) + " --triangles 1000 --lock-border");
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    EXPECT_EQ(lodforge::read_mesh(dir.file("spot.obj")).triangle_count(), 1000u);
+    r = run("simplify " + q(bunny()) + " -o " + q(dir.file("err.ply")) + " --max-error 0.002");
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    EXPECT_TRUE(contains(r.out, "stop: error limit")) << r.out;
+    EXPECT_LT(lodforge::read_mesh(dir.file("err.ply")).triangle_count(), 69451u);
+}
+
+TEST(CliSimplify, ClusterModeOnTheColouredScanKeepsColours) {
+    lodforge::test::ScratchDir dir("cli-cluster");
+    const std::string frag = lodforge::test::shared_data("color-open3d-frag115/frag_115.ply");
+    const std::string out = dir.file("frag.ply");
+    CliRun r = run("simplify " + q(frag) + " -o " + q(out) + " --ratio 0.1 --mode cluster");
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    EXPECT_TRUE(contains(r.out, "mode: cluster")) << r.out;
+    const lodforge::Mesh m = lodforge::read_mesh(out);
+    EXPECT_TRUE(m.has_colors());
+    EXPECT_NEAR(double(m.triangle_count()), 12723.0, 0.05 * 12723.0);
+    r = run("compare --json " + q(frag) + " " + q(out), false);
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    const auto j = nlohmann::json::parse(r.out);
+    ASSERT_TRUE(j.contains("color_rms"));
+    EXPECT_LT(j["color_rms"].get<double>(), 10.0);
+}
+
+TEST(CliSimplify, BadTargetsExitNonZeroWithAMessage) {
+    lodforge::test::ScratchDir dir("cli-simplify-bad");
+    const std::string in = q(bunny()) + " -o " + q(dir.file("x.ply"));
+    struct Case {
+        std::string args, message;
+    };
+    const Case cases[] = {
+        {"", "exactly one of --ratio, --triangles and --max-error"},
+        {" --ratio 0.5 --triangles 100", "exactly one of"},
+        {" --ratio 1.5", "--ratio must be in (0, 1]"},
+        {" --ratio 0", "--ratio must be in (0, 1]"},
+        {" --triangles 0", "--triangles must be at least 1"},
+        {" --max-error -1", "--max-error must be > 0"},
+        {" --max-error 0.01 --mode cluster", "--max-error needs --mode collapse"},
+        {" --ratio 0.5 --mode cluster --lock-border", "--lock-border needs --mode collapse"},
+        {" --ratio 0.5 --weights normal", "expected name=value"},
+        {" --ratio 0.5 --weights shininess=1", "unknown attribute 'shininess'"},
+        {" --ratio 0.5 --weights color=-1", "must be >= 0"},
+        {" --ratio 0.5 --mode voxel", "voxel"},
+    };
+    const CliRun stl = run("simplify " + q(bunny()) + " -o " + q(dir.file("x.stl")) + " --ratio 0.5");
+    EXPECT_EQ(stl.exit_code, 1);
+    EXPECT_TRUE(contains(stl.out, "the output must be .ply or .obj")) << stl.out;
+    for (const Case& c : cases) {
+        const CliRun r = run("simplify " + in + c.args);
+        EXPECT_NE(r.exit_code, 0) << c.args;
+        EXPECT_TRUE(contains(r.out, c.message)) << c.args << ": " << r.out;
+    }
+    EXPECT_TRUE(std::filesystem::is_empty(dir.path()));
+}
+
+TEST(CliLod, LodsJsonMatchesTheFilesWritten) {
+    lodforge::test::ScratchDir dir("cli-lod");
+    const std::string out = dir.file("bunny-lods");
+    const CliRun r = run("lod " + q(bunny()) + " -o " + q(out) + " --levels 0.5,0.25,0.1,0.03 --samples 100000");
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    std::ifstream in(out + "/lods.json");
+    ASSERT_TRUE(in.good());
+    const auto j = nlohmann::json::parse(in);
+    ASSERT_EQ(j["levels"].size(), 5u);
+    double last_mean = -1;
+    std::size_t last_triangles = 69452;
+    for (std::size_t i = 0; i < 5; ++i) {
+        const auto& level = j["levels"][i];
+        EXPECT_EQ(level["level"], i);
+        const std::string file = level["file"];
+        EXPECT_EQ(file, "lod" + std::to_string(i) + ".ply");
+        const lodforge::Mesh m = lodforge::read_mesh(out + "/" + file);
+        EXPECT_EQ(level["triangles"].get<std::size_t>(), m.triangle_count()) << i;
+        EXPECT_EQ(level["wedges"].get<std::size_t>(), m.vertex_count()) << i;
+        EXPECT_LT(m.triangle_count(), last_triangles);
+        last_triangles = m.triangle_count();
+        const auto& e = level["error"];
+        for (const char* key : {"hausdorff", "hausdorff_relative", "mean", "mean_relative", "rms", "rms_relative",
+                                "step", "accumulated_relative"})
+            EXPECT_TRUE(e.contains(key)) << key;
+        if (i > 0) {
+            EXPECT_GT(e["mean"].get<double>(), last_mean) << i;
+            EXPECT_EQ(level["stop_reason"], "target_reached");
+            const double target = level["target_triangles"].get<double>();
+            EXPECT_NEAR(double(m.triangle_count()), target, 0.01 * target + 1);
+        }
+        last_mean = e["mean"].get<double>();
+        EXPECT_EQ(level["shared"]["index_count"].get<std::size_t>(), 3 * m.triangle_count());
+    }
+    EXPECT_EQ(j["levels"][0]["triangles"], 69451);
+}
+
+TEST(CliLod, ObjLevelsByTriangleCount) {
+    lodforge::test::ScratchDir dir("cli-lod-obj");
+    const std::string spot = lodforge::test::sample("spot/spot_triangulated.obj");
+    const CliRun r = run("lod " + q(spot) + " -o " + q(dir.path().string()) +
+                         " --level-triangles 3000,1000,300 --format obj --no-measure");
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    std::ifstream in(dir.file("lods.json"));
+    const auto j = nlohmann::json::parse(in);
+    ASSERT_EQ(j["levels"].size(), 4u);
+    EXPECT_EQ(j["measured"], false);
+    for (std::size_t i = 1; i < 4; ++i) {
+        const lodforge::Mesh m = lodforge::read_mesh(dir.file(j["levels"][i]["file"].get<std::string>()));
+        EXPECT_EQ(m.triangle_count(), j["levels"][i]["triangles"].get<std::size_t>());
+        EXPECT_EQ(m.point_count(), j["levels"][i]["vertices"].get<std::size_t>());
+        EXPECT_TRUE(m.has_texcoords());
+        EXPECT_FALSE(j["levels"][i]["error"].contains("hausdorff"));
+    }
+    EXPECT_EQ(j["levels"][3]["triangles"], 300);
+}
+
+TEST(CliLod, BadLevelsExitNonZeroWithAMessage) {
+    lodforge::test::ScratchDir dir("cli-lod-bad");
+    const std::string in = q(bunny()) + " -o " + q(dir.file("out"));
+    struct Case {
+        std::string args, message;
+    };
+    const Case cases[] = {
+        {"", "exactly one of --levels, --level-triangles and --level-errors"},
+        {" --levels 0.5,0.7", "not fewer than the previous level"},
+        {" --levels 0.5,abc", "'abc' is not a number"},
+        {" --levels 0.5,1.5", "outside (0, 1]"},
+        {" --levels 0.5 --level-triangles 100", "exactly one of"},
+        {" --level-triangles 100.5", "not a positive integer"},
+        {" --level-errors 0.01,0.001", "larger than the previous level"},
+        {" --levels 0.5 --format stl", "stl"},
+    };
+    for (const Case& c : cases) {
+        const CliRun r = run("lod " + in + c.args);
+        EXPECT_NE(r.exit_code, 0) << c.args;
+        EXPECT_TRUE(contains(r.out, c.message)) << c.args << ": " << r.out;
+    }
+    EXPECT_FALSE(std::filesystem::exists(dir.file("out/lods.json")));
+}
+
+TEST(CliCompare, JsonHasTheMetricsAndTheHeatmapHasColours) {
+    lodforge::test::ScratchDir dir("cli-compare");
+    const std::string simplified = dir.file("bunny-cluster.ply");
+    ASSERT_EQ(run("simplify " + q(bunny()) + " -o " + q(simplified) + " --ratio 0.05 --mode cluster").exit_code, 0);
+    const std::string heat = dir.file("heat.ply");
+    const CliRun r = run("compare --json --samples 50000 --heatmap " + q(heat) + " " + q(bunny()) + " " + q(simplified), false);
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    const auto j = nlohmann::json::parse(r.out);
+    for (const char* key : {"hausdorff", "mean", "rms", "hausdorff_relative", "mean_relative", "rms_relative", "diagonal"}) {
+        ASSERT_TRUE(j.contains(key)) << key;
+        EXPECT_GT(j[key].get<double>(), 0.0) << key;
+    }
+    EXPECT_NEAR(j["hausdorff_relative"].get<double>(), j["hausdorff"].get<double>() / j["diagonal"].get<double>(), 1e-9);
+    EXPECT_GE(j["hausdorff"].get<double>(), j["rms"].get<double>());
+    EXPECT_EQ(j["test_to_reference"]["samples"].get<std::size_t>() > 0, true);
+    EXPECT_FALSE(j.contains("color_rms"));  // the bunny has no colours
+    EXPECT_EQ(j["heatmap"]["file"], heat);
+
+    const lodforge::Mesh m = lodforge::read_ply(heat);
+    ASSERT_TRUE(m.has_colors());
+    std::set<std::tuple<int, int, int>> distinct;
+    for (const auto& c : m.colors) distinct.insert({int(std::lround(c.x * 255)), int(std::lround(c.y * 255)), int(std::lround(c.z * 255))});
+    EXPECT_GT(distinct.size(), 2u);
+    lodforge::PlyReader reader(heat);
+    EXPECT_GE(reader.header().find_element("vertex")->find_property("quality"), 0);
+
+    // On the reference: the field of a half-edge simplification (whose vertices lie on the input).
+    const std::string collapsed = dir.file("bunny-collapse.ply");
+    ASSERT_EQ(run("simplify " + q(bunny()) + " -o " + q(collapsed) + " --ratio 0.05").exit_code, 0);
+    const std::string heat_ref = dir.file("heat-ref.ply");
+    const CliRun t = run("compare --samples 50000 --heatmap-on reference --heatmap " + q(heat_ref) + " " + q(bunny()) + " " + q(collapsed));
+    ASSERT_EQ(t.exit_code, 0) << t.out;
+    EXPECT_TRUE(contains(t.out, "hausdorff:")) << t.out;
+    EXPECT_EQ(lodforge::read_ply(heat_ref).triangle_count(), 69451u);
+}
+
+TEST(CliCompare, BadArgumentsExitNonZero) {
+    lodforge::test::ScratchDir dir("cli-compare-bad");
+    CliRun r = run("compare " + q(bunny()));
+    EXPECT_NE(r.exit_code, 0);
+    r = run("compare " + q(bunny()) + " " + q(dir.file("missing.ply")));
+    EXPECT_EQ(r.exit_code, 1);
+    EXPECT_TRUE(contains(r.out, "missing.ply")) << r.out;
+    r = run("compare --heatmap " + q(dir.file("h.obj")) + " " + q(bunny()) + " " + q(bunny()));
+    EXPECT_EQ(r.exit_code, 1);
+    EXPECT_TRUE(contains(r.out, "--heatmap writes PLY")) << r.out;
+    r = run("compare --samples -5 " + q(bunny()) + " " + q(bunny()));
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_TRUE(std::filesystem::is_empty(dir.path()));
+}
