@@ -1,0 +1,40 @@
+# Builds the .deb with CPack into OUT_DIR and checks what a user installs: both executables, the
+# desktop entry (pointing at the studio and its icon), the icons, and dependencies from dpkg-shlibdeps.
+file(REMOVE_RECURSE "${OUT_DIR}")
+execute_process(COMMAND "${CPACK}" -G DEB -B "${OUT_DIR}" --config "${BUILD_DIR}/CPackConfig.cmake"
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "cpack failed (${rc}):\n${out}\n${err}")
+endif()
+file(GLOB debs "${OUT_DIR}/lodforge_*.deb")
+list(LENGTH debs n)
+if(NOT n EQUAL 1)
+  message(FATAL_ERROR "expected one lodforge_*.deb in ${OUT_DIR}, found: ${debs}")
+endif()
+execute_process(COMMAND dpkg-deb -c "${debs}" OUTPUT_VARIABLE listing RESULT_VARIABLE rc)
+foreach(path ./usr/bin/lodforge ./usr/bin/lodforge-studio ./usr/share/applications/lodforge-studio.desktop
+             ./usr/share/icons/hicolor/256x256/apps/lodforge-studio.png
+             ./usr/share/icons/hicolor/scalable/apps/lodforge-studio.svg
+             ./usr/share/lodforge/samples/spot/spot_triangulated.obj)
+  string(FIND "${listing}" " ${path}\n" at)
+  if(at EQUAL -1)
+    message(FATAL_ERROR "${path} is missing from the package:\n${listing}")
+  endif()
+endforeach()
+execute_process(COMMAND dpkg-deb -f "${debs}" Depends OUTPUT_VARIABLE depends)
+foreach(dep libqt6widgets6 libvtk9.1 libtinygltf)
+  string(FIND "${depends}" "${dep}" at)
+  if(at EQUAL -1)
+    message(FATAL_ERROR "Depends lacks ${dep}: ${depends}")
+  endif()
+endforeach()
+execute_process(COMMAND dpkg-deb --fsys-tarfile "${debs}" COMMAND tar -xO ./usr/share/applications/lodforge-studio.desktop
+                OUTPUT_VARIABLE desktop)
+foreach(line "Exec=lodforge-studio" "Icon=lodforge-studio" "Type=Application")
+  string(FIND "${desktop}" "${line}" at)
+  if(at EQUAL -1)
+    message(FATAL_ERROR "desktop entry lacks '${line}':\n${desktop}")
+  endif()
+endforeach()
+file(REMOVE_RECURSE "${OUT_DIR}")
+message(STATUS "package ok: ${debs}")
