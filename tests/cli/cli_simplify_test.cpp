@@ -2,40 +2,27 @@
 #include "lodforge/mesh_io.h"
 #include "lodforge/ply.h"
 
+#include "support/cli_run.h"
 #include "support/test_paths.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <set>
-#include <sys/wait.h>
 #include <tuple>
 
 namespace {
 
-struct CliRun {
-    int exit_code = -1;
-    std::string out;  // stdout and stderr together
-};
+using lodforge::test::CliRun;
+using lodforge::test::quoted;
+using lodforge::test::run_cli;
 
-CliRun run(const std::string& args, bool merge_stderr = true) {
-    const std::string cmd = std::string(LODFORGE_BIN_DIR) + "/lodforge --quiet " + args + (merge_stderr ? " 2>&1" : " 2>/dev/null");
-    CliRun r;
-    FILE* pipe = popen(cmd.c_str(), "r");
-    if (!pipe) return r;
-    std::array<char, 4096> buf{};
-    while (std::size_t n = std::fread(buf.data(), 1, buf.size(), pipe)) r.out.append(buf.data(), n);
-    const int status = pclose(pipe);
-    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    return r;
-}
-
-std::string q(const std::string& s) { return "'" + s + "'"; }
+CliRun run(const std::string& args, bool merge_stderr = true) { return run_cli(args, merge_stderr); }
+std::string q(const std::string& s) { return quoted(s); }
 
 std::string bunny() { return lodforge::test::shared_data("scan-bunny/bun_zipper.ply"); }
 

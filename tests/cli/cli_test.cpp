@@ -1,37 +1,16 @@
 // Runs the real `lodforge` executable the way users and scripts do and checks output and exit codes.
+#include "support/cli_run.h"
 #include "support/test_paths.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include <array>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <sys/wait.h>
 
-namespace {
-
-struct CliRun {
-    int exit_code = -1;
-    std::string out;  // stdout and stderr together
-};
-
-CliRun run_cli(const std::string& args) {
-    const std::string cmd = std::string(LODFORGE_BIN_DIR) + "/lodforge --quiet " + args + " 2>&1";
-    CliRun r;
-    FILE* pipe = popen(cmd.c_str(), "r");
-    if (!pipe) return r;
-    std::array<char, 4096> buf{};
-    while (std::size_t n = std::fread(buf.data(), 1, buf.size(), pipe)) r.out.append(buf.data(), n);
-    const int status = pclose(pipe);
-    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    return r;
-}
-
-std::string quoted(const std::string& s) { return "'" + s + "'"; }
-
-}  // namespace
+using lodforge::test::CliRun;
+using lodforge::test::quoted;
+using lodforge::test::run_cli;
 
 TEST(Cli, HelpListsTheCommands) {
     const CliRun r = run_cli("--help");

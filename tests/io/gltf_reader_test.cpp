@@ -445,21 +445,14 @@ TEST(GltfReader, CorruptedGlbBytesNeverCrash) {
 namespace lodforge {
 namespace {
 
-struct RecordingProgress : Progress {
-    std::vector<double> fractions;
-    void report(double fraction, std::string_view) override { fractions.push_back(fraction); }
-};
-struct CancelledProgress : CancelFlagProgress {
-    void report(double, std::string_view) override {}
-};
 
 TEST(GltfReader, ReportsProgressAndHonoursCancel) {
-    RecordingProgress progress;
+    test::RecordingProgress progress;
     read_gltf(test::shared_data("tex-cesium-milk-truck/CesiumMilkTruck.gltf"), &progress);
     ASSERT_GE(progress.fractions.size(), 2u);
     EXPECT_TRUE(std::is_sorted(progress.fractions.begin(), progress.fractions.end()));
     EXPECT_EQ(progress.fractions.back(), 1.0);
-    CancelledProgress cancel;
+    CancelFlagProgress cancel;
     cancel.cancel();
     test::expect_error([&] { read_gltf(test::shared_data("tex-duck/glTF/Duck.gltf"), &cancel); },
                        Error::Kind::cancelled, {});

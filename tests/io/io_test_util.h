@@ -2,10 +2,10 @@
 // computed independently of the importers.
 #pragma once
 
-#include <unistd.h>  // before test_paths.h, which uses getpid()
 
 #include "lodforge/error.h"
 #include "lodforge/mesh.h"
+#include "lodforge/progress.h"
 #include "support/test_paths.h"
 
 #include <gtest/gtest.h>
@@ -21,6 +21,12 @@
 #include <vector>
 
 namespace lodforge::test {
+
+// Keeps every fraction reported, to check progress is monotone and ends at 1.
+struct RecordingProgress : Progress {
+    std::vector<double> fractions;
+    void report(double fraction, std::string_view) override { fractions.push_back(fraction); }
+};
 
 inline void write_text(const std::string& path, const std::string& text) {
     std::ofstream out(path, std::ios::binary);

@@ -321,21 +321,14 @@ TEST(ObjReader, TruncatedPrefixesNeverCrash) {
 namespace lodforge {
 namespace {
 
-struct RecordingProgress : Progress {
-    std::vector<double> fractions;
-    void report(double fraction, std::string_view) override { fractions.push_back(fraction); }
-};
-struct CancelledProgress : CancelFlagProgress {
-    void report(double, std::string_view) override {}
-};
 
 TEST(ObjReader, ReportsProgressAndHonoursCancel) {
-    RecordingProgress progress;
+    test::RecordingProgress progress;
     read_obj(test::shared_data("seq-horse-gallop/0001.obj"), &progress);
     ASSERT_GE(progress.fractions.size(), 2u);
     EXPECT_TRUE(std::is_sorted(progress.fractions.begin(), progress.fractions.end()));
     EXPECT_EQ(progress.fractions.back(), 1.0);
-    CancelledProgress cancel;
+    CancelFlagProgress cancel;
     cancel.cancel();
     test::expect_error([&] { read_obj(test::shared_data("seq-horse-gallop/0001.obj"), &cancel); },
                        Error::Kind::cancelled, {});
