@@ -755,6 +755,16 @@ Mesh read_gltf(const std::string& path, Progress* progress, const GltfReadOption
     const bool binary = data.size() >= 4 && std::memcmp(data.data(), "glTF", 4) == 0;
     if (!binary && lower(fs::path(path).extension().string()) == ".glb")
         throw_error(Error::Kind::format, path, "not a binary glTF (missing 'glTF' magic)");
+    if (binary && data.size() >= 12) {
+        // The GLB header states the total length; checking it first turns tinygltf's generic
+        // "Invalid glTF binary" into the reason a user can act on.
+        std::uint32_t declared = 0;
+        std::memcpy(&declared, data.data() + 8, 4);
+        if (declared > data.size())
+            throw_error(Error::Kind::format, path,
+                        "truncated GLB: the header announces " + std::to_string(declared) + " bytes, the file has " +
+                            std::to_string(data.size()));
+    }
     const std::string base_dir = fs::path(path).parent_path().string();
 
     tinygltf::Model model;

@@ -419,6 +419,10 @@ TEST(GltfReader, TruncatedGlbPrefixesThrowAndNeverCrash) {
         SCOPED_TRACE(n);
         expect_error([&] { read_gltf(path); }, Error::Kind::format, {"t.glb"});
     }
+    // Once the length field is there, the message says what is wrong.
+    test::write_bytes(path, std::vector<std::uint8_t>(glb.begin(), glb.begin() + 3000));
+    expect_error([&] { read_gltf(path); }, Error::Kind::format,
+                 {"t.glb", "truncated GLB", std::to_string(glb.size()), "3000"});
 }
 
 TEST(GltfReader, CorruptedGlbBytesNeverCrash) {
