@@ -92,10 +92,6 @@ std::vector<std::uint32_t> forsyth_order(std::span<const std::uint32_t> tri, std
     const ScoreTables tables(cache_size);
     std::vector<float> vscore(vertex_count);
     for (std::size_t v = 0; v < vertex_count; ++v) vscore[v] = tables.score(-1, live[v]);
-    std::vector<float> tscore(tri_count);
-    for (std::size_t t = 0; t < tri_count; ++t) {
-        tscore[t] = vscore[tri[3 * t]] + vscore[tri[3 * t + 1]] + vscore[tri[3 * t + 2]];
-    }
     std::vector<std::uint8_t> emitted(tri_count, 0);
 
     std::vector<std::uint32_t> cache, next_cache;
@@ -132,19 +128,12 @@ std::vector<std::uint32_t> forsyth_order(std::span<const std::uint32_t> tri, std
         if (next_cache.size() > cache_size) next_cache.resize(cache_size);
         for (std::size_t i = 0; i < next_cache.size(); ++i) cache_pos[next_cache[i]] = int(i);
 
-        // Rescore what changed: the dropped vertices and everything in the cache.
-        auto rescore_vertex = [&](std::uint32_t v) {
-            const float s = tables.score(cache_pos[v], live[v]);
-            const float delta = s - vscore[v];
-            vscore[v] = s;
-            if (delta == 0.0f) return;
-            const std::uint32_t* lt = adj.list.data() + adj.offsets[v];
-            for (std::uint32_t i = 0; i < live[v]; ++i) tscore[lt[i]] += delta;
-        };
+        // Rescore the vertices whose cache position or live count changed, then pick the best live triangle
+        // around the cache; triangles elsewhere are only needed when the cache runs dry (input order).
         for (std::uint32_t v : cache) {
-            if (cache_pos[v] < 0) rescore_vertex(v);
+            if (cache_pos[v] < 0) vscore[v] = tables.score(-1, live[v]);
         }
-        for (std::uint32_t v : next_cache) rescore_vertex(v);
+        for (std::uint32_t v : next_cache) vscore[v] = tables.score(cache_pos[v], live[v]);
         std::swap(cache, next_cache);
 
         best = no_triangle;
@@ -152,8 +141,10 @@ std::vector<std::uint32_t> forsyth_order(std::span<const std::uint32_t> tri, std
         for (std::uint32_t v : cache) {
             const std::uint32_t* lt = adj.list.data() + adj.offsets[v];
             for (std::uint32_t i = 0; i < live[v]; ++i) {
-                if (tscore[lt[i]] > best_score) {
-                    best_score = tscore[lt[i]];
+                const std::uint32_t* tv = &tri[3 * std::size_t(lt[i])];
+                const float score = vscore[tv[0]] + vscore[tv[1]] + vscore[tv[2]];
+                if (score > best_score) {
+                    best_score = score;
                     best = lt[i];
                 }
             }
