@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <array>
 #include <string>
+#include <string_view>
 #include <vector>
 
 using namespace lodforge;
@@ -272,3 +273,28 @@ INSTANTIATE_TEST_SUITE_P(
                       RealMesh{"frag_115", test::shared_data("color-open3d-frag115/frag_115.ply"), 1.34, 0.87},
                       RealMesh{"spot", test::sample("spot/spot_triangulated.obj"), 1.32, 0.90}),
     [](const ::testing::TestParamInfo<RealMesh>& param) { return std::string(param.param.name); });
+
+namespace {
+class RecordingProgress : public Progress {
+public:
+    void report(double fraction, std::string_view stage) override {
+        fractions.push_back(fraction);
+        stages.emplace_back(stage);
+    }
+    std::vector<double> fractions;
+    std::vector<std::string> stages;
+};
+}  // namespace
+
+TEST(Stripify, ProgressRisesToOneThroughBothStages) {
+    const Mesh& bunny = load(test::shared_data("scan-bunny/bun_zipper.ply"));
+    RecordingProgress progress;
+    const StripifyResult r = stripify(bunny, {}, &progress);
+    EXPECT_EQ(r.triangles, bunny.triangle_count());
+    ASSERT_GE(progress.fractions.size(), 2u);
+    EXPECT_TRUE(std::is_sorted(progress.fractions.begin(), progress.fractions.end()));
+    EXPECT_GE(progress.fractions.front(), 0.0);
+    EXPECT_EQ(progress.fractions.back(), 1.0);
+    EXPECT_NE(std::find(progress.stages.begin(), progress.stages.end(), "stripify: cache order"), progress.stages.end());
+    EXPECT_NE(std::find(progress.stages.begin(), progress.stages.end(), "stripify: strips"), progress.stages.end());
+}
