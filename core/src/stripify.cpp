@@ -76,9 +76,13 @@ struct ScoreTables {
     }
 };
 
+// Beyond this the modelled cache changes nothing measurable and would only cost time and memory.
+constexpr std::size_t kMaxModelledCache = 64;
+
 // Returns the triangle order: order[k] = input triangle drawn k-th.
 std::vector<std::uint32_t> forsyth_order(std::span<const std::uint32_t> tri, std::size_t vertex_count,
-                                         std::size_t cache_size, Progress* progress) {
+                                         std::size_t requested_cache_size, Progress* progress) {
+    const std::size_t cache_size = std::min(requested_cache_size, kMaxModelledCache);
     const std::size_t tri_count = tri.size() / 3;
     std::vector<std::uint32_t> order;
     order.reserve(tri_count);

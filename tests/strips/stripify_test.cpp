@@ -44,7 +44,8 @@ Primitive primitive_of(StripJoin join) {
 
 // The strips draw exactly the input's non-degenerate triangles, each with its input winding, in the joined
 // buffer and strip by strip; the counts and metrics in the result match the buffer.
-void check_strips(const Idx& input, std::size_t vertex_count, const StripifyResult& r, const char* what) {
+void check_strips(const Idx& input, std::size_t vertex_count, const StripifyResult& r, const char* what,
+                  std::size_t cache_size = 16) {
     SCOPED_TRACE(what);
     const std::vector<Tri> expected = triangle_multiset(input, true);
     const Primitive prim = primitive_of(r.join);
@@ -69,7 +70,7 @@ void check_strips(const Idx& input, std::size_t vertex_count, const StripifyResu
         EXPECT_LE(r.indices.size(), strip_indices + 3 * r.strips.size());
     }
     EXPECT_DOUBLE_EQ(r.indices_per_triangle, expected.empty() ? 0.0 : double(r.indices.size()) / double(expected.size()));
-    EXPECT_DOUBLE_EQ(r.acmr, acmr(r.indices, vertex_count, 16, prim));
+    EXPECT_DOUBLE_EQ(r.acmr, acmr(r.indices, vertex_count, cache_size, prim));
     for (std::uint32_t v : r.indices) {
         if (v != restart_index) {
             EXPECT_LT(v, vertex_count);
@@ -297,4 +298,18 @@ TEST(Stripify, ProgressRisesToOneThroughBothStages) {
     EXPECT_EQ(progress.fractions.back(), 1.0);
     EXPECT_NE(std::find(progress.stages.begin(), progress.stages.end(), "stripify: cache order"), progress.stages.end());
     EXPECT_NE(std::find(progress.stages.begin(), progress.stages.end(), "stripify: strips"), progress.stages.end());
+}
+
+TEST(Stripify, HugeCacheSizeAndDegenerateTrianglesInTheCacheOrder) {
+    const Idx g = grid(6);
+    StripifyParams p;
+    p.cache_size = std::size_t(1) << 40;
+    const StripifyResult r = stripify(g, 49, p);
+    check_strips(g, 49, r, "huge cache", p.cache_size);
+    EXPECT_DOUBLE_EQ(r.acmr, 49.0 / 72.0);  // every vertex transformed once
+    // optimize_vertex_cache keeps every triangle, degenerate ones included.
+    const Idx in = {0, 1, 2, 2, 2, 3, 2, 1, 3, 0, 0, 0, 3, 1, 4};
+    EXPECT_EQ(triangle_multiset(optimize_vertex_cache(in, 5, 16), false), triangle_multiset(in, false));
+    EXPECT_THROW(optimize_vertex_cache(Idx{0, 1, 7}, 3, 16), Error);
+    EXPECT_THROW(optimize_vertex_cache(Idx{0, 1, 2}, 3, 2), Error);
 }

@@ -29,7 +29,8 @@ enum class StripJoin {
 
 struct StripifyParams {
     StripJoin join = StripJoin::restart;
-    // FIFO cache size the triangle order is tuned for and the reported ACMR is measured with (>= 3).
+    // FIFO cache size the triangle order is tuned for (sizes above 64 order as 64) and the reported ACMR is
+    // measured with (>= 3).
     std::size_t cache_size = 16;
     // Reorder triangles for the vertex cache before growing strips. Without it, strips follow the input
     // order, which is only good when the input is already cache-ordered.
@@ -60,7 +61,7 @@ StripifyResult stripify(std::span<const std::uint32_t> indices, std::size_t vert
                         const StripifyParams& params = {}, Progress* progress = nullptr);
 
 // Forsyth-style vertex cache order of a triangle list (used by stripify): the triangles of `indices`,
-// reordered, windings unchanged. Exposed for tests and benchmarks.
+// reordered, windings unchanged (degenerate triangles are kept). Exposed for tests and benchmarks.
 std::vector<std::uint32_t> optimize_vertex_cache(std::span<const std::uint32_t> indices, std::size_t vertex_count,
                                                  std::size_t cache_size = 16);
 
