@@ -66,17 +66,21 @@ std::vector<std::uint32_t> derive_points(const Mesh& mesh, bool weld, float tole
         }
     }
     if (weld && tolerance <= 0.f) {
-        std::vector<std::uint32_t> order(n);
-        std::iota(order.begin(), order.end(), 0u);
-        const auto& P = mesh.positions;
-        std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
-            if (P[a].x != P[b].x) return P[a].x < P[b].x;
-            if (P[a].y != P[b].y) return P[a].y < P[b].y;
-            if (P[a].z != P[b].z) return P[a].z < P[b].z;
-            return a < b;
+        // Sorted by position; the records carry their position so the sort never reads the mesh.
+        struct Entry {
+            Vec3f p;
+            std::uint32_t v;
+        };
+        std::vector<Entry> order(n);
+        for (std::uint32_t v = 0; v < n; ++v) order[v] = {mesh.positions[v], v};
+        std::sort(order.begin(), order.end(), [](const Entry& a, const Entry& b) {
+            if (a.p.x != b.p.x) return a.p.x < b.p.x;
+            if (a.p.y != b.p.y) return a.p.y < b.p.y;
+            if (a.p.z != b.p.z) return a.p.z < b.p.z;
+            return a.v < b.v;
         });
         for (std::size_t i = 1; i < n; ++i)
-            if (P[order[i]] == P[order[i - 1]]) unite(parent, order[i - 1], order[i]);
+            if (order[i].p == order[i - 1].p) unite(parent, order[i - 1].v, order[i].v);
     } else if (weld) {
         // Grid of cell size `tolerance`: a vertex joins the first earlier vertex within tolerance found
         // in the 27 cells around it.
@@ -184,22 +188,54 @@ Mesh build_mesh(const Mesh& src, const std::vector<std::uint32_t>& point_of, con
 std::vector<std::uint8_t> initial_faces(const Mesh& mesh, const std::vector<std::uint32_t>& point) {
     const std::size_t nf = mesh.triangle_count();
     std::vector<std::uint8_t> keep(nf, 0);
-    std::vector<std::array<std::uint32_t, 4>> sorted;
-    sorted.reserve(nf);
+    // Faces bucketed by their smallest point (counting sort, input order within a bucket); a face stays
+    // unless an earlier face of its bucket has the same two other points.
+    std::vector<std::array<std::uint32_t, 3>> sorted(nf);
+    std::uint32_t points = 0;
+    for (std::uint32_t p : point) points = std::max(points, p + 1);
+    std::vector<std::uint32_t> begin(std::size_t(points) + 1, 0);
     for (std::size_t f = 0; f < nf; ++f) {
         std::array<std::uint32_t, 3> p{point[mesh.indices[3 * f]], point[mesh.indices[3 * f + 1]],
                                        point[mesh.indices[3 * f + 2]]};
-        if (p[0] == p[1] || p[1] == p[2] || p[0] == p[2]) continue;
+        if (p[0] == p[1] || p[1] == p[2] || p[0] == p[2]) {
+            sorted[f][0] = kNone;
+            continue;
+        }
         // Either winding: a face and its reverse are a zero-thickness sheet that no collapse can pass
         // (the link condition sees two surfaces); the first one stays.
         std::sort(p.begin(), p.end());
-        sorted.push_back({p[0], p[1], p[2], static_cast<std::uint32_t>(f)});
+        sorted[f] = p;
+        ++begin[p[0] + 1];
     }
-    std::sort(sorted.begin(), sorted.end());
-    for (std::size_t i = 0; i < sorted.size(); ++i)
-        if (i == 0 || sorted[i][0] != sorted[i - 1][0] || sorted[i][1] != sorted[i - 1][1] ||
-            sorted[i][2] != sorted[i - 1][2])
-            keep[sorted[i][3]] = 1;  // the earliest face of each point set (sort is by index last)
+    for (std::size_t p = 0; p < points; ++p) begin[p + 1] += begin[p];
+    std::vector<std::uint32_t> bucket(begin.back());
+    {
+        std::vector<std::uint32_t> fill(begin.begin(), begin.end() - 1);
+        for (std::uint32_t f = 0; f < nf; ++f)
+            if (sorted[f][0] != kNone) bucket[fill[sorted[f][0]]++] = f;
+    }
+    auto same = [&](std::uint32_t a, std::uint32_t b) {
+        return sorted[a][1] == sorted[b][1] && sorted[a][2] == sorted[b][2];
+    };
+    for (std::size_t p = 0; p < points; ++p) {
+        const std::uint32_t b = begin[p], e = begin[p + 1];
+        if (e - b <= 32) {
+            for (std::uint32_t i = b; i < e; ++i) {
+                bool first = true;
+                for (std::uint32_t j = b; j < i && first; ++j) first = !same(bucket[j], bucket[i]);
+                if (first) keep[bucket[i]] = 1;
+            }
+            continue;
+        }
+        // A point with many faces: sort its bucket by the other two points, then by face index.
+        std::sort(bucket.begin() + b, bucket.begin() + e, [&](std::uint32_t x, std::uint32_t y) {
+            if (sorted[x][1] != sorted[y][1]) return sorted[x][1] < sorted[y][1];
+            if (sorted[x][2] != sorted[y][2]) return sorted[x][2] < sorted[y][2];
+            return x < y;
+        });
+        for (std::uint32_t i = b; i < e; ++i)
+            if (i == b || !same(bucket[i - 1], bucket[i])) keep[bucket[i]] = 1;
+    }
     return keep;
 }
 
