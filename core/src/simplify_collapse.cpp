@@ -66,17 +66,21 @@ std::vector<std::uint32_t> derive_points(const Mesh& mesh, bool weld, float tole
         }
     }
     if (weld && tolerance <= 0.f) {
-        std::vector<std::uint32_t> order(n);
-        std::iota(order.begin(), order.end(), 0u);
-        const auto& P = mesh.positions;
-        std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
-            if (P[a].x != P[b].x) return P[a].x < P[b].x;
-            if (P[a].y != P[b].y) return P[a].y < P[b].y;
-            if (P[a].z != P[b].z) return P[a].z < P[b].z;
-            return a < b;
+        // Sorted by position; the records carry their position so the sort never reads the mesh.
+        struct Entry {
+            Vec3f p;
+            std::uint32_t v;
+        };
+        std::vector<Entry> order(n);
+        for (std::uint32_t v = 0; v < n; ++v) order[v] = {mesh.positions[v], v};
+        std::sort(order.begin(), order.end(), [](const Entry& a, const Entry& b) {
+            if (a.p.x != b.p.x) return a.p.x < b.p.x;
+            if (a.p.y != b.p.y) return a.p.y < b.p.y;
+            if (a.p.z != b.p.z) return a.p.z < b.p.z;
+            return a.v < b.v;
         });
         for (std::size_t i = 1; i < n; ++i)
-            if (P[order[i]] == P[order[i - 1]]) unite(parent, order[i - 1], order[i]);
+            if (order[i].p == order[i - 1].p) unite(parent, order[i - 1].v, order[i].v);
     } else if (weld) {
         // Grid of cell size `tolerance`: a vertex joins the first earlier vertex within tolerance found
         // in the 27 cells around it.
@@ -184,22 +188,54 @@ Mesh build_mesh(const Mesh& src, const std::vector<std::uint32_t>& point_of, con
 std::vector<std::uint8_t> initial_faces(const Mesh& mesh, const std::vector<std::uint32_t>& point) {
     const std::size_t nf = mesh.triangle_count();
     std::vector<std::uint8_t> keep(nf, 0);
-    std::vector<std::array<std::uint32_t, 4>> sorted;
-    sorted.reserve(nf);
+    // Faces bucketed by their smallest point (counting sort, input order within a bucket); a face stays
+    // unless an earlier face of its bucket has the same two other points.
+    std::vector<std::array<std::uint32_t, 3>> sorted(nf);
+    std::uint32_t points = 0;
+    for (std::uint32_t p : point) points = std::max(points, p + 1);
+    std::vector<std::uint32_t> begin(std::size_t(points) + 1, 0);
     for (std::size_t f = 0; f < nf; ++f) {
         std::array<std::uint32_t, 3> p{point[mesh.indices[3 * f]], point[mesh.indices[3 * f + 1]],
                                        point[mesh.indices[3 * f + 2]]};
-        if (p[0] == p[1] || p[1] == p[2] || p[0] == p[2]) continue;
+        if (p[0] == p[1] || p[1] == p[2] || p[0] == p[2]) {
+            sorted[f][0] = kNone;
+            continue;
+        }
         // Either winding: a face and its reverse are a zero-thickness sheet that no collapse can pass
         // (the link condition sees two surfaces); the first one stays.
         std::sort(p.begin(), p.end());
-        sorted.push_back({p[0], p[1], p[2], static_cast<std::uint32_t>(f)});
+        sorted[f] = p;
+        ++begin[p[0] + 1];
     }
-    std::sort(sorted.begin(), sorted.end());
-    for (std::size_t i = 0; i < sorted.size(); ++i)
-        if (i == 0 || sorted[i][0] != sorted[i - 1][0] || sorted[i][1] != sorted[i - 1][1] ||
-            sorted[i][2] != sorted[i - 1][2])
-            keep[sorted[i][3]] = 1;  // the earliest face of each point set (sort is by index last)
+    for (std::size_t p = 0; p < points; ++p) begin[p + 1] += begin[p];
+    std::vector<std::uint32_t> bucket(begin.back());
+    {
+        std::vector<std::uint32_t> fill(begin.begin(), begin.end() - 1);
+        for (std::uint32_t f = 0; f < nf; ++f)
+            if (sorted[f][0] != kNone) bucket[fill[sorted[f][0]]++] = f;
+    }
+    auto same = [&](std::uint32_t a, std::uint32_t b) {
+        return sorted[a][1] == sorted[b][1] && sorted[a][2] == sorted[b][2];
+    };
+    for (std::size_t p = 0; p < points; ++p) {
+        const std::uint32_t b = begin[p], e = begin[p + 1];
+        if (e - b <= 32) {
+            for (std::uint32_t i = b; i < e; ++i) {
+                bool first = true;
+                for (std::uint32_t j = b; j < i && first; ++j) first = !same(bucket[j], bucket[i]);
+                if (first) keep[bucket[i]] = 1;
+            }
+            continue;
+        }
+        // A point with many faces: sort its bucket by the other two points, then by face index.
+        std::sort(bucket.begin() + b, bucket.begin() + e, [&](std::uint32_t x, std::uint32_t y) {
+            if (sorted[x][1] != sorted[y][1]) return sorted[x][1] < sorted[y][1];
+            if (sorted[x][2] != sorted[y][2]) return sorted[x][2] < sorted[y][2];
+            return x < y;
+        });
+        for (std::uint32_t i = b; i < e; ++i)
+            if (i == b || !same(bucket[i - 1], bucket[i])) keep[bucket[i]] = 1;
+    }
     return keep;
 }
 
@@ -211,7 +247,9 @@ std::vector<std::uint8_t> initial_faces(const Mesh& mesh, const std::vector<std:
 enum class Kind : std::uint8_t { interior, border, complex, locked };
 
 // Indexed binary min-heap of points keyed by the cost of their best collapse: O(log n) insert, update and
-// remove of any point; ties go to the lower point id so runs are deterministic.
+// remove of any point; ties go to the lower point id so runs are deterministic. Keys live in the heap
+// array next to their point, so sifting compares without touching per-point memory (one cache miss per
+// level instead of three).
 class PointHeap {
 public:
     void reset(std::size_t n) {
@@ -221,66 +259,76 @@ public:
         heap_.reserve(n);
     }
     bool empty() const { return heap_.empty(); }
-    std::uint32_t top() const { return heap_[0]; }
+    std::uint32_t top() const { return heap_[0].point; }
     bool contains(std::uint32_t p) const { return slot_[p] != kNone; }
     double key(std::uint32_t p) const { return key_[p]; }
+    void prefetch(std::uint32_t p) const {
+#if defined(__GNUC__)
+        __builtin_prefetch(&slot_[p]);
+        __builtin_prefetch(&key_[p]);
+#else
+        (void)p;
+#endif
+    }
     void set(std::uint32_t p, double k) {
+        key_[p] = k;
         if (slot_[p] == kNone) {
-            key_[p] = k;
             slot_[p] = static_cast<std::uint32_t>(heap_.size());
-            heap_.push_back(p);
-            up(slot_[p]);
+            heap_.push_back({k, p});
+            up(slot_[p], {k, p});
             return;
         }
-        const double old = key_[p];
-        key_[p] = k;
-        if (k < old) up(slot_[p]);
-        else down(slot_[p]);
+        const std::uint32_t i = slot_[p];
+        const double old = heap_[i].key;
+        if (k < old) up(i, {k, p});
+        else down(i, {k, p});
     }
     void remove(std::uint32_t p) {
         const std::uint32_t i = slot_[p];
         if (i == kNone) return;
         slot_[p] = kNone;
-        const std::uint32_t last = heap_.back();
+        const Entry last = heap_.back();
         heap_.pop_back();
-        if (last == p) return;
-        heap_[i] = last;
-        slot_[last] = i;
-        up(i);
-        down(slot_[last]);
+        if (last.point == p) return;
+        // Sift the moved entry up, and down from wherever it settled.
+        up(i, last);
+        down(slot_[last.point], last);
     }
 
 private:
-    bool less(std::uint32_t a, std::uint32_t b) const { return key_[a] < key_[b] || (key_[a] == key_[b] && a < b); }
-    void up(std::uint32_t i) {
-        const std::uint32_t p = heap_[i];
+    struct Entry {
+        double key;
+        std::uint32_t point;
+    };
+    static bool less(const Entry& a, const Entry& b) { return a.key < b.key || (a.key == b.key && a.point < b.point); }
+    void up(std::uint32_t i, Entry e) {
         while (i > 0) {
             const std::uint32_t parent = (i - 1) / 2;
-            if (!less(p, heap_[parent])) break;
+            if (!less(e, heap_[parent])) break;
             heap_[i] = heap_[parent];
-            slot_[heap_[i]] = i;
+            slot_[heap_[i].point] = i;
             i = parent;
         }
-        heap_[i] = p;
-        slot_[p] = i;
+        heap_[i] = e;
+        slot_[e.point] = i;
     }
-    void down(std::uint32_t i) {
-        const std::uint32_t p = heap_[i];
+    void down(std::uint32_t i, Entry e) {
         const auto n = static_cast<std::uint32_t>(heap_.size());
         while (true) {
             std::uint32_t c = 2 * i + 1;
             if (c >= n) break;
             if (c + 1 < n && less(heap_[c + 1], heap_[c])) ++c;
-            if (!less(heap_[c], p)) break;
+            if (!less(heap_[c], e)) break;
             heap_[i] = heap_[c];
-            slot_[heap_[i]] = i;
+            slot_[heap_[i].point] = i;
             i = c;
         }
-        heap_[i] = p;
-        slot_[p] = i;
+        heap_[i] = e;
+        slot_[e.point] = i;
     }
 
-    std::vector<std::uint32_t> heap_, slot_;
+    std::vector<Entry> heap_;
+    std::vector<std::uint32_t> slot_;
     std::vector<double> key_;
 };
 
@@ -317,6 +365,20 @@ private:
     // Lists hold live faces only: collapse() removes dead faces from every list that had them.
     const std::vector<std::uint32_t>& faces_of(std::uint32_t p) const { return pfaces_[p]; }
     void neighbours(std::uint32_t p, std::vector<std::uint32_t>& out);
+    // The greedy order jumps across the mesh, so most of a collapse's points and faces are cold: their
+    // loads are issued together ahead of use instead of one miss after another.
+    static void prefetch(const void* address) {
+#if defined(__GNUC__)
+        __builtin_prefetch(address);
+#else
+        (void)address;
+#endif
+    }
+    void prefetch_point(std::uint32_t p) const {
+        const auto* bytes = reinterpret_cast<const char*>(&pts_[p]);
+        prefetch(bytes);
+        prefetch(bytes + 64);
+    }
     double evaluate(std::uint32_t u, std::uint32_t v, Plan& plan, bool full);
     bool valid(std::uint32_t u, std::uint32_t v, const Plan& plan);
     void collapse(std::uint32_t u, std::uint32_t v, const Plan& plan);
@@ -331,7 +393,21 @@ private:
     std::vector<std::uint32_t> pid_;          // wedge → point
     std::vector<std::uint32_t> representative_;
     std::size_t points_ = 0;
-    std::vector<Vec3d> pos_;                  // per point, normalised (centre 0, diagonal 1)
+    // Everything the collapse loop reads per point, packed in two adjacent cache lines, so that
+    // re-evaluating a neighbour costs one cold fetch instead of one per array: the geometric quadric,
+    // the position normalised (centre 0, diagonal 1), the target of the point's heap entry, its kind,
+    // whether it has exactly one wedge, and whether it is constrained (its entry is not its cheapest
+    // edge, that one being invalid; it is fully re-evaluated when its neighbourhood changes).
+    struct alignas(64) PointRec {
+        Quadric geo;
+        Vec3d pos;
+        std::uint32_t best_to = kNone;
+        Kind kind = Kind::interior;
+        std::uint8_t one_wedge = 0;
+        std::uint8_t constrained = 0;
+    };
+    static_assert(sizeof(PointRec) == 128);
+    std::vector<PointRec> pts_;
     Vec3d centre_;
     double scale_ = 1;                        // model units per normalised unit (the diagonal)
     std::vector<std::uint32_t> corners_;      // per face, wedges
@@ -339,13 +415,7 @@ private:
     std::vector<std::uint8_t> face_alive_;
     std::vector<std::vector<std::uint32_t>> pfaces_;
     std::vector<std::uint32_t> wedge_begin_, wedge_list_;  // point → its wedges (CSR)
-    std::vector<Kind> kind_;
     std::vector<std::uint8_t> point_alive_;
-    // constrained: the point's entry is not its cheapest edge (that one was invalid); it is fully
-    // re-evaluated when its neighbourhood changes.
-    std::vector<std::uint8_t> constrained_;
-    std::vector<std::uint32_t> best_to_;      // per point: target of its heap entry
-    std::vector<Quadric> geo_;
     AttributeQuadrics aq_;
     std::size_t dims_ = 0;
     std::vector<double> attrs_;               // per wedge, weighted attribute vector
@@ -365,10 +435,10 @@ void Simplifier::setup() {
     const double diag = b.diagonal();
     scale_ = diag > 0 ? diag : 1.0;
     centre_ = to3d(b.center());
-    pos_.resize(points_);
+    pts_.assign(points_, PointRec{});
     for (std::size_t p = 0; p < points_; ++p) {
         const Vec3d q = to3d(mesh_.positions[representative_[p]]);
-        pos_[p] = {(q.x - centre_.x) / scale_, (q.y - centre_.y) / scale_, (q.z - centre_.z) / scale_};
+        pts_[p].pos = {(q.x - centre_.x) / scale_, (q.y - centre_.y) / scale_, (q.z - centre_.z) / scale_};
     }
 
     // Wedges of each point.
@@ -380,6 +450,7 @@ void Simplifier::setup() {
         std::vector<std::uint32_t> fill(wedge_begin_.begin(), wedge_begin_.end() - 1);
         for (std::uint32_t w = 0; w < nv; ++w) wedge_list_[fill[pid_[w]]++] = w;
     }
+    for (std::size_t p = 0; p < points_; ++p) pts_[p].one_wedge = wedge_begin_[p + 1] - wedge_begin_[p] == 1;
 
     // Faces: drop those degenerate on points.
     const std::size_t nf = mesh_.triangle_count();
@@ -426,26 +497,22 @@ void Simplifier::setup() {
     aq_ = AttributeQuadrics(nv, dims_);
 
     // Quadrics.
-    geo_.assign(points_, Quadric{});
     for (std::uint32_t f = 0; f < nf; ++f) {
         if (!face_alive_[f]) continue;
         const std::uint32_t* c = &corners_[3 * f];
-        const Vec3d p0 = pos_[pid_[c[0]]], p1 = pos_[pid_[c[1]]], p2 = pos_[pid_[c[2]]];
+        const Vec3d p0 = pts_[pid_[c[0]]].pos, p1 = pts_[pid_[c[1]]].pos, p2 = pts_[pid_[c[2]]].pos;
         const Vec3d n = crossd(sub(p1, p0), sub(p2, p0));
         const double len = std::sqrt(dotd(n, n));
         if (!(len > 0)) continue;
         const double area = 0.5 * len;
         const Vec3d un{n.x / len, n.y / len, n.z / len};
         const Quadric q = Quadric::from_plane(un, -dotd(un, p0), area);
-        for (int k = 0; k < 3; ++k) geo_[pid_[c[k]]] += q;
+        for (int k = 0; k < 3; ++k) pts_[pid_[c[k]]].geo += q;
         if (dims_ > 0)
             for (int k = 0; k < 3; ++k)
                 aq_.add_triangle(c[k], p0, p1, p2, attr(c[0]), attr(c[1]), attr(c[2]), area);
     }
-    kind_.assign(points_, Kind::interior);
     point_alive_.assign(points_, 1);
-    constrained_.assign(points_, 0);
-    best_to_.assign(points_, kNone);
     heap_.reset(points_);
 }
 
@@ -472,17 +539,17 @@ void Simplifier::classify_points() {
                     for (std::uint32_t f : pfaces_[p]) {
                         const std::uint32_t* cc = &corners_[3 * f];
                         if (pid_[cc[0]] != q && pid_[cc[1]] != q && pid_[cc[2]] != q) continue;
-                        const Vec3d a0 = pos_[pid_[cc[0]]], a1 = pos_[pid_[cc[1]]], a2 = pos_[pid_[cc[2]]];
+                        const Vec3d a0 = pts_[pid_[cc[0]]].pos, a1 = pts_[pid_[cc[1]]].pos, a2 = pts_[pid_[cc[2]]].pos;
                         const Vec3d n = crossd(sub(a1, a0), sub(a2, a0));
-                        const Vec3d e = sub(pos_[q], pos_[p]);
+                        const Vec3d e = sub(pts_[q].pos, pts_[p].pos);
                         Vec3d m = crossd(e, n);
                         const double len = std::sqrt(dotd(m, m));
                         if (!(len > 0)) break;
                         m = {m.x / len, m.y / len, m.z / len};
-                        Quadric bq = Quadric::from_plane(m, -dotd(m, pos_[p]), dotd(e, e));
+                        Quadric bq = Quadric::from_plane(m, -dotd(m, pts_[p].pos), dotd(e, e));
                         bq.weight = 0;  // a constraint, not surface: it must not dilute the mean
-                        geo_[p] += bq;
-                        geo_[q] += bq;
+                        pts_[p].geo += bq;
+                        pts_[q].geo += bq;
                         break;
                     }
                 }
@@ -491,18 +558,20 @@ void Simplifier::classify_points() {
             }
         }
         if (complex || (border != 0 && border != 2))
-            kind_[p] = params_.lock_border && border != 0 ? Kind::locked : Kind::complex;
-        else if (border == 2) kind_[p] = params_.lock_border ? Kind::locked : Kind::border;
+            pts_[p].kind = params_.lock_border && border != 0 ? Kind::locked : Kind::complex;
+        else if (border == 2) pts_[p].kind = params_.lock_border ? Kind::locked : Kind::border;
         // A point with many (wedge, material) classes (a corner of several seams) stays.
         int classes = 0;
         for (std::uint32_t i = wedge_begin_[p]; i < wedge_begin_[p + 1]; ++i) ++classes;
-        if (classes > kMaxClasses / 2) kind_[p] = Kind::locked;
+        if (classes > kMaxClasses / 2) pts_[p].kind = Kind::locked;
     }
 }
 
 void Simplifier::neighbours(std::uint32_t p, std::vector<std::uint32_t>& out) {
     out.clear();
-    for (std::uint32_t f : faces_of(p))
+    const auto& faces = faces_of(p);
+    for (std::uint32_t f : faces) prefetch(&fpt_[3 * f]);
+    for (std::uint32_t f : faces)
         for (int k = 0; k < 3; ++k) {
             const std::uint32_t q = fpt_[3 * f + k];
             if (q != p && std::find(out.begin(), out.end(), q) == out.end()) out.push_back(q);
@@ -514,18 +583,19 @@ void Simplifier::neighbours(std::uint32_t p, std::vector<std::uint32_t>& out) {
 // mapping is trivial); the collapse itself always re-evaluates with `full`.
 double Simplifier::evaluate(std::uint32_t u, std::uint32_t v, Plan& plan, bool full) {
     constexpr double inf = std::numeric_limits<double>::infinity();
-    if (kind_[u] == Kind::locked) return inf;  // locked points stay, but others may move onto them
+    if (pts_[u].kind == Kind::locked) return inf;  // locked points stay, but others may move onto them
     // A complex point moving onto an interior or border point would make that one complex: it may only
     // join complex or locked points (meshoptimizer's rule).
-    if (kind_[u] == Kind::complex && kind_[v] != Kind::complex && kind_[v] != Kind::locked) return inf;
+    if (pts_[u].kind == Kind::complex && pts_[v].kind != Kind::complex && pts_[v].kind != Kind::locked) return inf;
     plan.count = 0;
     plan.edge_faces = 0;
-    if (!full && kind_[u] == Kind::interior && mesh_.face_materials.empty() &&
-        wedge_begin_[u + 1] - wedge_begin_[u] == 1 && wedge_begin_[v + 1] - wedge_begin_[v] == 1) {
+    if (!full && pts_[u].kind == Kind::interior && mesh_.face_materials.empty() && pts_[u].one_wedge &&
+        pts_[v].one_wedge) {
         plan.count = 1;
-        plan.wedge[0] = wedge_list_[wedge_begin_[u]];
         plan.material[0] = 0;
-        plan.target[0] = wedge_list_[wedge_begin_[v]];
+        // Only attribute costs read the wedges (0 stands in for geometry-only runs: unused, not kNone).
+        plan.wedge[0] = dims_ > 0 ? wedge_list_[wedge_begin_[u]] : 0;
+        plan.target[0] = dims_ > 0 ? wedge_list_[wedge_begin_[v]] : 0;
         plan.edge_faces = -1;  // not counted
     }
     if (plan.count == 0) for (std::uint32_t f : faces_of(u)) {
@@ -553,7 +623,7 @@ double Simplifier::evaluate(std::uint32_t u, std::uint32_t v, Plan& plan, bool f
         else if (plan.target[i] != wv) return inf;  // the class would have to split
     }
     if (plan.edge_faces == 0) return inf;
-    if (kind_[u] == Kind::border && plan.edge_faces != 1) return inf;  // border points slide along the border
+    if (pts_[u].kind == Kind::border && plan.edge_faces != 1) return inf;  // border points slide along the border
     // Every class must be carried by a collapsing face: otherwise a seam (or material border) through u
     // would be dragged across the surface.
     for (int i = 0; i < plan.count; ++i) {
@@ -573,18 +643,18 @@ double Simplifier::evaluate(std::uint32_t u, std::uint32_t v, Plan& plan, bool f
     // region at p_v, a mean over u's area (adding v's area would let large points swallow neighbours
     // cheaply). Optimal placement moves both, so both quadrics count.
     const bool half_edge = params_.placement == Placement::half_edge;
-    Quadric q = geo_[u];
-    if (!half_edge) q += geo_[v];
-    plan.position = pos_[v];
+    Quadric q = pts_[u].geo;
+    if (!half_edge) q += pts_[v].geo;
+    plan.position = pts_[v].pos;
     if (params_.placement == Placement::optimal) {
         Vec3d p;
         if (optimal_position(q, p)) {
             // Keep the optimum near the edge: far solutions come from nearly flat quadrics.
-            const Vec3d e = sub(pos_[u], pos_[v]);
-            const Vec3d d = sub(p, pos_[v]);
+            const Vec3d e = sub(pts_[u].pos, pts_[v].pos);
+            const Vec3d d = sub(p, pts_[v].pos);
             if (dotd(d, d) <= 4 * dotd(e, e)) plan.position = p;
         }
-        if (q.evaluate(pos_[u]) < q.evaluate(plan.position) && kind_[v] == Kind::interior) plan.position = pos_[u];
+        if (q.evaluate(pts_[u].pos) < q.evaluate(plan.position) && pts_[v].kind == Kind::interior) plan.position = pts_[u].pos;
     }
     double cost = q.evaluate(plan.position);
     if (dims_ > 0) {
@@ -618,8 +688,8 @@ bool Simplifier::valid(std::uint32_t u, std::uint32_t v, const Plan& plan) {
         Vec3d p[3], q[3];
         for (int k = 0; k < 3; ++k) {
             const std::uint32_t pt = c[k];
-            p[k] = pos_[pt];
-            q[k] = pt == moved ? plan.position : pos_[pt];
+            p[k] = pts_[pt].pos;
+            q[k] = pt == moved ? plan.position : pts_[pt].pos;
         }
         const Vec3d n0 = crossd(sub(p[1], p[0]), sub(p[2], p[0]));
         const Vec3d n1 = crossd(sub(q[1], q[0]), sub(q[2], q[0]));
@@ -692,7 +762,7 @@ void Simplifier::collapse(std::uint32_t u, std::uint32_t v, const Plan& plan) {
     std::vector<std::uint32_t>().swap(pfaces_[u]);
     std::erase_if(fv, [&](std::uint32_t f) { return !face_alive_[f]; });
 
-    geo_[v] += geo_[u];
+    pts_[v].geo += pts_[u].geo;
     Collapse rec;
     rec.from_point = u;
     rec.to_point = v;
@@ -705,17 +775,18 @@ void Simplifier::collapse(std::uint32_t u, std::uint32_t v, const Plan& plan) {
     }
     rec.moves_end = static_cast<std::uint32_t>(result_.moves.size());
     result_.collapses.push_back(rec);
-    pos_[v] = plan.position;
+    pts_[v].pos = plan.position;
     point_alive_[u] = 0;
 }
 
 // The cheapest outgoing collapse of p (validity is checked when it is popped).
 void Simplifier::update_best(std::uint32_t p) {
-    constrained_[p] = 0;
+    pts_[p].constrained = 0;
     double best = std::numeric_limits<double>::infinity();
     std::uint32_t to = kNone;
     Plan plan;
     neighbours(p, scratch_n_);
+    for (std::uint32_t n : scratch_n_) prefetch_point(n);
     for (std::uint32_t n : scratch_n_) {
         const double c = evaluate(p, n, plan, false);
         if (c < best) {
@@ -727,14 +798,14 @@ void Simplifier::update_best(std::uint32_t p) {
         heap_.remove(p);
         return;
     }
-    best_to_[p] = to;
+    pts_[p].best_to = to;
     heap_.set(p, best);
 }
 
 // u → rejected is not allowed now: u's entry becomes its cheapest valid collapse, or u leaves the heap
 // until its neighbourhood changes.
 void Simplifier::reroute(std::uint32_t u, std::uint32_t rejected) {
-    constrained_[u] = 1;
+    pts_[u].constrained = 1;
     Plan plan;
     neighbours(u, scratch_n_);
     options_.clear();
@@ -747,7 +818,7 @@ void Simplifier::reroute(std::uint32_t u, std::uint32_t rejected) {
     for (const auto& [estimate, n] : options_) {
         const double c = evaluate(u, n, plan, true);
         if (!std::isfinite(c) || !valid(u, n, plan)) continue;
-        best_to_[u] = n;
+        pts_[u].best_to = n;
         heap_.set(u, c);
         return;
     }
@@ -759,16 +830,20 @@ void Simplifier::reroute(std::uint32_t u, std::uint32_t rejected) {
 void Simplifier::after_collapse(std::uint32_t u, std::uint32_t v) {
     heap_.remove(u);
     update_best(v);
-    neighbours(v, ring_);
+    ring_ = scratch_n_;  // update_best left v's neighbours there; the loop below reuses scratch_n_
+    for (std::uint32_t n : ring_) {
+        heap_.prefetch(n);
+        prefetch(&pfaces_[n]);
+    }
     Plan plan;
     for (std::uint32_t n : ring_) {
-        if (best_to_[n] == u || best_to_[n] == v || constrained_[n] || !heap_.contains(n)) {
+        if (pts_[n].best_to == u || pts_[n].best_to == v || pts_[n].constrained || !heap_.contains(n)) {
             update_best(n);
             continue;
         }
         const double c = evaluate(n, v, plan, false);
         if (c < heap_.key(n)) {
-            best_to_[n] = v;
+            pts_[n].best_to = v;
             heap_.set(n, c);
         }
     }
@@ -822,7 +897,7 @@ SimplifyResult Simplifier::run() {
             const double span = double(start - std::min(start, target));
             check_progress(progress_, span > 0 ? double(start - alive_faces_) / span : 1.0, "simplify");
         }
-        const std::uint32_t u = heap_.top(), v = best_to_[u];
+        const std::uint32_t u = heap_.top(), v = pts_[u].best_to;
         const double cost = evaluate(u, v, plan, true);
         if (!std::isfinite(cost)) {  // the seam mapping forbids it
             reroute(u, v);
@@ -859,8 +934,8 @@ SimplifyResult Simplifier::run() {
     if (p.placement == Placement::optimal) {
         moved.resize(points_);
         for (std::size_t i = 0; i < points_; ++i)
-            moved[i] = {static_cast<float>(pos_[i].x * scale_ + centre_.x), static_cast<float>(pos_[i].y * scale_ + centre_.y),
-                        static_cast<float>(pos_[i].z * scale_ + centre_.z)};
+            moved[i] = {static_cast<float>(pts_[i].pos.x * scale_ + centre_.x), static_cast<float>(pts_[i].pos.y * scale_ + centre_.y),
+                        static_cast<float>(pts_[i].pos.z * scale_ + centre_.z)};
     }
     result_.mesh = build_mesh(mesh_, pid_, moved.empty() ? nullptr : &moved, corners, sources, result_.vertex_map);
     result_.triangles = result_.mesh.triangle_count();
