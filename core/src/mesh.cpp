@@ -51,6 +51,27 @@ std::uint32_t duplicate_vertex(Mesh& mesh, std::uint32_t from) {
     return index;
 }
 
+PointsFirstLayout points_first_layout(const std::vector<std::uint8_t>& used,
+                                      const std::vector<std::uint32_t>& group_of, std::size_t group_count) {
+    constexpr std::uint32_t none = UINT32_MAX;
+    PointsFirstLayout layout;
+    layout.point_of_group.assign(group_count, none);
+    std::vector<std::uint32_t> extras;
+    std::uint32_t points = 0;
+    for (std::uint32_t item = 0; item < used.size(); ++item) {
+        if (!used[item]) continue;
+        std::uint32_t& point = layout.point_of_group[group_of[item]];
+        if (point == none) {
+            point = points++;
+            layout.order.push_back(item);
+        } else {
+            extras.push_back(item);
+        }
+    }
+    layout.order.insert(layout.order.end(), extras.begin(), extras.end());
+    return layout;
+}
+
 void ensure_position_ids(Mesh& mesh) {
     if (mesh.position_ids.size() == mesh.positions.size()) return;
     mesh.position_ids.resize(mesh.positions.size());

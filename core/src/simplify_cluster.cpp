@@ -413,21 +413,9 @@ void Clusterer::build(const Grid& g, ClusterResult& out) {
     for (std::uint32_t f : keep)
         for (int k = 0; k < 3; ++k) class_used[class_of[m.indices[3 * f + k]]] = 1;
     // Layout: one vertex per point (cell) first, in class order; extra wedges after.
-    std::vector<std::uint32_t> point_of_cell(cells, kNone);
-    std::vector<std::uint32_t> firsts, extras;
-    std::uint32_t points = 0;
-    for (std::uint32_t cl = 0; cl < classes; ++cl) {
-        if (!class_used[cl]) continue;
-        std::uint32_t& pt = point_of_cell[class_cell[cl]];
-        if (pt == kNone) {
-            pt = points++;
-            firsts.push_back(cl);
-        } else {
-            extras.push_back(cl);
-        }
-    }
-    std::vector<std::uint32_t> layout = firsts;
-    layout.insert(layout.end(), extras.begin(), extras.end());
+    PointsFirstLayout cell_layout = points_first_layout(class_used, class_cell, cells);
+    const std::vector<std::uint32_t>& point_of_cell = cell_layout.point_of_group;
+    const std::vector<std::uint32_t>& layout = cell_layout.order;
     std::vector<std::uint32_t> out_of_class(classes, kNone);
     for (std::uint32_t i = 0; i < layout.size(); ++i) out_of_class[layout[i]] = i;
 

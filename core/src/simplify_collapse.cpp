@@ -133,22 +133,10 @@ Mesh build_mesh(const Mesh& src, const std::vector<std::uint32_t>& point_of, con
     const std::size_t n = src.vertex_count();
     std::vector<std::uint8_t> used(n, 0);
     for (std::uint32_t c : corners) used[c] = 1;
-    std::vector<std::uint32_t> new_point(point_of.empty() ? 0 : *std::max_element(point_of.begin(), point_of.end()) + 1,
-                                         kNone);
-    std::vector<std::uint32_t> firsts, extras;
-    std::uint32_t points = 0;
-    for (std::uint32_t v = 0; v < n; ++v) {
-        if (!used[v]) continue;
-        std::uint32_t& np = new_point[point_of[v]];
-        if (np == kNone) {
-            np = points++;
-            firsts.push_back(v);
-        } else {
-            extras.push_back(v);
-        }
-    }
-    vertex_map = firsts;
-    vertex_map.insert(vertex_map.end(), extras.begin(), extras.end());
+    PointsFirstLayout layout = points_first_layout(
+        used, point_of, point_of.empty() ? 0 : *std::max_element(point_of.begin(), point_of.end()) + 1);
+    const std::vector<std::uint32_t>& new_point = layout.point_of_group;
+    vertex_map = std::move(layout.order);
     std::vector<std::uint32_t> new_index(n, kNone);
     for (std::uint32_t i = 0; i < vertex_map.size(); ++i) new_index[vertex_map[i]] = i;
 

@@ -58,3 +58,12 @@ TEST(Mesh, ResolvesRelativeTexturePathsAgainstTheSourceDirectory) {
     EXPECT_EQ(m.resolve_texture_path(abs), "/x/b.png");
     EXPECT_EQ(m.resolve_texture_path(embedded), "");
 }
+
+TEST(Mesh, PointsFirstLayoutPutsOneVertexPerPointBeforeExtraWedges) {
+    // Items 0..5 in groups {2, 0, 2, 1, 0, 3}; item 5 unused, group 3 therefore has no point.
+    const std::vector<std::uint8_t> used{1, 1, 1, 1, 1, 0};
+    const std::vector<std::uint32_t> group{2, 0, 2, 1, 0, 3};
+    const PointsFirstLayout layout = points_first_layout(used, group, 4);
+    EXPECT_EQ(layout.order, (std::vector<std::uint32_t>{0, 1, 3, 2, 4}));
+    EXPECT_EQ(layout.point_of_group, (std::vector<std::uint32_t>{1, 2, 0, UINT32_MAX}));
+}

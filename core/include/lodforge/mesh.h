@@ -84,6 +84,17 @@ void add_warning_lines(Mesh& mesh, const std::string& text);
 // the new vertex has the same position_id. Returns its index.
 std::uint32_t duplicate_vertex(Mesh& mesh, std::uint32_t from);
 
+// The vertex order the Mesh contract asks for, for algorithms that build a new mesh from a subset of
+// items (vertices, clusters) grouped into surface points: the first used item of each group, in item
+// order, then the remaining used items (extra wedges). `point_of_group` gives each group its new dense
+// point id, or UINT32_MAX where no used item belongs to it.
+struct PointsFirstLayout {
+    std::vector<std::uint32_t> order;           // output vertex i = item order[i]
+    std::vector<std::uint32_t> point_of_group;  // group -> new point id
+};
+PointsFirstLayout points_first_layout(const std::vector<std::uint8_t>& used,
+                                      const std::vector<std::uint32_t>& group_of, std::size_t group_count);
+
 // Fills position_ids (when empty) with the identity, so code can index it unconditionally.
 void ensure_position_ids(Mesh& mesh);
 
