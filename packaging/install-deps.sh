@@ -8,12 +8,14 @@ packages=(
   build-essential cmake ninja-build pkg-config clang libclang-rt-14-dev
   # core dependencies
   libeigen3-dev libtinygltf-dev libtinyobjloader-dev libstb-dev nlohmann-json3-dev
-  libcli11-dev libtbb-dev libopenmesh-dev libmeshoptimizer-dev
+  libcli11-dev libtbb-dev libopenmesh-dev libmeshoptimizer-dev libnanoflann-dev
   # studio
-  qt6-base-dev libqt6opengl6-dev qt6-svg-dev qt6-qpa-plugins libvtk9-dev libopenmpi-dev
+  qt6-base-dev libqt6opengl6-dev qt6-svg-dev qt6-charts-dev qt6-qpa-plugins libvtk9-dev libopenmpi-dev
   libgl1-mesa-dri libglx-mesa0 libegl-mesa0
   # tests, benchmarks, packaging
   libgtest-dev libgmock-dev libbenchmark-dev xvfb xauth dpkg-dev file
+  # glTF validation in the tests (Khronos gltf-validator from npm)
+  nodejs npm
 )
 
 missing=()
