@@ -15,7 +15,7 @@ packages=(
   # tests, benchmarks, packaging
   libgtest-dev libgmock-dev libbenchmark-dev xvfb xauth dpkg-dev file
   # glTF validation in the tests (Khronos gltf-validator from npm)
-  nodejs npm
+  nodejs
 )
 
 missing=()
@@ -23,14 +23,23 @@ for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
 
-if [ ${#missing[@]} -eq 0 ]; then
-  echo "install-deps: all ${#packages[@]} packages present"
-  exit 0
-fi
+# Debian's nodejs comes without npm; some node builds bundle it (and then conflict with Debian's npm).
+command -v npm >/dev/null 2>&1 || missing+=(npm)
 
-echo "install-deps: installing ${missing[*]}"
 SUDO=""
 [ "$(id -u)" -eq 0 ] || SUDO="sudo"
 export DEBIAN_FRONTEND=noninteractive
-$SUDO apt-get update -qq
-$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: all ${#packages[@]} packages present"
+else
+  echo "install-deps: installing ${missing[*]}"
+  $SUDO apt-get update -qq
+  $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
+
+# The Khronos glTF validator (npm) for the export tests, pinned in tests/gltf_validator/package-lock.json.
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+if [ ! -f "$root/tests/gltf_validator/node_modules/gltf-validator/package.json" ]; then
+  echo "install-deps: installing gltf-validator (npm)"
+  (cd "$root/tests/gltf_validator" && npm ci --no-audit --no-fund --loglevel=error)
+fi
