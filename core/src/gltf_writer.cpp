@@ -286,18 +286,22 @@ private:
         }
         ordered_json j;
         if (!mat.name.empty()) j["name"] = mat.name;
+        // glTF bounds every factor to [0, 1]; MTL files (Ke, Kd) may go outside.
+        auto unit = [](float v) { return std::isfinite(v) ? std::clamp(v, 0.f, 1.f) : 0.f; };
         ordered_json pbr;
-        pbr["baseColorFactor"] = {mat.base_color.x, mat.base_color.y, mat.base_color.z, mat.base_color.w};
+        pbr["baseColorFactor"] = {unit(mat.base_color.x), unit(mat.base_color.y), unit(mat.base_color.z),
+                                  unit(mat.base_color.w)};
         if (auto t = texture_info(m, mat.base_color_texture, mat.name, "base colour")) pbr["baseColorTexture"] = *t;
-        pbr["metallicFactor"] = mat.metallic;
-        pbr["roughnessFactor"] = mat.roughness;
+        pbr["metallicFactor"] = unit(mat.metallic);
+        pbr["roughnessFactor"] = unit(mat.roughness);
         if (auto t = texture_info(m, mat.metallic_roughness_texture, mat.name, "metallic-roughness"))
             pbr["metallicRoughnessTexture"] = *t;
         j["pbrMetallicRoughness"] = pbr;
         if (auto t = texture_info(m, mat.normal_texture, mat.name, "normal")) j["normalTexture"] = *t;
         if (auto t = texture_info(m, mat.occlusion_texture, mat.name, "occlusion")) j["occlusionTexture"] = *t;
         if (auto t = texture_info(m, mat.emissive_texture, mat.name, "emissive")) j["emissiveTexture"] = *t;
-        if (!(mat.emissive == Vec3f{0, 0, 0})) j["emissiveFactor"] = {mat.emissive.x, mat.emissive.y, mat.emissive.z};
+        const Vec3f e{unit(mat.emissive.x), unit(mat.emissive.y), unit(mat.emissive.z)};
+        if (!(e == Vec3f{0, 0, 0})) j["emissiveFactor"] = {e.x, e.y, e.z};
         if (mat.double_sided) j["doubleSided"] = true;
         materials_.push_back(std::move(j));
         written_materials_.emplace_back(m.source_dir, sets, mat);

@@ -35,6 +35,7 @@ void PrintTo(const Model& m, std::ostream* os) { *os << m.name; }
 const Model kModels[] = {
     {"spot", "tex-spot/spot_triangulated.obj", 1, 1},
     {"duck", "tex-duck/glTF/Duck.gltf", 1, 1},
+    {"duckglb", "tex-duck/glTF_Binary/Duck.glb", 1, 1},  // texture bytes embedded in the source
     {"frag115", "color-open3d-frag115/frag_115.ply", 0, 0},
     {"milktruck", "tex-cesium-milk-truck/CesiumMilkTruck.gltf", 1, 4},
     {"waterbottle", "tex-water-bottle/WaterBottle.gltf", 5, 1},
@@ -242,6 +243,22 @@ TEST(GltfWriter, CancelLeavesNoFile) {
         EXPECT_EQ(e.kind(), Error::Kind::cancelled);
     }
     EXPECT_TRUE(std::filesystem::is_empty(dir.path()));
+}
+
+TEST(GltfWriter, OutOfRangeMaterialFactorsAreClampedToValidGltf) {
+    Mesh mesh = read_mesh(shared_data("tex-spot/spot_triangulated.obj"));
+    mesh.materials[0].base_color = {1.5f, -0.2f, 0.5f, 1.f};
+    mesh.materials[0].emissive = {2.f, 0.f, NAN};
+    mesh.materials[0].roughness = 3.f;
+    ScratchDir dir("glb-factors");
+    write_glb(std::vector<Mesh>{mesh}, {}, dir.file("f.glb"));
+    const auto v = test::validate_gltf(dir.file("f.glb"));
+    EXPECT_EQ(v.exit_code, 0) << v.raw;
+    const test::Glb g = test::split_glb(test::read_bytes(dir.file("f.glb")));
+    const auto& m = g.json["materials"][0];
+    EXPECT_EQ(m["pbrMetallicRoughness"]["baseColorFactor"], nlohmann::json::array({1.0, 0.0, 0.5, 1.0}));
+    EXPECT_EQ(m["emissiveFactor"], nlohmann::json::array({1.0, 0.0, 0.0}));
+    EXPECT_EQ(m["pbrMetallicRoughness"]["roughnessFactor"], 1.0);
 }
 
 TEST(GltfWriter, EncodingIsDeterministic) {

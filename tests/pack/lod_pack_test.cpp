@@ -5,6 +5,7 @@
 #include "support/test_paths.h"
 
 #include "lodforge/error.h"
+#include "lodforge/file_hash.h"
 #include "lodforge/lod_pack.h"
 #include "lodforge/mesh_io.h"
 
@@ -113,6 +114,22 @@ TEST(LodPack, SpotPackAgreesAcrossGlbManifestAndResult) {
     const auto v = test::validate_gltf(params.output_dir + "/" + r.glb);
     ASSERT_EQ(v.exit_code, 0) << v.raw;
     EXPECT_EQ(test::unexplained_warnings(v), std::vector<std::string>{}) << v.raw;
+}
+
+TEST(FileHash, KnownVectorsAndMissingFile) {
+    ScratchDir dir("hash");
+    { std::ofstream(dir.file("empty")); }
+    { std::ofstream(dir.file("abc")) << "abc"; }
+    // FIPS 180-4 examples
+    EXPECT_EQ(sha256_file(dir.file("empty")), "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
+    EXPECT_EQ(sha256_file(dir.file("abc")), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
+    try {
+        sha256_file(dir.file("nope"));
+        FAIL() << "no error";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.kind(), Error::Kind::io);
+        EXPECT_NE(std::string(e.what()).find("nope"), std::string::npos);
+    }
 }
 
 TEST(LodPack, ScreenCoverageFormula) {
