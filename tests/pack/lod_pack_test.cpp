@@ -37,11 +37,7 @@ std::vector<std::string> sorted(std::vector<std::string> v) {
 
 std::string sha256sum(const std::string& path) {
     // coreutils' sha256sum: an implementation independent of the one under test
-    FILE* pipe = popen(("sha256sum '" + path + "'").c_str(), "r");
-    char buf[65] = {};
-    const std::size_t n = pipe ? std::fread(buf, 1, 64, pipe) : 0;
-    if (pipe) pclose(pipe);
-    return std::string(buf, n);
+    return test::run_command("sha256sum '" + path + "'").out.substr(0, 64);
 }
 
 PackParams spot_params(const ScratchDir& dir, const std::string& out = "pack") {

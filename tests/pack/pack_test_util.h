@@ -2,17 +2,16 @@
 // binary chunks so tests can check what a loader would see.
 #pragma once
 
+#include "support/cli_run.h"
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include <array>
 #include <cstdint>
-#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <iterator>
 #include <string>
-#include <sys/wait.h>
 #include <vector>
 
 namespace lodforge::test {
@@ -25,13 +24,9 @@ struct Validation {
 
 inline Validation validate_gltf(const std::string& path) {
     Validation v;
-    const std::string cmd = std::string(LODFORGE_GLTF_VALIDATE) + " '" + path + "' 2>&1";
-    FILE* pipe = popen(cmd.c_str(), "r");
-    if (!pipe) return v;
-    std::array<char, 4096> buf{};
-    while (std::size_t n = std::fread(buf.data(), 1, buf.size(), pipe)) v.raw.append(buf.data(), n);
-    const int status = pclose(pipe);
-    v.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    const CliRun run = run_command(std::string(LODFORGE_GLTF_VALIDATE) + " '" + path + "' 2>&1");
+    v.exit_code = run.exit_code;
+    v.raw = run.out;
     v.report = nlohmann::json::parse(v.raw, nullptr, false);
     return v;
 }

@@ -14,9 +14,8 @@ struct CliRun {
     std::string out;  // stdout, plus stderr when merged
 };
 
-inline CliRun run_cli(const std::string& args, bool merge_stderr = true) {
-    const std::string cmd = std::string(LODFORGE_BIN_DIR) + "/lodforge --quiet " + args +
-                            (merge_stderr ? " 2>&1" : " 2>/dev/null");
+// Any shell command line (the validator, coreutils), its exit code and stdout.
+inline CliRun run_command(const std::string& cmd) {
     CliRun r;
     FILE* pipe = popen(cmd.c_str(), "r");
     if (!pipe) return r;
@@ -25,6 +24,11 @@ inline CliRun run_cli(const std::string& args, bool merge_stderr = true) {
     const int status = pclose(pipe);
     r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
     return r;
+}
+
+inline CliRun run_cli(const std::string& args, bool merge_stderr = true) {
+    return run_command(std::string(LODFORGE_BIN_DIR) + "/lodforge --quiet " + args +
+                       (merge_stderr ? " 2>&1" : " 2>/dev/null"));
 }
 
 // Single-quoted for the shell (the test paths contain no quotes).
