@@ -171,7 +171,14 @@ public:
         name.append(target_.filename().string()).append(".pack-tmp-").append(std::to_string(::getpid()));
         name.append("-").append(std::to_string(counter++));
         dir_ = target_.parent_path() / name;
-        if (!fs::create_directory(dir_, ec) || ec) {
+        if ((!fs::create_directory(dir_, ec) || ec) && target_existed_) {
+            // A writable target in a read-only parent: stage inside the target instead (still one
+            // file system, still removed on failure).
+            dir_ = target_ / name;
+            ec.clear();
+            fs::create_directory(dir_, ec);
+        }
+        if (ec || !fs::is_directory(dir_)) {
             cleanup();
             throw_error(Error::Kind::io, shown_,
                         "cannot create the output directory" + (ec ? ": " + ec.message() : std::string()));
