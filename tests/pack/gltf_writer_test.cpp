@@ -261,6 +261,35 @@ TEST(GltfWriter, OutOfRangeMaterialFactorsAreClampedToValidGltf) {
     EXPECT_EQ(m["pbrMetallicRoughness"]["roughnessFactor"], 1.0);
 }
 
+TEST(GltfWriter, SecondTexcoordSetZeroNormalsAndMissingSetBindings) {
+    Mesh mesh = read_mesh(shared_data("tex-duck/glTF/Duck.gltf"));
+    ASSERT_TRUE(mesh.has_normals());
+    mesh.texcoords.push_back(mesh.texcoords[0]);
+    for (Vec2f& uv : mesh.texcoords[1]) uv = {uv.x * 0.5f, uv.y * 0.5f};
+    mesh.materials[0].base_color_texture.texcoord_set = 1;
+    mesh.materials[0].emissive_texture = mesh.materials[0].base_color_texture;
+    mesh.materials[0].emissive_texture.texcoord_set = 2;  // no such set: the binding is dropped
+    mesh.normals[0] = {0, 0, 0};
+    mesh.normals[1] = {3, 0, 0};
+    ScratchDir dir("glb-uv1");
+    const GlbResult r = write_glb(std::vector<Mesh>{mesh}, {}, dir.file("uv1.glb"));
+    ASSERT_EQ(r.warnings.size(), 1u);
+    EXPECT_NE(r.warnings[0].find("texture coordinate set 2"), std::string::npos) << r.warnings[0];
+    const auto v = test::validate_gltf(dir.file("uv1.glb"));
+    ASSERT_EQ(v.exit_code, 0) << v.raw;
+    EXPECT_EQ(v.report["warnings"], 0) << v.raw;
+    const test::Glb g = test::split_glb(test::read_bytes(dir.file("uv1.glb")));
+    const auto& material = g.json["materials"][0];
+    EXPECT_EQ(material["pbrMetallicRoughness"]["baseColorTexture"]["texCoord"], 1);
+    EXPECT_FALSE(material.contains("emissiveTexture"));
+    EXPECT_TRUE(g.json["meshes"][0]["primitives"][0]["attributes"].contains("TEXCOORD_1"));
+    const Mesh back = read_mesh(dir.file("uv1.glb"));
+    ASSERT_EQ(back.texcoords.size(), 2u);
+    EXPECT_FLOAT_EQ(back.texcoords[1][5].y, mesh.texcoords[1][5].y);
+    EXPECT_FLOAT_EQ(back.normals[1].x, 1.f);
+    EXPECT_FLOAT_EQ(back.normals[0].z, 1.f);
+}
+
 TEST(GltfWriter, EncodingIsDeterministic) {
     const Mesh mesh = read_mesh(shared_data("tex-cesium-milk-truck/CesiumMilkTruck.gltf"));
     const LodChainResult chain = chain_of(mesh, {0.5f});
