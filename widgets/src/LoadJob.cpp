@@ -92,8 +92,8 @@ LoadResult LoadJob::load(const QString& path, Progress* progress) {
         ReadOptions read;
         read.place_every_instance = true;  // a viewer shows every placement of an instanced glTF mesh
         model->mesh = read_mesh(file, read, progress);
-        const std::vector<std::shared_ptr<const Image>> images =
-            decodeBaseColorTextures(model->mesh, model->warnings, progress);
+        model->images = decodeBaseColorTextures(model->mesh, model->warnings, progress);
+        const std::vector<std::shared_ptr<const Image>>& images = model->images;
         check_progress(progress, 0.0, "Summarising");
         model->info = mesh_info(model->mesh, file, format_name(detect_format(file)));
         check_progress(progress, 0.0, "Preparing the view");

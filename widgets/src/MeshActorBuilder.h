@@ -28,7 +28,12 @@ public:
     std::vector<Part> parts;
     bool hasColors = false;
     bool computedNormals = false;
+    // Heat map scenes: a float point array named scalarArrayName() on the single part.
+    bool hasScalars = false;
+    double scalarMax = 0;
 };
+
+inline const char* scalarArrayName() { return "Scalars"; }
 
 // Per-vertex normals: the mesh's own when present, else area-weighted face normals summed per surface
 // point (position_ids), so all wedges of a point share one normal. Points without area get +Z.
