@@ -9,6 +9,7 @@ packages=(
   # core dependencies
   libeigen3-dev libtinygltf-dev libtinyobjloader-dev libstb-dev nlohmann-json3-dev
   libcli11-dev libtbb-dev libopenmesh-dev libmeshoptimizer-dev libnanoflann-dev
+  libssl-dev
   # studio
   qt6-base-dev libqt6opengl6-dev qt6-svg-dev qt6-charts-dev qt6-qpa-plugins libvtk9-dev libopenmpi-dev
   libgl1-mesa-dri libglx-mesa0 libegl-mesa0

@@ -1,0 +1,66 @@
+#include "commands.h"
+#include "terminal_progress.h"
+
+#include "lodforge/error.h"
+#include "lodforge/lod_pack.h"
+#include "lodforge/mesh_io.h"
+#include "lodforge/preset.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cstdio>
+#include <memory>
+
+namespace lodforge::cli {
+
+void add_pack_command(CLI::App& app, const GlobalOptions& global) {
+    struct Options {
+        std::string input, preset, output_dir;
+        bool json = false;
+    };
+    auto options = std::make_shared<Options>();
+    CLI::App* cmd = app.add_subcommand(
+        "pack", "Export a LOD pack (.glb with MSFT_lod, per-level PLY/OBJ, pack.json) as a preset describes it;\n"
+                "the studio's export button writes the same pack from the same preset");
+    cmd->add_option("IN", options->input, "Input mesh (.ply, .obj, .gltf, .glb)")->required();
+    cmd->add_option("--preset", options->preset, "Preset JSON (docs/presets.md), as the studio saves it")->required();
+    cmd->add_option("-o,--output", options->output_dir, "Pack directory (created when missing)")->required();
+    cmd->add_flag("--json", options->json, "Print the levels and files written as JSON");
+    cmd->callback([options, &global] {
+        const Options& o = *options;
+        PackParams params;
+        params.preset = load_preset(o.preset);
+        params.source_path = o.input;
+        params.output_dir = o.output_dir;
+
+        TerminalProgress progress(!global.quiet && stderr_is_terminal());
+        const Mesh mesh = read_mesh(o.input, {}, &progress);
+        const PackResult r = write_lod_pack(mesh, params, &progress);
+        progress.finish();
+
+        if (o.json) {
+            nlohmann::ordered_json j;
+            j["output_dir"] = o.output_dir;
+            j["glb"] = r.glb.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(r.glb);
+            j["source_sha256"] = r.source_sha256;
+            nlohmann::ordered_json levels = nlohmann::ordered_json::array();
+            for (const PackLevel& l : r.levels)
+                levels.push_back({{"triangles", l.triangles}, {"vertices", l.vertices}, {"wedges", l.wedges},
+                                  {"error", l.error}, {"error_relative", l.error_relative},
+                                  {"screen_coverage", l.screen_coverage}, {"screen_size", l.screen_size},
+                                  {"files", l.files}});
+            j["levels"] = levels;
+            j["files"] = r.files;
+            std::printf("%s\n", j.dump(2).c_str());
+            return;
+        }
+        for (std::size_t k = 0; k < r.levels.size(); ++k) {
+            const PackLevel& l = r.levels[k];
+            std::printf("lod%zu: %zu triangles, %zu vertices, hausdorff %.3g of the diagonal, screen coverage %.4g\n", k,
+                        l.triangles, l.vertices, l.error_relative, l.screen_coverage);
+        }
+        std::printf("wrote %zu files to %s\n", r.files.size(), o.output_dir.c_str());
+    });
+}
+
+}  // namespace lodforge::cli

@@ -1,0 +1,362 @@
+// LOD pack export: levels from a preset, measured, written as a .glb (MSFT_lod), per-level PLY/OBJ and
+// a pack.json manifest (docs/pack.md).
+//
+// The levels follow the method's own papers (lod_chain.cpp: Garland & Heckbert 1998 / Hoppe 1999
+// generalized quadrics; simplify_cluster.cpp: Rossignac & Borrel 1993, Lindstrom 2000); each is
+// measured against the input with the Metro distance (Cignoni et al. 1998). The screen-coverage hint
+// projects the measured error onto a reference screen (docs/pack.md, "Screen coverage"), as the
+// MSFT_lod extension's MSFT_screencoverage extras expect one switching threshold per level.
+//
+// Atomicity: everything is written into a staging directory beside output_dir (same file system) and
+// renamed into place at the end; the staging directory, and any parent directory this call created,
+// are removed on failure or cancellation.
+#include "lodforge/lod_pack.h"
+
+#include "lodforge/atomic_file.h"
+#include "lodforge/error.h"
+#include "lodforge/file_hash.h"
+#include "lodforge/gltf_writer.h"
+#include "lodforge/lod_chain.h"
+#include "lodforge/mesh_io.h"
+#include "lodforge/simplify_cluster.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <filesystem>
+#include <numbers>
+#include <optional>
+#include <set>
+#include <system_error>
+#include <unistd.h>
+
+namespace lodforge {
+namespace fs = std::filesystem;
+
+double screen_coverage_for_error(double error_relative) {
+    if (!(error_relative > 0)) return 1.0;
+    // Bounding sphere of radius r = diagonal / 2 projected to rho pixels: the error then spans
+    // error_relative * 2 * rho pixels, one pixel at rho = 1 / (2 e); the sphere covers pi rho^2 of W H.
+    const double rho = 1.0 / (2.0 * error_relative);
+    const double coverage = std::numbers::pi * rho * rho / (double(pack_reference_width) * pack_reference_height);
+    return std::min(1.0, coverage);
+}
+
+namespace {
+
+using nlohmann::ordered_json;
+
+// The levels of a pack, however they were made. `chain` is set when the levels share one vertex
+// buffer (edge collapse); `meshes` then point into it.
+struct BuiltLevels {
+    std::optional<LodChainResult> chain;
+    std::vector<Mesh> own;                  // levels 1.. when not from a chain
+    std::vector<const Mesh*> meshes;        // every level, level 0 = the input
+    std::vector<DistanceResult> distance;   // per level (level 0: zero)
+};
+
+DistanceParams measurement(const PackParams& params) {
+    DistanceParams d = params.distance;
+    d.vertex_errors = false;
+    return d;
+}
+
+BuiltLevels collapse_levels(const Mesh& mesh, const PackParams& params, Progress* progress) {
+    const Preset& preset = params.preset;
+    LodChainParams p;
+    for (const LodTarget& t : preset.levels) {
+        LodLevelTarget level;
+        switch (t.kind) {
+        case LodTarget::Kind::ratio: level.ratio = static_cast<float>(t.value); break;
+        case LodTarget::Kind::triangles: level.triangles = static_cast<std::size_t>(t.value); break;
+        case LodTarget::Kind::error: level.max_error = static_cast<float>(t.value); break;
+        }
+        p.levels.push_back(level);
+    }
+    p.simplify.weights = preset.weights;
+    p.simplify.lock_border = preset.lock_border;
+    p.measure = true;
+    p.distance = measurement(params);
+    BuiltLevels built;
+    built.chain = build_lod_chain(mesh, p, progress);
+    for (const LodLevel& level : built.chain->levels) {
+        built.meshes.push_back(&level.mesh);
+        built.distance.push_back(level.distance);
+    }
+    return built;
+}
+
+BuiltLevels cluster_levels(const Mesh& mesh, const PackParams& params, Progress* progress) {
+    const Preset& preset = params.preset;
+    BuiltLevels built;
+    built.own.reserve(preset.levels.size());
+    for (std::size_t i = 0; i < preset.levels.size(); ++i) {
+        const LodTarget& t = preset.levels[i];
+        ClusterParams p;
+        p.weights = preset.weights;
+        if (t.kind == LodTarget::Kind::ratio) p.target_ratio = static_cast<float>(t.value);
+        else if (t.kind == LodTarget::Kind::triangles) p.target_triangles = static_cast<std::size_t>(t.value);
+        else
+            throw_error(Error::Kind::argument, params.source_path,
+                        "levels[" + std::to_string(i) + "]: the cluster method takes ratio or triangle targets, "
+                        "not error targets");
+        built.own.push_back(simplify_cluster(mesh, p, progress).mesh);
+    }
+    built.meshes.push_back(&mesh);
+    built.distance.emplace_back();
+    for (const Mesh& level : built.own) {
+        built.meshes.push_back(&level);
+        built.distance.push_back(compare(mesh, level, measurement(params), progress));
+    }
+    return built;
+}
+
+// The one place a LOD method becomes levels. octree, lodstrips and mcoctree are wired in here when
+// they land.
+BuiltLevels make_levels(const Mesh& mesh, const PackParams& params, Progress* progress) {
+    switch (params.preset.method) {
+    case LodMethod::collapse: return collapse_levels(mesh, params, progress);
+    case LodMethod::cluster: return cluster_levels(mesh, params, progress);
+    case LodMethod::octree:
+    case LodMethod::lodstrips:
+    case LodMethod::mcoctree: break;
+    }
+    throw_error(Error::Kind::unsupported, params.source_path,
+                "packing with the '" + std::string(to_string(params.preset.method)) +
+                    "' method is not available in this build yet (available: collapse, cluster)");
+}
+
+// Files a method adds beyond the levels (the .lodstrips file of the lodstrips method).
+void write_method_files(const BuiltLevels&, const PackParams& params, const fs::path&) {
+    if (params.preset.exports.lodstrips)
+        throw_error(Error::Kind::unsupported, params.source_path,
+                    "the .lodstrips export is not available in this build yet");
+}
+
+// A directory beside the target that becomes the target (or whose files move into an existing one).
+class Staging {
+public:
+    explicit Staging(const std::string& output_dir) {
+        std::error_code ec;
+        fs::path target = fs::absolute(fs::path(output_dir), ec).lexically_normal();
+        if (ec || output_dir.empty()) throw_error(Error::Kind::argument, output_dir, "not a usable output directory");
+        if (target.filename().empty()) target = target.parent_path();  // "dir/" → "dir"
+        target_ = target;
+        shown_ = output_dir;
+        if (fs::exists(target_, ec)) {
+            if (!fs::is_directory(target_, ec))
+                throw_error(Error::Kind::io, shown_, "exists and is not a directory");
+            if (::access(target_.c_str(), W_OK | X_OK) != 0)
+                throw_error(Error::Kind::io, shown_, "output directory is not writable");
+            target_existed_ = true;
+        }
+        // Create missing parents, remembering them so a failed pack can remove them again.
+        std::vector<fs::path> missing;
+        for (fs::path p = target_.parent_path(); !p.empty() && !fs::exists(p, ec); p = p.parent_path()) {
+            missing.push_back(p);
+            if (p == p.parent_path()) break;
+        }
+        for (auto it = missing.rbegin(); it != missing.rend(); ++it) {
+            if (!fs::create_directory(*it, ec) || ec) {
+                cleanup();
+                throw_error(Error::Kind::io, shown_, "cannot create directory " + it->string() +
+                                                         (ec ? ": " + ec.message() : std::string()));
+            }
+            created_parents_.push_back(*it);
+        }
+        static std::atomic<unsigned> counter{0};
+        std::string name = ".";
+        name.append(target_.filename().string()).append(".pack-tmp-").append(std::to_string(::getpid()));
+        name.append("-").append(std::to_string(counter++));
+        dir_ = target_.parent_path() / name;
+        if (!fs::create_directory(dir_, ec) || ec) {
+            cleanup();
+            throw_error(Error::Kind::io, shown_,
+                        "cannot create the output directory" + (ec ? ": " + ec.message() : std::string()));
+        }
+        staging_created_ = true;
+    }
+    ~Staging() {
+        if (!committed_) cleanup();
+    }
+    Staging(const Staging&) = delete;
+    Staging& operator=(const Staging&) = delete;
+
+    fs::path file(const std::string& name) const { return dir_ / name; }
+    const fs::path& dir() const { return dir_; }
+
+    // Files that appeared since the last call, in name order.
+    std::vector<std::string> new_files() {
+        std::vector<std::string> names;
+        for (const auto& entry : fs::directory_iterator(dir_))
+            if (entry.is_regular_file() && seen_.insert(entry.path().filename().string()).second)
+                names.push_back(entry.path().filename().string());
+        std::sort(names.begin(), names.end());
+        return names;
+    }
+
+    void commit() {
+        std::error_code ec;
+        if (!target_existed_) {
+            fs::rename(dir_, target_, ec);
+            if (ec) throw_error(Error::Kind::io, shown_, "cannot move the pack into place: " + ec.message());
+        } else {
+            for (const std::string& name : seen_) {
+                fs::rename(dir_ / name, target_ / name, ec);
+                if (ec) throw_error(Error::Kind::io, (target_ / name).string(), "cannot move into place: " + ec.message());
+            }
+            fs::remove(dir_, ec);
+        }
+        committed_ = true;
+    }
+
+private:
+    void cleanup() {
+        std::error_code ignored;
+        if (staging_created_) fs::remove_all(dir_, ignored);
+        for (auto it = created_parents_.rbegin(); it != created_parents_.rend(); ++it) fs::remove(*it, ignored);
+    }
+
+    fs::path target_, dir_;
+    std::string shown_;
+    bool target_existed_ = false, staging_created_ = false, committed_ = false;
+    std::vector<fs::path> created_parents_;
+    std::set<std::string> seen_;
+};
+
+ordered_json error_json(const DistanceResult& d) {
+    ordered_json e;
+    e["hausdorff"] = d.hausdorff;
+    e["hausdorff_relative"] = d.hausdorff_relative;
+    e["mean"] = d.mean;
+    e["mean_relative"] = d.mean_relative;
+    e["rms"] = d.rms;
+    e["rms_relative"] = d.rms_relative;
+    if (d.has_color_error) e["color_rms"] = d.color_rms;
+    if (d.has_texcoord_error) e["texcoord_rms"] = d.texcoord_rms;
+    return e;
+}
+
+std::string manifest(const Mesh& mesh, const PackParams& params, const BuiltLevels& built, const PackResult& r) {
+    ordered_json j;
+    j["format"] = "lodforge-pack";
+    j["version"] = pack_format_version;
+    // The file name only: the same source reached by another path (studio, CLI) gives the same pack.
+    j["source"] = {{"file", fs::path(params.source_path).filename().string()},
+                   {"sha256", r.source_sha256},
+                   {"triangles", mesh.triangle_count()},
+                   {"vertices", mesh.point_count()},
+                   {"diagonal", mesh.bounds().diagonal()}};
+    j["method"] = std::string(to_string(params.preset.method));
+    j["screen_reference"] = {{"width", pack_reference_width}, {"height", pack_reference_height}};
+    j["glb"] = r.glb.empty() ? ordered_json(nullptr) : ordered_json(r.glb);
+    ordered_json levels = ordered_json::array();
+    for (std::size_t k = 0; k < r.levels.size(); ++k) {
+        const PackLevel& level = r.levels[k];
+        ordered_json l;
+        l["level"] = k;
+        l["triangles"] = level.triangles;
+        l["vertices"] = level.vertices;
+        l["wedges"] = level.wedges;
+        l["ratio"] = static_cast<double>(level.triangles) / static_cast<double>(mesh.triangle_count());
+        l["error"] = error_json(built.distance[k]);
+        l["screen_coverage"] = level.screen_coverage;
+        l["screen_size"] = level.screen_size;
+        l["files"] = level.files;
+        levels.push_back(l);
+    }
+    j["levels"] = levels;
+    std::vector<std::string> files = r.files;
+    files.push_back("pack.json");
+    j["files"] = files;
+    j["preset"] = ordered_json::parse(preset_to_json(params.preset));
+    return j.dump(2) + "\n";
+}
+
+}  // namespace
+
+PackResult write_lod_pack(const Mesh& mesh, const PackParams& params, Progress* progress) {
+    if (params.source_path.empty())
+        throw Error(Error::Kind::argument, "pack: no source path given (it names the outputs and is hashed)");
+    if (params.output_dir.empty()) throw Error(Error::Kind::argument, "pack: no output directory given");
+    if (mesh.triangle_count() == 0) throw_error(Error::Kind::invalid, params.source_path, "the mesh has no triangles");
+    if (params.preset.levels.empty()) throw_error(Error::Kind::argument, params.source_path, "the preset has no levels");
+
+    PackResult result;
+    check_progress(progress, 0.0, "hashing source");
+    result.source_sha256 = sha256_file(params.source_path);
+    check_progress(progress, 1.0, "hashing source");
+
+    // Before the long part, so an unwritable output fails at once.
+    Staging staging(params.output_dir);
+    const BuiltLevels built = make_levels(mesh, params, progress);
+    const std::size_t n = built.meshes.size();
+
+    // Level k is shown down to the coverage at which level k+1's error is one pixel; the coarsest
+    // is never culled (0). Non-increasing even when a finer level measured worse than a coarser one.
+    result.levels.resize(n);
+    for (std::size_t k = 0; k < n; ++k) {
+        PackLevel& level = result.levels[k];
+        const Mesh& m = *built.meshes[k];
+        level.triangles = m.triangle_count();
+        level.vertices = m.point_count();
+        level.wedges = m.vertex_count();
+        level.error = built.distance[k].hausdorff;
+        level.error_relative = built.distance[k].hausdorff_relative;
+        level.mean_error = built.distance[k].mean;
+        level.mean_error_relative = built.distance[k].mean_relative;
+        double c = k + 1 < n ? screen_coverage_for_error(built.distance[k + 1].hausdorff_relative) : 0.0;
+        if (k > 0) c = std::min(c, result.levels[k - 1].screen_coverage);
+        level.screen_coverage = c;
+        level.screen_size = 2.0 * std::sqrt(c * pack_reference_width * pack_reference_height / std::numbers::pi) /
+                            pack_reference_height;
+    }
+
+    std::string stem = fs::path(params.source_path).stem().string();
+    if (stem.empty()) stem = "mesh";
+    const ExportOptions& exports = params.preset.exports;
+
+    if (exports.glb) {
+        GlbOptions o;
+        o.name = stem;
+        for (const PackLevel& level : result.levels) o.screen_coverage.push_back(level.screen_coverage);
+        result.glb = stem + ".glb";
+        const std::string path = staging.file(result.glb).string();
+        if (built.chain) {
+            write_glb(built.chain->shared, o, path, progress);
+        } else {
+            std::vector<Mesh> copies;  // the writer takes the levels by value-list; the input is level 0
+            copies.reserve(n);
+            for (const Mesh* m : built.meshes) copies.push_back(*m);
+            write_glb(copies, o, path, progress);
+        }
+        for (const std::string& f : staging.new_files()) result.files.push_back(f);
+    }
+    for (std::size_t k = 0; k < n; ++k) {
+        check_progress(progress, static_cast<double>(k) / static_cast<double>(n), "writing level files");
+        const std::string base = stem + "_lod" + std::to_string(k);
+        if (exports.ply) write_mesh(*built.meshes[k], staging.file(base + ".ply").string(), {}, progress);
+        if (exports.obj) write_mesh(*built.meshes[k], staging.file(base + ".obj").string(), {}, progress);
+        result.levels[k].files = staging.new_files();
+        for (const std::string& f : result.levels[k].files) result.files.push_back(f);
+    }
+    write_method_files(built, params, staging.dir());
+    for (const std::string& f : staging.new_files()) result.files.push_back(f);
+
+    check_progress(progress, 0.0, "writing pack.json");
+    result.manifest = manifest(mesh, params, built, result);
+    {
+        AtomicFile file(staging.file("pack.json").string(), true);
+        file.stream() << result.manifest;
+        file.commit();
+    }
+    staging.new_files();
+    result.files.push_back("pack.json");
+    check_progress(progress, 1.0, "writing pack.json");
+    staging.commit();
+    return result;
+}
+
+}  // namespace lodforge

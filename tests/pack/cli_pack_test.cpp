@@ -1,0 +1,126 @@
+// `lodforge pack` as users run it: the pack it writes is byte-identical to write_lod_pack's (which the
+// studio's export button calls) for the same preset file, and bad presets, inputs and outputs fail with
+// exit status 1, a message naming the file, and no partial pack.
+#include "pack_test_util.h"
+#include "support/cli_run.h"
+#include "support/test_paths.h"
+
+#include "lodforge/lod_pack.h"
+#include "lodforge/mesh_io.h"
+#include "lodforge/preset.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+namespace {
+
+using namespace lodforge;
+using lodforge::test::CliRun;
+using lodforge::test::quoted;
+using lodforge::test::run_cli;
+using lodforge::test::ScratchDir;
+using lodforge::test::sample;
+using lodforge::test::shared_data;
+namespace fs = std::filesystem;
+
+void write_text(const std::string& path, const std::string& text) { std::ofstream(path) << text; }
+
+const char* kPreset = R"({
+  "name": "game",
+  "levels": [ {"ratio": 0.5}, {"triangles": 400} ],
+  "weights": { "uv": 0.2 },
+  "export": { "glb": true, "ply": true, "obj": false }
+})";
+
+TEST(CliPack, SamePackAsTheLibraryForTheSamePreset) {
+    ScratchDir dir("cli-pack");
+    write_text(dir.file("game.json"), kPreset);
+    const std::string input = shared_data("tex-duck/glTF/Duck.gltf");
+    const CliRun r = run_cli("pack " + quoted(input) + " --preset " + quoted(dir.file("game.json")) + " -o " +
+                             quoted(dir.file("cli")));
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    EXPECT_NE(r.out.find("lod2: "), std::string::npos) << r.out;
+
+    // What the studio does: load the same preset file, read the same mesh, call the library.
+    PackParams p;
+    p.preset = load_preset(dir.file("game.json"));
+    p.source_path = input;
+    p.output_dir = dir.file("studio");
+    const PackResult lib = write_lod_pack(read_mesh(input), p);
+    ASSERT_EQ(lib.files.size(), 5u);  // glb, 3 PLY, pack.json
+    for (const std::string& f : lib.files) {
+        ASSERT_TRUE(fs::exists(dir.file("cli/" + f))) << f;
+        EXPECT_EQ(test::read_bytes(dir.file("cli/" + f)), test::read_bytes(dir.file("studio/" + f))) << f;
+    }
+    const auto v = test::validate_gltf(dir.file("cli/Duck.glb"));
+    EXPECT_EQ(v.exit_code, 0) << v.raw;
+    const auto manifest = nlohmann::json::parse(test::read_bytes(dir.file("cli/pack.json")));
+    EXPECT_EQ(manifest["preset"]["name"], "game");
+    EXPECT_EQ(manifest["levels"][2]["triangles"].get<std::size_t>(), lib.levels[2].triangles);
+    EXPECT_LE(lib.levels[2].triangles, 400u);
+}
+
+TEST(CliPack, JsonListsLevelsAndFiles) {
+    ScratchDir dir("cli-pack-json");
+    write_text(dir.file("p.json"), R"({"levels": [{"ratio": 0.25}]})");
+    const CliRun r = run_cli("pack --json " + quoted(sample("spot/spot_triangulated.obj")) + " --preset " +
+                                 quoted(dir.file("p.json")) + " -o " + quoted(dir.file("out")),
+                             false);
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    const auto j = nlohmann::json::parse(r.out);
+    ASSERT_EQ(j["levels"].size(), 2u);
+    EXPECT_EQ(j["levels"][0]["triangles"], 5856);
+    EXPECT_GT(j["levels"][1]["error_relative"].get<double>(), 0.0);
+    EXPECT_EQ(j["glb"], "spot_triangulated.glb");
+    EXPECT_EQ(j["files"], nlohmann::json::array({"spot_triangulated.glb", "pack.json"}));
+    EXPECT_EQ(j["source_sha256"].get<std::string>().size(), 64u);
+    const test::Glb g = test::split_glb(test::read_bytes(dir.file("out/spot_triangulated.glb")));
+    EXPECT_EQ(test::node_triangles(g, 1), j["levels"][1]["triangles"].get<std::size_t>());
+    EXPECT_EQ(g.json["images"].size(), 1u);
+}
+
+TEST(CliPack, BadPresetMissingInputAndUnwritableOutputFailCleanly) {
+    ScratchDir dir("cli-pack-bad");
+    const std::string input = quoted(sample("spot/spot_triangulated.obj"));
+    write_text(dir.file("typo.json"), R"({"levels": [{"ratio": 0.5}], "max_dept": 3})");
+    write_text(dir.file("good.json"), R"({"levels": [{"ratio": 0.5}]})");
+    write_text(dir.file("octree.json"), R"({"method": "octree"})");
+    write_text(dir.file("a_file"), "x");
+    const fs::path out = dir.path() / "out";
+
+    CliRun r = run_cli("pack " + input + " --preset " + quoted(dir.file("typo.json")) + " -o " + quoted(out.string()));
+    EXPECT_EQ(r.exit_code, 1) << r.out;
+    EXPECT_NE(r.out.find("lodforge: error: "), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("typo.json"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("max_dept"), std::string::npos) << r.out;
+
+    r = run_cli("pack " + input + " --preset " + quoted(dir.file("nothere.json")) + " -o " + quoted(out.string()));
+    EXPECT_EQ(r.exit_code, 1) << r.out;
+    EXPECT_NE(r.out.find("nothere.json"), std::string::npos) << r.out;
+
+    r = run_cli("pack " + quoted(dir.file("missing.obj")) + " --preset " + quoted(dir.file("good.json")) + " -o " +
+                quoted(out.string()));
+    EXPECT_EQ(r.exit_code, 1) << r.out;
+    EXPECT_NE(r.out.find("missing.obj"), std::string::npos) << r.out;
+
+    r = run_cli("pack " + input + " --preset " + quoted(dir.file("good.json")) + " -o " + quoted(dir.file("a_file/pack")));
+    EXPECT_EQ(r.exit_code, 1) << r.out;
+    EXPECT_NE(r.out.find("a_file"), std::string::npos) << r.out;
+
+    r = run_cli("pack " + input + " --preset " + quoted(dir.file("octree.json")) + " -o " + quoted(out.string()));
+    EXPECT_EQ(r.exit_code, 1) << r.out;
+    EXPECT_NE(r.out.find("octree"), std::string::npos) << r.out;
+
+    r = run_cli("pack " + input + " -o " + quoted(out.string()));  // --preset is required
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_NE(r.exit_code, 1);
+
+    std::vector<std::string> left;
+    for (const auto& e : fs::directory_iterator(dir.path())) left.push_back(e.path().filename().string());
+    std::sort(left.begin(), left.end());
+    EXPECT_EQ(left, (std::vector<std::string>{"a_file", "good.json", "octree.json", "typo.json"}));
+}
+
+}  // namespace

@@ -1,0 +1,299 @@
+// write_lod_pack on the real meshes: the files the manifest lists are the files written, the glb agrees
+// with pack.json and PackResult, packs are byte-identical when repeated, and every failure (bad method,
+// missing source, unwritable output, cancellation at any stage) leaves nothing behind.
+#include "pack_test_util.h"
+#include "support/test_paths.h"
+
+#include "lodforge/error.h"
+#include "lodforge/lod_pack.h"
+#include "lodforge/mesh_io.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <set>
+
+namespace {
+
+using namespace lodforge;
+using lodforge::test::ScratchDir;
+using lodforge::test::shared_data;
+namespace fs = std::filesystem;
+
+std::vector<std::string> listing(const fs::path& dir) {
+    std::vector<std::string> names;
+    for (const auto& e : fs::recursive_directory_iterator(dir)) names.push_back(fs::relative(e.path(), dir).string());
+    std::sort(names.begin(), names.end());
+    return names;
+}
+
+std::vector<std::string> sorted(std::vector<std::string> v) {
+    std::sort(v.begin(), v.end());
+    return v;
+}
+
+std::string sha256sum(const std::string& path) {
+    // coreutils' sha256sum: an implementation independent of the one under test
+    FILE* pipe = popen(("sha256sum '" + path + "'").c_str(), "r");
+    char buf[65] = {};
+    const std::size_t n = pipe ? std::fread(buf, 1, 64, pipe) : 0;
+    if (pipe) pclose(pipe);
+    return std::string(buf, n);
+}
+
+PackParams spot_params(const ScratchDir& dir, const std::string& out = "pack") {
+    PackParams p;
+    p.source_path = shared_data("tex-spot/spot_triangulated.obj");
+    p.output_dir = dir.file(out);
+    p.preset.levels = lod_targets_from_ratios({0.5, 0.2, 0.05});
+    p.preset.exports = {.glb = true, .ply = true, .obj = true, .lodstrips = false};
+    return p;
+}
+
+TEST(LodPack, SpotPackAgreesAcrossGlbManifestAndResult) {
+    ScratchDir dir("pack-spot");
+    const PackParams params = spot_params(dir);
+    const Mesh mesh = read_mesh(params.source_path);
+    const PackResult r = write_lod_pack(mesh, params);
+
+    ASSERT_EQ(r.levels.size(), 4u);
+    // The listed files are exactly the files there.
+    EXPECT_EQ(sorted(r.files), listing(params.output_dir));
+    EXPECT_EQ(r.glb, "spot_triangulated.glb");
+    EXPECT_NE(std::find(r.files.begin(), r.files.end(), "pack.json"), r.files.end());
+    EXPECT_NE(std::find(r.files.begin(), r.files.end(), "spot_texture.png"), r.files.end());  // OBJ's copy
+    // Nothing beside the pack (the staging directory is gone).
+    EXPECT_EQ(listing(dir.path()).front(), "pack");
+    EXPECT_EQ(fs::directory_iterator(dir.path())->path().filename(), "pack");
+
+    const auto j = nlohmann::json::parse(test::read_bytes(params.output_dir + "/pack.json"));
+    EXPECT_EQ(j["format"], "lodforge-pack");
+    EXPECT_EQ(j["version"], 1);
+    EXPECT_EQ(j["source"]["file"], "spot_triangulated.obj");
+    EXPECT_EQ(j["source"]["sha256"], sha256sum(params.source_path));
+    EXPECT_EQ(r.source_sha256, sha256sum(params.source_path));
+    EXPECT_EQ(j["preset"], nlohmann::json::parse(preset_to_json(params.preset)));
+    EXPECT_EQ(sorted(j["files"].get<std::vector<std::string>>()), sorted(r.files));
+    ASSERT_EQ(j["levels"].size(), 4u);
+
+    const test::Glb g = test::split_glb(test::read_bytes(params.output_dir + "/" + r.glb));
+    EXPECT_EQ(test::lod_ids(g), (std::vector<std::size_t>{1, 2, 3}));
+    const auto coverage = g.json["nodes"][0]["extras"]["MSFT_screencoverage"];
+    ASSERT_EQ(coverage.size(), 4u);
+    for (std::size_t k = 0; k < 4; ++k) {
+        const PackLevel& level = r.levels[k];
+        EXPECT_EQ(test::node_triangles(g, k), level.triangles) << k;
+        EXPECT_EQ(j["levels"][k]["triangles"], level.triangles) << k;
+        EXPECT_EQ(j["levels"][k]["vertices"], level.vertices) << k;
+        EXPECT_EQ(j["levels"][k]["error"]["hausdorff"].get<double>(), level.error) << k;
+        EXPECT_EQ(j["levels"][k]["error"]["hausdorff_relative"].get<double>(), level.error_relative) << k;
+        EXPECT_EQ(j["levels"][k]["screen_coverage"].get<double>(), level.screen_coverage) << k;
+        EXPECT_EQ(coverage[k].get<double>(), level.screen_coverage) << k;
+        EXPECT_EQ(sorted(j["levels"][k]["files"].get<std::vector<std::string>>()), sorted(level.files)) << k;
+        const std::string base = "spot_triangulated_lod" + std::to_string(k);
+        EXPECT_NE(std::find(level.files.begin(), level.files.end(), base + ".ply"), level.files.end()) << k;
+        EXPECT_NE(std::find(level.files.begin(), level.files.end(), base + ".obj"), level.files.end()) << k;
+        EXPECT_EQ(read_mesh(params.output_dir + "/" + base + ".ply").triangle_count(), level.triangles) << k;
+        if (k > 0) {
+            EXPECT_LT(level.triangles, r.levels[k - 1].triangles);
+            EXPECT_GT(level.error, 0.0);
+            EXPECT_NEAR(level.error_relative, level.error / mesh.bounds().diagonal(), 1e-9);
+            EXPECT_LE(level.screen_coverage, r.levels[k - 1].screen_coverage);
+        }
+    }
+    EXPECT_EQ(r.levels[0].triangles, mesh.triangle_count());
+    EXPECT_EQ(r.levels[0].error, 0.0);
+    EXPECT_EQ(r.levels[3].screen_coverage, 0.0);  // the coarsest level is never culled
+    EXPECT_GT(r.levels[0].screen_coverage, 0.0);
+    // The hint is the coverage at which the next level's error is a pixel on the reference screen.
+    EXPECT_DOUBLE_EQ(r.levels[0].screen_coverage, screen_coverage_for_error(r.levels[1].error_relative));
+
+    const auto v = test::validate_gltf(params.output_dir + "/" + r.glb);
+    ASSERT_EQ(v.exit_code, 0) << v.raw;
+    EXPECT_EQ(test::unexplained_warnings(v), std::vector<std::string>{}) << v.raw;
+}
+
+TEST(LodPack, ScreenCoverageFormula) {
+    EXPECT_EQ(screen_coverage_for_error(0), 1.0);
+    EXPECT_EQ(screen_coverage_for_error(1e-9), 1.0);
+    // e = 0.01: the sphere may be 50 px in radius, pi 2500 / (1920 1080).
+    EXPECT_NEAR(screen_coverage_for_error(0.01), 3.14159265358979 * 2500 / (1920.0 * 1080.0), 1e-12);
+    EXPECT_GT(screen_coverage_for_error(0.001), screen_coverage_for_error(0.002));
+}
+
+TEST(LodPack, RepeatedPacksAreByteIdentical) {
+    ScratchDir dir("pack-determinism");
+    PackParams a;
+    a.source_path = shared_data("tex-cesium-milk-truck/CesiumMilkTruck.gltf");
+    a.preset.levels = lod_targets_from_ratios({0.5, 0.25});
+    a.preset.exports = {.glb = true, .ply = true, .obj = true, .lodstrips = false};
+    a.output_dir = dir.file("one");
+    PackParams b = a;
+    b.output_dir = dir.file("two");
+    const PackResult ra = write_lod_pack(read_mesh(a.source_path), a);
+    const PackResult rb = write_lod_pack(read_mesh(b.source_path), b);
+    EXPECT_EQ(ra.files, rb.files);
+    EXPECT_EQ(listing(a.output_dir), listing(b.output_dir));
+    EXPECT_GT(ra.files.size(), 6u);
+    for (const std::string& f : ra.files)
+        EXPECT_EQ(test::read_bytes(a.output_dir + "/" + f), test::read_bytes(b.output_dir + "/" + f)) << f;
+    // Several materials split into primitives in every level.
+    const test::Glb g = test::split_glb(test::read_bytes(a.output_dir + "/" + ra.glb));
+    EXPECT_EQ(g.json["materials"].size(), 4u);
+    EXPECT_GE(g.json["meshes"][2]["primitives"].size(), 2u);
+    EXPECT_EQ(test::validate_gltf(a.output_dir + "/" + ra.glb).exit_code, 0);
+}
+
+TEST(LodPack, ClusterMethodOnColouredScanKeepsColours) {
+    ScratchDir dir("pack-cluster");
+    PackParams p;
+    p.source_path = shared_data("color-open3d-frag115/frag_115.ply");
+    p.output_dir = dir.file("frag");
+    p.preset.method = LodMethod::cluster;
+    p.preset.levels = {{LodTarget::Kind::ratio, 0.2}, {LodTarget::Kind::triangles, 5000}};
+    p.distance.samples = 20000;
+    const Mesh mesh = read_mesh(p.source_path);
+    const PackResult r = write_lod_pack(mesh, p);
+    ASSERT_EQ(r.levels.size(), 3u);
+    EXPECT_EQ(r.files, (std::vector<std::string>{"frag_115.glb", "pack.json"}));  // the default exports
+    EXPECT_GT(r.levels[1].error, 0.0);
+    EXPECT_NEAR(static_cast<double>(r.levels[2].triangles), 5000.0, 500.0);
+    const std::string glb = p.output_dir + "/frag_115.glb";
+    const auto v = test::validate_gltf(glb);
+    ASSERT_EQ(v.exit_code, 0) << v.raw;
+    EXPECT_EQ(test::unexplained_warnings(v), std::vector<std::string>{}) << v.raw;
+    const test::Glb g = test::split_glb(test::read_bytes(glb));
+    for (std::size_t k = 0; k < 3; ++k) {
+        EXPECT_EQ(test::node_triangles(g, k), r.levels[k].triangles);
+        const auto& prim = g.json["meshes"][k]["primitives"][0];
+        EXPECT_TRUE(prim["attributes"].contains("COLOR_0")) << k;
+    }
+    const Mesh back = read_mesh(glb);
+    ASSERT_TRUE(back.has_colors());
+    // Level 0 is the input: its colours come back as stored (uchar / 255, through float).
+    ASSERT_EQ(back.vertex_count(), mesh.vertex_count());
+    double worst = 0;
+    for (std::size_t i = 0; i < mesh.vertex_count(); ++i)
+        worst = std::max(worst, double(std::fabs(back.colors[i].y - mesh.colors[i].y)));
+    EXPECT_LE(worst, 1e-6);
+}
+
+Error::Kind pack_error(const Mesh& mesh, const PackParams& p, std::string* message = nullptr,
+                       Progress* progress = nullptr) {
+    try {
+        write_lod_pack(mesh, p, progress);
+    } catch (const Error& e) {
+        if (message) *message = e.what();
+        return e.kind();
+    }
+    ADD_FAILURE() << "no error";
+    return Error::Kind::io;
+}
+
+TEST(LodPack, MethodsNotYetAvailableAreReportedAndLeaveNothing) {
+    ScratchDir dir("pack-methods");
+    const Mesh mesh = read_mesh(shared_data("tex-spot/spot_triangulated.obj"));
+    for (LodMethod m : {LodMethod::octree, LodMethod::lodstrips, LodMethod::mcoctree}) {
+        PackParams p = spot_params(dir, "deep/er/pack");
+        p.preset.method = m;
+        std::string message;
+        EXPECT_EQ(pack_error(mesh, p, &message), Error::Kind::unsupported);
+        EXPECT_NE(message.find(std::string(to_string(m))), std::string::npos) << message;
+        EXPECT_TRUE(fs::is_empty(dir.path())) << listing(dir.path()).front();
+    }
+    PackParams p = spot_params(dir);
+    p.preset.method = LodMethod::cluster;
+    p.preset.levels = {{LodTarget::Kind::error, 0.01}};
+    std::string message;
+    EXPECT_EQ(pack_error(mesh, p, &message), Error::Kind::argument);
+    EXPECT_NE(message.find("levels[0]"), std::string::npos) << message;
+    EXPECT_TRUE(fs::is_empty(dir.path()));
+}
+
+TEST(LodPack, MissingSourceAndUnwritableOutputNameTheFileAndLeaveNothing) {
+    ScratchDir dir("pack-bad");
+    const Mesh mesh = read_mesh(shared_data("tex-spot/spot_triangulated.obj"));
+    PackParams p = spot_params(dir);
+    p.source_path = dir.file("gone.obj");
+    std::string message;
+    EXPECT_EQ(pack_error(mesh, p, &message), Error::Kind::io);
+    EXPECT_NE(message.find("gone.obj"), std::string::npos) << message;
+    EXPECT_TRUE(fs::is_empty(dir.path()));
+
+    {
+        std::ofstream(dir.file("a_file")) << "not a directory";
+    }
+    p = spot_params(dir, "a_file/pack");
+    EXPECT_EQ(pack_error(mesh, p, &message), Error::Kind::io);
+    EXPECT_NE(message.find("a_file"), std::string::npos) << message;
+    p = spot_params(dir, "a_file");
+    EXPECT_EQ(pack_error(mesh, p, &message), Error::Kind::io);
+    EXPECT_NE(message.find("not a directory"), std::string::npos) << message;
+    EXPECT_EQ(listing(dir.path()), std::vector<std::string>{"a_file"});
+
+    p = spot_params(dir);
+    p.output_dir.clear();
+    EXPECT_EQ(pack_error(mesh, p), Error::Kind::argument);
+    p = spot_params(dir);
+    p.source_path.clear();
+    EXPECT_EQ(pack_error(mesh, p), Error::Kind::argument);
+}
+
+// Cancels the first time a given stage reports; records every stage seen.
+class CancelAtStage : public Progress {
+public:
+    explicit CancelAtStage(std::string stage) : stage_(std::move(stage)) {}
+    void report(double, std::string_view stage) override {
+        if (stages.empty() || stages.back() != stage) stages.emplace_back(stage);
+        if (stage == stage_) cancel_ = true;
+    }
+    bool cancelled() const override { return cancel_; }
+    std::vector<std::string> stages;
+
+private:
+    std::string stage_;
+    bool cancel_ = false;
+};
+
+TEST(LodPack, CancelAtEveryStageLeavesNothing) {
+    ScratchDir dir("pack-cancel");
+    const Mesh mesh = read_mesh(shared_data("tex-spot/spot_triangulated.obj"));
+    PackParams p = spot_params(dir);
+    p.distance.samples = 5000;
+    CancelAtStage all("");
+    write_lod_pack(mesh, p, &all);
+    std::set<std::string> stages(all.stages.begin(), all.stages.end());
+    for (const char* expected : {"hashing source", "writing glb", "writing level files", "writing pack.json"})
+        EXPECT_TRUE(stages.count(expected)) << expected;
+    EXPECT_GE(stages.size(), 6u);  // plus the chain's simplification and measurement stages
+    fs::remove_all(p.output_dir);
+    for (const std::string& stage : stages) {
+        CancelAtStage cancel(stage);
+        EXPECT_EQ(pack_error(mesh, p, nullptr, &cancel), Error::Kind::cancelled) << stage;
+        EXPECT_TRUE(fs::is_empty(dir.path())) << stage << ": " << listing(dir.path()).front();
+    }
+}
+
+TEST(LodPack, ExistingOutputDirectoryKeepsOtherFilesAndSurvivesAFailure) {
+    ScratchDir dir("pack-existing");
+    const Mesh mesh = read_mesh(shared_data("tex-spot/spot_triangulated.obj"));
+    PackParams p = spot_params(dir);
+    p.distance.samples = 5000;
+    fs::create_directories(p.output_dir);
+    {
+        std::ofstream(p.output_dir + "/notes.txt") << "mine";
+    }
+    CancelAtStage cancel("writing pack.json");
+    EXPECT_EQ(pack_error(mesh, p, nullptr, &cancel), Error::Kind::cancelled);
+    EXPECT_EQ(listing(p.output_dir), std::vector<std::string>{"notes.txt"});
+    EXPECT_EQ(listing(dir.path()), (std::vector<std::string>{"pack", "pack/notes.txt"}));
+
+    const PackResult r = write_lod_pack(mesh, p);
+    std::vector<std::string> expected = r.files;
+    expected.push_back("notes.txt");
+    EXPECT_EQ(listing(p.output_dir), sorted(expected));
+}
+
+}  // namespace
