@@ -1,6 +1,8 @@
 #include "MainWindow.h"
 
 #include "lodforge/error.h"
+#include "lodforge/lod_pack.h"
+#include "lodforge/mesh_io.h"
 #include "lodforge/widgets/Job.h"
 #include "lodforge/widgets/LevelViews.h"
 #include "lodforge/widgets/LoadJob.h"
@@ -126,6 +128,7 @@ MainWindow::~MainWindow() {
 
 QString MainWindow::lodChainJobName() { return tr("LOD chain"); }
 QString MainWindow::heatmapJobName() { return tr("Heat map"); }
+QString MainWindow::packJobName() { return tr("LOD pack"); }
 
 widgets::VtkView* MainWindow::view() const { return levels_->singleView(); }
 
@@ -188,6 +191,10 @@ void MainWindow::createActions() {
     exportReportAction_ = action(tr("&Export report…"), QStringLiteral("actionExportReport"),
                                  QKeySequence(Qt::CTRL | Qt::Key_E), tr("Export the LOD report as HTML or PDF"));
     connect(exportReportAction_, &QAction::triggered, this, &MainWindow::showExportReportDialog);
+    exportPackAction_ = action(tr("Export LOD &pack…"), QStringLiteral("actionExportPack"),
+                               QKeySequence(Qt::CTRL | Qt::SHIFT | Qt::Key_E),
+                               tr("Write the LOD pack (.glb with MSFT_lod, per-level files, pack.json) of the preset"));
+    connect(exportPackAction_, &QAction::triggered, this, &MainWindow::showExportPackDialog);
 
     undoAction_ = undo_->createUndoAction(this, tr("&Undo"));
     undoAction_->setObjectName(QStringLiteral("actionUndo"));
@@ -267,6 +274,7 @@ void MainWindow::createMenus() {
     file->addAction(savePresetAction_);
     file->addSeparator();
     file->addAction(exportReportAction_);
+    file->addAction(exportPackAction_);
     file->addSeparator();
     file->addAction(quitAction_);
 
@@ -314,6 +322,7 @@ void MainWindow::createToolBar() {
     bar->setObjectName(QStringLiteral("lodToolBar"));
     bar->addAction(openAction_);
     bar->addAction(buildAction_);
+    bar->addAction(exportPackAction_);
     bar->addSeparator();
     bar->addAction(sideBySideAction_);
     bar->addAction(heatmapAction_);
@@ -420,6 +429,7 @@ void MainWindow::updateActions() {
     buildAction_->setEnabled(haveMesh && !busy);
     cancelAction_->setEnabled(busy);
     exportReportAction_->setEnabled(!report_->isEmpty());
+    exportPackAction_->setEnabled(haveMesh && !busy);
     const int level = levels_->currentLevel();
     nextLevelAction_->setEnabled(level + 1 < levels_->levelCount());
     previousLevelAction_->setEnabled(level > 0);
@@ -572,7 +582,10 @@ void MainWindow::onTaskFinished(widgets::Job* job, const widgets::JobResult& res
     job->deleteLater();
     if (job == task_) task_ = nullptr;
     setBusyUi(job_ != nullptr);
-    switch (result.status) {
+    widgets::JobResult::Status status = result.status;
+    // Cancelled (e.g. by opening another file) but done before it noticed: its output is stale.
+    if (status == widgets::JobResult::Status::ok && job->isCancelling()) status = widgets::JobResult::Status::cancelled;
+    switch (status) {
     case widgets::JobResult::Status::ok: {
         onDone();
         const QString message = tr("%1 done in %2 ms").arg(result.name).arg(result.elapsedMs);
@@ -654,6 +667,48 @@ void MainWindow::computeHeatmaps() {
         heatmapAction_->setChecked(true);
         appendLog(tr("  largest distance to the original: %1").arg(out->maxError, 0, 'g', 4));
     });
+}
+
+void MainWindow::exportPack(const QString& directory) {
+    const QString name = packJobName();
+    if (!model_) return failTask(name, tr("open a mesh first"));
+    if (isBusy()) return failTask(name, tr("another job is running; wait for it or cancel it"));
+    if (directory.isEmpty()) return failTask(name, tr("no output directory given"));
+    lodforge::PackParams params;
+    params.preset = params_->preset();
+    params.source_path = QFile::encodeName(currentFile()).toStdString();
+    params.output_dir = QFile::encodeName(directory).toStdString();
+    auto result = std::make_shared<lodforge::PackResult>();
+    auto* job = new widgets::Job(
+        name, [params, result](lodforge::Progress* p) {
+            // Read as `lodforge pack` reads it (the view's copy places every glTF instance).
+            const lodforge::Mesh mesh = lodforge::read_mesh(params.source_path, {}, p);
+            *result = lodforge::write_lod_pack(mesh, params, p);
+        },
+        this);
+    packDir_ = directory;
+    startTask(job, [this, result, directory] {
+        lastPackFiles_.clear();
+        for (const std::string& f : result->files) lastPackFiles_ << QString::fromStdString(f);
+        for (std::size_t k = 0; k < result->levels.size(); ++k) {
+            const lodforge::PackLevel& l = result->levels[k];
+            appendLog(tr("  lod%1: %2 triangles, error %3 % of the diagonal, screen coverage %4")
+                          .arg(k)
+                          .arg(l.triangles)
+                          .arg(100.0 * l.error_relative, 0, 'f', 4)
+                          .arg(l.screen_coverage, 0, 'g', 4));
+        }
+        appendLog(tr("  wrote %1 to %2").arg(lastPackFiles_.join(QStringLiteral(", ")), directory));
+    });
+}
+
+void MainWindow::showExportPackDialog() {
+    QString start = packDir_;
+    if (start.isEmpty() && !currentFile().isEmpty())
+        start = QFileInfo(currentFile()).absolutePath() + QLatin1Char('/') + QFileInfo(currentFile()).completeBaseName() +
+                QStringLiteral("_pack");
+    const QString dir = QFileDialog::getExistingDirectory(this, tr("Export LOD pack into"), start);
+    if (!dir.isEmpty()) exportPack(dir);
 }
 
 void MainWindow::setSideBySide(bool sideBySide) {

@@ -81,6 +81,14 @@ public:
     bool loadPreset(const QString& path, QString* error = nullptr);
     QUndoStack* undoStack() const { return undo_; }
 
+    // Writes the LOD pack of the loaded file with the current preset into `directory`, in the background
+    // (lodforge::write_lod_pack, the function `lodforge pack` calls: the file is read again exactly as the
+    // CLI reads it, so the same preset gives the same pack). Ends with jobFinished(packJobName()).
+    void exportPack(const QString& directory);
+    static QString packJobName();
+    // Files of the last pack written (relative to its directory), empty before.
+    QStringList lastPackFiles() const { return lastPackFiles_; }
+
     // The report of the last LOD chain with a thumbnail per level: HTML, or PDF for a .pdf path.
     bool exportReport(const QString& path, QString* error = nullptr);
 
@@ -125,6 +133,7 @@ private:
     void showSavePresetDialog();
     void showLoadPresetDialog();
     void showExportReportDialog();
+    void showExportPackDialog();
     void onLoadProgress(double fraction, const QString& stage);
     void onLoadFinished(widgets::LoadJob* job, const widgets::LoadResult& result);
     void addRecentFile(const QString& path);
@@ -159,6 +168,7 @@ private:
     QAction* loadPresetAction_ = nullptr;
     QAction* savePresetAction_ = nullptr;
     QAction* exportReportAction_ = nullptr;
+    QAction* exportPackAction_ = nullptr;
     QAction* undoAction_ = nullptr;
     QAction* redoAction_ = nullptr;
     QAction* buildAction_ = nullptr;
@@ -182,6 +192,8 @@ private:
     widgets::Job* task_ = nullptr;     // the LOD chain or heat map job running, if any
     std::shared_ptr<const widgets::LoadedModel> model_;
     QString presetPath_;
+    QString packDir_;
+    QStringList lastPackFiles_;
     bool interactive_ = true;
 };
 

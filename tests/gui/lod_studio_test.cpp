@@ -22,7 +22,11 @@
 #include <QFile>
 #include <QLabel>
 #include <QLocale>
+#include <QMessageBox>
 #include <QPlainTextEdit>
+#include <QProcess>
+#include <QDir>
+#include <QDirIterator>
 #include <QPushButton>
 #include <QSettings>
 #include <QSignalSpy>
@@ -34,6 +38,7 @@
 #include <QTimer>
 #include <QUndoStack>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 
@@ -74,7 +79,9 @@ private slots:
     void methodWithoutEngineSaysSo();
     void clusterMethodBuildsLevels();
     void reportExportsHtmlAndPdf();
+    void exportedPackMatchesTheCli();
     void cancelStopsALongJobOnTheDragon();
+    void shortcutsSettingsAndErrorDialogs();
 
 private:
     bool load(const QString& path);
@@ -513,6 +520,66 @@ void LodStudioTest::reportExportsHtmlAndPdf() {
     QVERIFY(!QFile::exists(bad));
 }
 
+void LodStudioTest::exportedPackMatchesTheCli() {
+    QVERIFY(load(spotPath));
+    lodforge::Preset preset = window_->preset();
+    preset.name = "pack test";
+    preset.levels = lodforge::lod_targets_from_ratios({0.4, 0.1});
+    preset.exports.ply = true;
+    window_->setPreset(preset);
+    QTemporaryDir dir;
+    QVERIFY(dir.isValid());
+    const QString presetPath = dir.filePath(QStringLiteral("pack.json"));
+    QVERIFY(window_->savePreset(presetPath));
+
+    const QString guiPack = dir.filePath(QStringLiteral("gui_pack"));
+    QSignalSpy finished(window_.get(), &MainWindow::jobFinished);
+    auto* action = window_->findChild<QAction*>(QStringLiteral("actionExportPack"));
+    QVERIFY(action && action->isEnabled());
+    window_->exportPack(guiPack);
+    QVERIFY(window_->isBusy());
+    QVERIFY(finished.wait(60000));
+    QCOMPARE(finished.at(0).at(0).toString(), MainWindow::packJobName());
+    QVERIFY2(finished.at(0).at(1).toBool(), qPrintable(finished.at(0).at(2).toString()));
+    const QStringList files = window_->lastPackFiles();
+    qInfo("pack: %s", qPrintable(files.join(QStringLiteral(", "))));
+    QVERIFY(files.contains(QStringLiteral("pack.json")));
+    QVERIFY(std::any_of(files.begin(), files.end(), [](const QString& f) { return f.endsWith(QStringLiteral(".glb")); }));
+    QVERIFY(std::count_if(files.begin(), files.end(), [](const QString& f) { return f.endsWith(QStringLiteral(".ply")); }) == 3);
+
+    // `lodforge pack` with the preset the studio saved writes the very same files.
+    const QString cliPack = dir.filePath(QStringLiteral("cli_pack"));
+    QProcess cli;
+    cli.start(QStringLiteral(LODFORGE_CLI),
+              {QStringLiteral("pack"), spotPath, QStringLiteral("--preset"), presetPath, QStringLiteral("-o"), cliPack});
+    QVERIFY(cli.waitForFinished(120000));
+    QVERIFY2(cli.exitCode() == 0, cli.readAllStandardError().constData());
+    QStringList cliFiles;
+    QDirIterator it(cliPack, QDir::Files, QDirIterator::Subdirectories);
+    while (it.hasNext()) cliFiles << QDir(cliPack).relativeFilePath(it.next());
+    QStringList sortedGui = files;
+    sortedGui.sort();
+    cliFiles.sort();
+    QCOMPARE(cliFiles, sortedGui);
+    for (const QString& f : files) {
+        QFile a(QDir(guiPack).filePath(f)), b(QDir(cliPack).filePath(f));
+        QVERIFY(a.open(QIODevice::ReadOnly) && b.open(QIODevice::ReadOnly));
+        QVERIFY2(a.readAll() == b.readAll(), qPrintable(f + QStringLiteral(" differs between the studio and the CLI")));
+    }
+
+    // A method without an engine is refused with a message saying so, and writes nothing.
+    preset.method = lodforge::LodMethod::octree;
+    window_->setPreset(preset);
+    finished.clear();
+    const QString refused = dir.filePath(QStringLiteral("refused_pack"));
+    window_->exportPack(refused);
+    QVERIFY(finished.wait(60000));
+    QVERIFY(!finished.at(0).at(1).toBool());
+    qInfo("refused: %s", qPrintable(finished.at(0).at(2).toString()));
+    QVERIFY(finished.at(0).at(2).toString().contains(QStringLiteral("not available in this build")));
+    QVERIFY(!QFile::exists(refused));
+}
+
 void LodStudioTest::cancelStopsALongJobOnTheDragon() {
     QVERIFY2(QFile::exists(dragonPath), qPrintable(dragonPath));
     QVERIFY(load(dragonPath));
@@ -546,6 +613,45 @@ void LodStudioTest::cancelStopsALongJobOnTheDragon() {
     QCOMPARE(window_->levelViews()->levelCount(), 1);
     QVERIFY(window_->logView()->toPlainText().contains(QStringLiteral("cancelled")));
     QVERIFY(differingFraction(before, frameOf(window_->view()), viewBackgroundColor()) < 0.01);
+}
+
+void LodStudioTest::shortcutsSettingsAndErrorDialogs() {
+    QVERIFY(buildSpotChain({0.5, 0.1}));
+    window_->activateWindow();
+    window_->view()->setFocus();
+    QVERIFY(QTest::qWaitForWindowActive(window_.get()));
+    // The View menu's keys, pressed over the view.
+    QVERIFY(window_->levelViews()->arrangement() == lodforge::widgets::LevelViews::Arrangement::single);
+    QTest::keyClick(window_->view(), Qt::Key_S);
+    QVERIFY(window_->levelViews()->arrangement() == lodforge::widgets::LevelViews::Arrangement::sideBySide);
+    QTest::keyClick(window_->view(), Qt::Key_E);
+    QVERIFY(window_->viewOptions().edges);
+    QTest::keyClick(window_->view(), Qt::Key_PageUp);
+    QCOMPARE(window_->levelViews()->currentLevel(), 1);
+
+    // Toggles and layout come back in the next session.
+    window_->close();
+    window_ = std::make_unique<MainWindow>();
+    window_->show();
+    QVERIFY(QTest::qWaitForWindowExposed(window_.get()));
+    QVERIFY(window_->viewOptions().edges);
+    QVERIFY(window_->findChild<QAction*>(QStringLiteral("actionSideBySide"))->isChecked());
+    QVERIFY(window_->levelViews()->arrangement() == lodforge::widgets::LevelViews::Arrangement::sideBySide);
+    QSettings().clear();
+
+    // Interactive: a failed job opens an error dialog naming the job and the reason.
+    QVERIFY(load(spotPath));
+    lodforge::Preset preset = window_->preset();
+    preset.method = lodforge::LodMethod::lodstrips;
+    window_->setPreset(preset);
+    window_->buildLodChain();
+    QMessageBox* box = nullptr;
+    QTRY_VERIFY_WITH_TIMEOUT((box = qobject_cast<QMessageBox*>(QApplication::activeModalWidget())) != nullptr, 5000);
+    QCOMPARE(box->icon(), QMessageBox::Critical);
+    QVERIFY2(box->text().contains(MainWindow::lodChainJobName()), qPrintable(box->text()));
+    QVERIFY2(box->informativeText().contains(QStringLiteral("no engine")), qPrintable(box->informativeText()));
+    box->close();
+    QTRY_VERIFY_WITH_TIMEOUT(QApplication::activeModalWidget() == nullptr, 5000);
 }
 
 int main(int argc, char* argv[]) {

@@ -50,7 +50,7 @@ JobResult Job::run(const QString& name, const Work& work, Progress* progress) {
         result.error = QString::fromUtf8(e.what());
     } catch (const std::bad_alloc&) {
         result.status = JobResult::Status::failed;
-        result.error = QStringLiteral("%1: not enough memory").arg(name);
+        result.error = QStringLiteral("%1: not enough memory for this mesh").arg(name);
     } catch (const std::exception& e) {
         result.status = JobResult::Status::failed;
         result.error = QStringLiteral("%1: %2").arg(name, QString::fromUtf8(e.what()));

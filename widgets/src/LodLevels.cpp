@@ -3,6 +3,7 @@
 #include "lodforge/error.h"
 #include "lodforge/lod_chain.h"
 #include "lodforge/metrics.h"
+#include "lodforge/progress_range.h"
 #include "lodforge/simplify_cluster.h"
 #include "lodforge/widgets/MeshScene.h"
 
@@ -15,20 +16,6 @@
 namespace lodforge::widgets {
 
 namespace {
-
-// Maps a stage's fraction into [begin, end) of the caller's progress; cancellation passes through.
-class RangeProgress final : public Progress {
-public:
-    RangeProgress(Progress* parent, double begin, double end) : parent_(parent), begin_(begin), end_(end) {}
-    void report(double fraction, std::string_view stage) override {
-        if (parent_) parent_->report(begin_ + (end_ - begin_) * std::clamp(fraction, 0.0, 1.0), stage);
-    }
-    bool cancelled() const override { return parent_ && parent_->cancelled(); }
-
-private:
-    Progress* parent_;
-    double begin_, end_;
-};
 
 // build_lod_chain reports level k's work in [k/n, (k+1)/n): the first report in each slice marks when
 // that level started, which gives the time of every level (its simplification and its measurement).
@@ -107,7 +94,7 @@ std::vector<LevelData> buildCollapseLevels(const LevelData& original, const Pres
     params.simplify.lock_border = preset.lock_border;
     params.measure = true;
 
-    RangeProgress chainProgress(progress, 0.0, 0.8);
+    ProgressRange chainProgress(progress, 0.0, 0.8);
     LevelClock clock(&chainProgress, params.levels.size());
     LodChainResult chain = build_lod_chain(*original.mesh, params, &clock);
 
@@ -146,11 +133,11 @@ std::vector<LevelData> buildClusterLevels(const LevelData& original, const Prese
         QElapsedTimer timer;
         timer.start();
         const double begin = double(k) / n;
-        RangeProgress simplifyProgress(progress, begin, begin + 0.6 / n);
+        ProgressRange simplifyProgress(progress, begin, begin + 0.6 / n);
         ClusterResult r = simplify_cluster(*original.mesh, params, &simplifyProgress);
         if (r.mesh.triangle_count() == 0)
             throw Error(Error::Kind::invalid, "level " + std::to_string(k + 1) + ": vertex clustering left no triangles");
-        RangeProgress measureProgress(progress, begin + 0.6 / n, begin + 0.9 / n);
+        ProgressRange measureProgress(progress, begin + 0.6 / n, begin + 0.9 / n);
         DistanceParams distance;
         distance.vertex_errors = false;
         const DistanceResult d = compare(*original.mesh, r.mesh, distance, &measureProgress);
@@ -206,7 +193,7 @@ HeatmapData computeHeatmaps(const std::vector<LevelData>& levels, Progress* prog
         const LevelData& level = levels[k];
         DistanceParams params;
         params.vertex_errors = true;
-        RangeProgress sub(progress, double(k) / n, double(k + 1) / n);
+        ProgressRange sub(progress, double(k) / n, double(k + 1) / n);
         std::vector<float> values;
         const Mesh* surface = nullptr;
         if (k == 0) {
