@@ -258,6 +258,15 @@ void MainWindow::createActions() {
     uvCheckerAction_ = viewToggle(tr("&UV checker"), QStringLiteral("actionUvChecker"), QKeySequence(Qt::Key_U),
                                   defaults.uvChecker, tr("A checker texture on the texture coordinates"));
 
+    using widgets::ViewOptions;
+    viewToggles_ = {{wireframeAction_, &ViewOptions::wireframe, QStringLiteral("wireframe")},
+                    {flatShadingAction_, &ViewOptions::flatShading, QStringLiteral("flatShading")},
+                    {texturesAction_, &ViewOptions::textures, QStringLiteral("textures")},
+                    {vertexColorsAction_, &ViewOptions::vertexColors, QStringLiteral("vertexColors")},
+                    {edgesAction_, &ViewOptions::edges, QStringLiteral("edges")},
+                    {normalColorsAction_, &ViewOptions::normalColors, QStringLiteral("normalColors")},
+                    {uvCheckerAction_, &ViewOptions::uvChecker, QStringLiteral("uvChecker")}};
+
     resetViewAction_ = action(tr("&Reset view"), QStringLiteral("actionResetView"), QKeySequence(Qt::Key_R),
                               tr("Frame the mesh from the default viewpoint"));
     connect(resetViewAction_, &QAction::triggered, levels_, &widgets::LevelViews::resetView);
@@ -375,13 +384,7 @@ void MainWindow::restoreSettings() {
     }
     const widgets::ViewOptions defaults;
     widgets::ViewOptions options;
-    options.wireframe = settings.value(viewKey + QStringLiteral("wireframe"), defaults.wireframe).toBool();
-    options.flatShading = settings.value(viewKey + QStringLiteral("flatShading"), defaults.flatShading).toBool();
-    options.textures = settings.value(viewKey + QStringLiteral("textures"), defaults.textures).toBool();
-    options.vertexColors = settings.value(viewKey + QStringLiteral("vertexColors"), defaults.vertexColors).toBool();
-    options.edges = settings.value(viewKey + QStringLiteral("edges"), defaults.edges).toBool();
-    options.normalColors = settings.value(viewKey + QStringLiteral("normalColors"), defaults.normalColors).toBool();
-    options.uvChecker = settings.value(viewKey + QStringLiteral("uvChecker"), defaults.uvChecker).toBool();
+    for (const ViewToggle& t : viewToggles_) options.*t.option = settings.value(viewKey + t.key, defaults.*t.option).toBool();
     setViewOptions(options);
     sideBySideAction_->setChecked(settings.value(viewKey + QStringLiteral("sideBySide"), false).toBool());
     const QString last = settings.value(lastPresetKey).toString();
@@ -401,13 +404,7 @@ void MainWindow::saveSettings() {
     settings.setValue(geometryKey, saveGeometry());
     settings.setValue(stateKey, saveState());
     const widgets::ViewOptions o = viewOptions();
-    settings.setValue(viewKey + QStringLiteral("wireframe"), o.wireframe);
-    settings.setValue(viewKey + QStringLiteral("flatShading"), o.flatShading);
-    settings.setValue(viewKey + QStringLiteral("textures"), o.textures);
-    settings.setValue(viewKey + QStringLiteral("vertexColors"), o.vertexColors);
-    settings.setValue(viewKey + QStringLiteral("edges"), o.edges);
-    settings.setValue(viewKey + QStringLiteral("normalColors"), o.normalColors);
-    settings.setValue(viewKey + QStringLiteral("uvChecker"), o.uvChecker);
+    for (const ViewToggle& t : viewToggles_) settings.setValue(viewKey + t.key, o.*t.option);
     settings.setValue(viewKey + QStringLiteral("sideBySide"), sideBySideAction_->isChecked());
     if (!presetPath_.isEmpty()) settings.setValue(lastPresetKey, presetPath_);
 }
@@ -858,15 +855,10 @@ void MainWindow::updateRecentMenu() {
 }
 
 void MainWindow::setViewOptions(const widgets::ViewOptions& options) {
-    const QSignalBlocker b1(wireframeAction_), b2(flatShadingAction_), b3(texturesAction_), b4(vertexColorsAction_),
-        b5(edgesAction_), b6(normalColorsAction_), b7(uvCheckerAction_);
-    wireframeAction_->setChecked(options.wireframe);
-    flatShadingAction_->setChecked(options.flatShading);
-    texturesAction_->setChecked(options.textures);
-    vertexColorsAction_->setChecked(options.vertexColors);
-    edgesAction_->setChecked(options.edges);
-    normalColorsAction_->setChecked(options.normalColors);
-    uvCheckerAction_->setChecked(options.uvChecker);
+    for (const ViewToggle& t : viewToggles_) {
+        const QSignalBlocker block(t.action);
+        t.action->setChecked(options.*t.option);
+    }
     levels_->setViewOptions(options);
 }
 
@@ -874,13 +866,7 @@ widgets::ViewOptions MainWindow::viewOptions() const { return levels_->viewOptio
 
 void MainWindow::applyViewActions() {
     widgets::ViewOptions options;
-    options.wireframe = wireframeAction_->isChecked();
-    options.flatShading = flatShadingAction_->isChecked();
-    options.textures = texturesAction_->isChecked();
-    options.vertexColors = vertexColorsAction_->isChecked();
-    options.edges = edgesAction_->isChecked();
-    options.normalColors = normalColorsAction_->isChecked();
-    options.uvChecker = uvCheckerAction_->isChecked();
+    for (const ViewToggle& t : viewToggles_) options.*t.option = t.action->isChecked();
     levels_->setViewOptions(options);
 }
 

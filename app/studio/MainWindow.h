@@ -8,6 +8,7 @@
 #include "lodforge/widgets/ViewOptions.h"
 
 #include <QImage>
+#include <QList>
 #include <QMainWindow>
 #include <QStringList>
 
@@ -187,6 +188,13 @@ private:
     QAction* uvCheckerAction_ = nullptr;
     QAction* resetViewAction_ = nullptr;
     QMenu* recentMenu_ = nullptr;
+    // Each View toggle with the option it sets and its settings key.
+    struct ViewToggle {
+        QAction* action;
+        bool widgets::ViewOptions::*option;
+        QString key;
+    };
+    QList<ViewToggle> viewToggles_;
 
     widgets::LoadJob* job_ = nullptr;  // the load whose result will be shown; older ones are cancelled
     widgets::Job* task_ = nullptr;     // the LOD chain or heat map job running, if any

@@ -170,7 +170,8 @@ void LevelViews::rebuildTiles() {
 
 void LevelViews::refreshSingle() {
     showLevelIn(single_, current_);
-    single_->setCompareScene(compareVisible_ && current_ > 0 ? sceneOf(0) : nullptr);
+    // The original as loaded (textured), also beside a heat map: the swipe shows what the error field covers.
+    single_->setCompareScene(compareVisible_ && current_ > 0 ? levels_.front().scene : nullptr);
     singleLabel_->setText(levelCount() ? levelLabelText(current_) : tr("No mesh"));
 }
 

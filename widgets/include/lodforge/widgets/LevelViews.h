@@ -52,7 +52,8 @@ public:
     void setHeatmapRange(double maximum);
     double heatmapRange() const;
 
-    // The single view split: the original left of the split position, the current level right of it.
+    // The single view split: the original (as loaded, textured) left of the split position, the current
+    // level (or its heat map) right of it.
     void setCompareVisible(bool visible);
     bool compareVisible() const { return compareVisible_; }
     void setSplitPosition(double fraction);
