@@ -613,6 +613,22 @@ void LodStudioTest::cancelStopsALongJobOnTheDragon() {
     QCOMPARE(window_->levelViews()->levelCount(), 1);
     QVERIFY(window_->logView()->toPlainText().contains(QStringLiteral("cancelled")));
     QVERIFY(differingFraction(before, frameOf(window_->view()), viewBackgroundColor()) < 0.01);
+
+    // The pack export is cancelled the same way, and leaves no directory behind.
+    QTemporaryDir dir;
+    const QString pack = dir.filePath(QStringLiteral("dragon_pack"));
+    finished.clear();
+    window_->exportPack(pack);
+    QVERIFY(window_->isBusy() && cancel->isVisible());
+    QTest::qWait(500);
+    QVERIFY2(finished.isEmpty(), "the dragon's pack takes longer than this");
+    window_->cancelLoading();
+    QVERIFY(finished.wait(20000));
+    QCOMPARE(finished.at(0).at(0).toString(), MainWindow::packJobName());
+    QCOMPARE(finished.at(0).at(1).toBool(), false);
+    QVERIFY(finished.at(0).at(2).toString().isEmpty());
+    QVERIFY(!QFile::exists(pack));
+    QCOMPARE(QDir(dir.path()).entryList(QDir::NoDotAndDotDot | QDir::AllEntries), QStringList());
 }
 
 void LodStudioTest::shortcutsSettingsAndErrorDialogs() {

@@ -287,6 +287,9 @@ std::shared_ptr<const MeshScene> buildScalarScene(const Mesh& mesh, const std::v
     scalars->SetNumberOfTuples(static_cast<vtkIdType>(values.size()));
     std::copy(values.begin(), values.end(), scalars->GetPointer(0));
     part.polyData->GetPointData()->AddArray(scalars);
+    part.locator = vtkSmartPointer<vtkStaticCellLocator>::New();
+    part.locator->SetDataSet(part.polyData);
+    part.locator->BuildLocator();
     scene->parts.push_back(std::move(part));
     scene->hasScalars = true;
     for (float v : values) scene->scalarMax = std::max(scene->scalarMax, double(v));

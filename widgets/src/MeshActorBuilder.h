@@ -6,6 +6,7 @@
 #include <vtkImageData.h>
 #include <vtkPolyData.h>
 #include <vtkSmartPointer.h>
+#include <vtkStaticCellLocator.h>
 
 #include <array>
 #include <cstdint>
@@ -23,6 +24,9 @@ public:
         vtkSmartPointer<vtkImageData> texture;  // RGBA, rows bottom-up as VTK samples them; null if none
         std::array<double, 4> baseColor{1, 1, 1, 1};  // material base colour factor (linear RGBA)
         bool hasMaterial = false;
+        // Heat map parts: built with the scene (on the worker), so picking the value under the cursor
+        // does not test every triangle on the GUI thread.
+        vtkSmartPointer<vtkStaticCellLocator> locator;
     };
 
     std::vector<Part> parts;

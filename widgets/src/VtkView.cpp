@@ -380,8 +380,13 @@ void VtkView::setScene(std::shared_ptr<const MeshScene> scene, bool resetCamera)
     for (const Private::Actor& a : d->actors) d->renderer->RemoveActor(a.actor);
     d->actors.clear();
     d->picker->InitializePickList();
+    d->picker->RemoveAllLocators();
     d->scene = std::move(scene);
-    if (d->scene) d->actors = d->makeActors(*d->scene);
+    if (d->scene) {
+        d->actors = d->makeActors(*d->scene);
+        for (const MeshScene::Part& part : d->scene->parts)
+            if (part.locator) d->picker->AddLocator(part.locator);
+    }
     for (const Private::Actor& a : d->actors) d->picker->AddPickList(a.actor);
     d->updateLookupTable();
     applyViewOptions();
