@@ -1,26 +1,44 @@
 #include "MainWindow.h"
 
+#include "lodforge/error.h"
+#include "lodforge/lod_pack.h"
+#include "lodforge/mesh_io.h"
+#include "lodforge/widgets/Job.h"
+#include "lodforge/widgets/LevelViews.h"
 #include "lodforge/widgets/LoadJob.h"
+#include "lodforge/widgets/LodLevels.h"
+#include "lodforge/widgets/ParametersPanel.h"
+#include "lodforge/widgets/ReportPanel.h"
 #include "lodforge/widgets/StatsPanel.h"
 #include "lodforge/widgets/VtkView.h"
 
 #include <QAction>
 #include <QApplication>
 #include <QCloseEvent>
+#include <QDateTime>
 #include <QDockWidget>
+#include <QDoubleSpinBox>
 #include <QDragEnterEvent>
 #include <QDropEvent>
+#include <QFile>
 #include <QFileDialog>
 #include <QFileInfo>
 #include <QKeySequence>
+#include <QLabel>
 #include <QMenuBar>
 #include <QMessageBox>
 #include <QMimeData>
 #include <QPainter>
+#include <QPlainTextEdit>
 #include <QProgressBar>
 #include <QPushButton>
+#include <QScrollArea>
 #include <QSettings>
+#include <QSlider>
 #include <QStatusBar>
+#include <QToolBar>
+#include <QUndoCommand>
+#include <QUndoStack>
 #include <QUrl>
 
 namespace lodforge::studio {
@@ -30,6 +48,8 @@ namespace {
 const QString recentFilesKey = QStringLiteral("recentFiles");
 const QString geometryKey = QStringLiteral("window/geometry");
 const QString stateKey = QStringLiteral("window/state");
+const QString lastPresetKey = QStringLiteral("preset/last");
+const QString viewKey = QStringLiteral("view/");
 
 // The local file a drag carries, or an empty string.
 QString droppedFile(const QMimeData* mime) {
@@ -40,82 +60,216 @@ QString droppedFile(const QMimeData* mime) {
     return {};
 }
 
+// One parameter change. The panel already shows `after` when the command is pushed, so the first
+// redo (QUndoStack::push calls it) does nothing.
+class PresetCommand final : public QUndoCommand {
+public:
+    PresetCommand(widgets::ParametersPanel* panel, lodforge::Preset before, lodforge::Preset after, bool applied,
+                  const QString& text)
+        : QUndoCommand(text), panel_(panel), before_(std::move(before)), after_(std::move(after)), skipRedo_(applied) {}
+    void undo() override { panel_->setPreset(before_); }
+    void redo() override {
+        if (skipRedo_) {
+            skipRedo_ = false;
+            return;
+        }
+        panel_->setPreset(after_);
+    }
+
+private:
+    widgets::ParametersPanel* panel_;
+    lodforge::Preset before_, after_;
+    bool skipRedo_;
+};
+
 }  // namespace
 
 MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
     setObjectName(QStringLiteral("mainWindow"));
-    setWindowTitle(tr("LodForge Studio"));
+    setWindowTitle(tr("LodForge Studio[*]"));
     setAcceptDrops(true);
 
-    view_ = new widgets::VtkView(this);
-    view_->setObjectName(QStringLiteral("view"));
-    setCentralWidget(view_);
+    levels_ = new widgets::LevelViews(this);
+    levels_->setObjectName(QStringLiteral("levelViews"));
+    setCentralWidget(levels_);
+    undo_ = new QUndoStack(this);
 
-    stats_ = new widgets::StatsPanel(this);
-    stats_->setObjectName(QStringLiteral("stats"));
-    statsDock_ = new QDockWidget(tr("Statistics"), this);
-    statsDock_->setObjectName(QStringLiteral("statsDock"));
-    statsDock_->setWidget(stats_);
-    statsDock_->setFeatures(QDockWidget::DockWidgetMovable | QDockWidget::DockWidgetClosable |
-                            QDockWidget::DockWidgetFloatable);
-    addDockWidget(Qt::RightDockWidgetArea, statsDock_);
-
+    createDocks();
     createActions();
     createMenus();
+    createToolBar();
     createStatusBar();
 
-    QSettings settings;
-    if (const QByteArray geometry = settings.value(geometryKey).toByteArray(); !geometry.isEmpty()) {
-        restoreGeometry(geometry);
-    } else {
-        resize(1280, 800);
-    }
-    restoreState(settings.value(stateKey).toByteArray());
+    connect(levels_, &widgets::LevelViews::hoverText, this, [this](const QString& text) {
+        if (text.isEmpty()) {
+            statusBar()->clearMessage();
+        } else {
+            statusBar()->showMessage(text);
+        }
+    });
+    connect(levels_, &widgets::LevelViews::currentLevelChanged, this, [this] { updateActions(); });
+    connect(params_, &widgets::ParametersPanel::presetEdited, this,
+            [this](const lodforge::Preset& before, const lodforge::Preset& after) {
+                undo_->push(new PresetCommand(params_, before, after, true, tr("Change parameters")));
+            });
+    connect(undo_, &QUndoStack::cleanChanged, this, [this](bool clean) { setWindowModified(!clean); });
+
+    restoreSettings();
     updateRecentMenu();
+    updateActions();
     statusBar()->showMessage(tr("Open a mesh (PLY, OBJ, glTF) with File > Open or drop it here"));
 }
 
-MainWindow::~MainWindow() = default;
+MainWindow::~MainWindow() {
+    // Jobs report to this window: stop them before its members go.
+    delete task_;
+    task_ = nullptr;
+}
+
+QString MainWindow::lodChainJobName() { return tr("LOD chain"); }
+QString MainWindow::heatmapJobName() { return tr("Heat map"); }
+QString MainWindow::packJobName() { return tr("LOD pack"); }
+
+widgets::VtkView* MainWindow::view() const { return levels_->singleView(); }
+
+void MainWindow::createDocks() {
+    auto dock = [this](const QString& title, const QString& name, QWidget* widget, Qt::DockWidgetArea area) {
+        auto* d = new QDockWidget(title, this);
+        d->setObjectName(name);
+        d->setWidget(widget);
+        d->setFeatures(QDockWidget::DockWidgetMovable | QDockWidget::DockWidgetClosable |
+                       QDockWidget::DockWidgetFloatable);
+        addDockWidget(area, d);
+        return d;
+    };
+    stats_ = new widgets::StatsPanel(this);
+    stats_->setObjectName(QStringLiteral("stats"));
+    statsDock_ = dock(tr("Statistics"), QStringLiteral("statsDock"), stats_, Qt::RightDockWidgetArea);
+    params_ = new widgets::ParametersPanel(this);
+    params_->setObjectName(QStringLiteral("parameters"));
+    // Scrolled: the panel is taller than small windows.
+    auto* paramsScroll = new QScrollArea(this);
+    paramsScroll->setWidget(params_);
+    paramsScroll->setWidgetResizable(true);
+    paramsScroll->setFrameShape(QFrame::NoFrame);
+    paramsDock_ = dock(tr("Parameters"), QStringLiteral("parametersDock"), paramsScroll, Qt::RightDockWidgetArea);
+    tabifyDockWidget(statsDock_, paramsDock_);
+    report_ = new widgets::ReportPanel(this);
+    report_->setObjectName(QStringLiteral("report"));
+    // All docks tabbed on the right by default, so the views keep the window's full height.
+    reportDock_ = dock(tr("Report"), QStringLiteral("reportDock"), report_, Qt::RightDockWidgetArea);
+    log_ = new QPlainTextEdit(this);
+    log_->setObjectName(QStringLiteral("log"));
+    log_->setReadOnly(true);
+    log_->setMaximumBlockCount(5000);
+    logDock_ = dock(tr("Log"), QStringLiteral("logDock"), log_, Qt::RightDockWidgetArea);
+    tabifyDockWidget(paramsDock_, reportDock_);
+    tabifyDockWidget(reportDock_, logDock_);
+    paramsDock_->raise();
+}
 
 void MainWindow::createActions() {
-    openAction_ = new QAction(tr("&Open…"), this);
-    openAction_->setObjectName(QStringLiteral("actionOpen"));
-    openAction_->setShortcut(QKeySequence::Open);
+    auto action = [this](const QString& text, const QString& name, const QKeySequence& key, const QString& tip) {
+        auto* a = new QAction(text, this);
+        a->setObjectName(name);
+        a->setShortcut(key);
+        a->setStatusTip(tip);
+        a->setToolTip(tip + (key.isEmpty() ? QString() : QStringLiteral(" (%1)").arg(key.toString(QKeySequence::NativeText))));
+        return a;
+    };
+    openAction_ = action(tr("&Open…"), QStringLiteral("actionOpen"), QKeySequence::Open, tr("Open a mesh"));
     connect(openAction_, &QAction::triggered, this, &MainWindow::showOpenDialog);
-
-    quitAction_ = new QAction(tr("&Quit"), this);
-    quitAction_->setObjectName(QStringLiteral("actionQuit"));
-    quitAction_->setShortcut(QKeySequence::Quit);
+    quitAction_ = action(tr("&Quit"), QStringLiteral("actionQuit"), QKeySequence::Quit, tr("Quit"));
     quitAction_->setMenuRole(QAction::QuitRole);
     connect(quitAction_, &QAction::triggered, this, &QWidget::close);
+    loadPresetAction_ = action(tr("&Load preset…"), QStringLiteral("actionLoadPreset"),
+                               QKeySequence(Qt::CTRL | Qt::Key_L), tr("Load parameters from a preset JSON file"));
+    connect(loadPresetAction_, &QAction::triggered, this, &MainWindow::showLoadPresetDialog);
+    savePresetAction_ = action(tr("&Save preset…"), QStringLiteral("actionSavePreset"), QKeySequence::Save,
+                               tr("Save the parameters as a preset JSON file (the CLI reads the same files)"));
+    connect(savePresetAction_, &QAction::triggered, this, &MainWindow::showSavePresetDialog);
+    exportReportAction_ = action(tr("&Export report…"), QStringLiteral("actionExportReport"),
+                                 QKeySequence(Qt::CTRL | Qt::Key_E), tr("Export the LOD report as HTML or PDF"));
+    connect(exportReportAction_, &QAction::triggered, this, &MainWindow::showExportReportDialog);
+    exportPackAction_ = action(tr("Export LOD &pack…"), QStringLiteral("actionExportPack"),
+                               QKeySequence(Qt::CTRL | Qt::SHIFT | Qt::Key_E),
+                               tr("Write the LOD pack (.glb with MSFT_lod, per-level files, pack.json) of the preset"));
+    connect(exportPackAction_, &QAction::triggered, this, &MainWindow::showExportPackDialog);
 
-    auto toggle = [this](const QString& text, const QString& name, const QKeySequence& key, bool checked,
-                         const QString& tip) {
-        auto* action = new QAction(text, this);
-        action->setObjectName(name);
-        action->setCheckable(true);
-        action->setChecked(checked);
-        action->setShortcut(key);
-        action->setStatusTip(tip);
-        connect(action, &QAction::toggled, this, &MainWindow::applyViewActions);
-        return action;
+    undoAction_ = undo_->createUndoAction(this, tr("&Undo"));
+    undoAction_->setObjectName(QStringLiteral("actionUndo"));
+    undoAction_->setShortcut(QKeySequence::Undo);
+    redoAction_ = undo_->createRedoAction(this, tr("&Redo"));
+    redoAction_->setObjectName(QStringLiteral("actionRedo"));
+    redoAction_->setShortcuts({QKeySequence::Redo, QKeySequence(Qt::CTRL | Qt::Key_Y)});
+
+    buildAction_ = action(tr("&Build LOD chain"), QStringLiteral("actionBuildLodChain"), QKeySequence(Qt::CTRL | Qt::Key_B),
+                          tr("Build the levels of the preset from the loaded mesh"));
+    connect(buildAction_, &QAction::triggered, this, &MainWindow::buildLodChain);
+    cancelAction_ = action(tr("&Cancel job"), QStringLiteral("actionCancel"), QKeySequence(Qt::Key_Escape),
+                           tr("Cancel the load or job that is running"));
+    connect(cancelAction_, &QAction::triggered, this, &MainWindow::cancelLoading);
+    nextLevelAction_ = action(tr("&Next level"), QStringLiteral("actionNextLevel"), QKeySequence(Qt::Key_PageDown),
+                              tr("Show the next (coarser) level"));
+    connect(nextLevelAction_, &QAction::triggered, this,
+            [this] { levels_->setCurrentLevel(levels_->currentLevel() + 1); });
+    previousLevelAction_ = action(tr("&Previous level"), QStringLiteral("actionPreviousLevel"),
+                                  QKeySequence(Qt::Key_PageUp), tr("Show the previous (finer) level"));
+    connect(previousLevelAction_, &QAction::triggered, this,
+            [this] { levels_->setCurrentLevel(levels_->currentLevel() - 1); });
+
+    auto toggle = [this, action](const QString& text, const QString& name, const QKeySequence& key, bool checked,
+                                 const QString& tip) {
+        QAction* a = action(text, name, key, tip);
+        a->setCheckable(true);
+        a->setChecked(checked);
+        return a;
     };
-    const widgets::ViewOptions defaults;
-    wireframeAction_ = toggle(tr("&Wireframe"), QStringLiteral("actionWireframe"), QKeySequence(Qt::Key_W),
-                              defaults.wireframe, tr("Draw triangle edges only"));
-    flatShadingAction_ = toggle(tr("&Flat shading"), QStringLiteral("actionFlatShading"),
-                                QKeySequence(Qt::Key_F), defaults.flatShading,
-                                tr("One normal per triangle instead of smooth vertex normals"));
-    texturesAction_ = toggle(tr("&Texture"), QStringLiteral("actionTextures"), QKeySequence(Qt::Key_T),
-                             defaults.textures, tr("Apply the base colour texture"));
-    vertexColorsAction_ = toggle(tr("Vertex &colours"), QStringLiteral("actionVertexColors"),
-                                 QKeySequence(Qt::Key_C), defaults.vertexColors,
-                                 tr("Show per-vertex colours where no texture is shown"));
+    sideBySideAction_ = toggle(tr("&Side by side"), QStringLiteral("actionSideBySide"), QKeySequence(Qt::Key_S), false,
+                               tr("Every level in its own view, one camera for all"));
+    connect(sideBySideAction_, &QAction::toggled, this, &MainWindow::setSideBySide);
+    heatmapAction_ = toggle(tr("&Heat map"), QStringLiteral("actionHeatmap"), QKeySequence(Qt::Key_H), false,
+                            tr("Colour by the distance to the original"));
+    connect(heatmapAction_, &QAction::toggled, this, &MainWindow::setHeatmapVisible);
+    compareAction_ = toggle(tr("S&plit compare"), QStringLiteral("actionCompare"), QKeySequence(Qt::Key_X), false,
+                            tr("Original left of the split, the level right of it"));
+    connect(compareAction_, &QAction::toggled, this, &MainWindow::setCompareVisible);
 
-    resetViewAction_ = new QAction(tr("&Reset view"), this);
-    resetViewAction_->setObjectName(QStringLiteral("actionResetView"));
-    resetViewAction_->setShortcut(QKeySequence(Qt::Key_R));
-    connect(resetViewAction_, &QAction::triggered, view_, &widgets::VtkView::resetView);
+    const widgets::ViewOptions defaults;
+    auto viewToggle = [this, toggle](const QString& text, const QString& name, const QKeySequence& key, bool checked,
+                                     const QString& tip) {
+        QAction* a = toggle(text, name, key, checked, tip);
+        connect(a, &QAction::toggled, this, &MainWindow::applyViewActions);
+        return a;
+    };
+    wireframeAction_ = viewToggle(tr("&Wireframe"), QStringLiteral("actionWireframe"), QKeySequence(Qt::Key_W),
+                                  defaults.wireframe, tr("Draw triangle edges only"));
+    flatShadingAction_ = viewToggle(tr("&Flat shading"), QStringLiteral("actionFlatShading"), QKeySequence(Qt::Key_F),
+                                    defaults.flatShading, tr("One normal per triangle instead of smooth vertex normals"));
+    texturesAction_ = viewToggle(tr("&Texture"), QStringLiteral("actionTextures"), QKeySequence(Qt::Key_T),
+                                 defaults.textures, tr("Apply the base colour texture"));
+    vertexColorsAction_ = viewToggle(tr("Vertex &colours"), QStringLiteral("actionVertexColors"), QKeySequence(Qt::Key_C),
+                                     defaults.vertexColors, tr("Show per-vertex colours where no texture is shown"));
+    edgesAction_ = viewToggle(tr("&Edges over shading"), QStringLiteral("actionEdges"), QKeySequence(Qt::Key_E),
+                              defaults.edges, tr("Wireframe drawn over the shaded surface"));
+    normalColorsAction_ = viewToggle(tr("&Normals as colours"), QStringLiteral("actionNormalColors"),
+                                     QKeySequence(Qt::Key_N), defaults.normalColors,
+                                     tr("Colour each point by its shading normal"));
+    uvCheckerAction_ = viewToggle(tr("&UV checker"), QStringLiteral("actionUvChecker"), QKeySequence(Qt::Key_U),
+                                  defaults.uvChecker, tr("A checker texture on the texture coordinates"));
+
+    using widgets::ViewOptions;
+    viewToggles_ = {{wireframeAction_, &ViewOptions::wireframe, QStringLiteral("wireframe")},
+                    {flatShadingAction_, &ViewOptions::flatShading, QStringLiteral("flatShading")},
+                    {texturesAction_, &ViewOptions::textures, QStringLiteral("textures")},
+                    {vertexColorsAction_, &ViewOptions::vertexColors, QStringLiteral("vertexColors")},
+                    {edgesAction_, &ViewOptions::edges, QStringLiteral("edges")},
+                    {normalColorsAction_, &ViewOptions::normalColors, QStringLiteral("normalColors")},
+                    {uvCheckerAction_, &ViewOptions::uvChecker, QStringLiteral("uvChecker")}};
+
+    resetViewAction_ = action(tr("&Reset view"), QStringLiteral("actionResetView"), QKeySequence(Qt::Key_R),
+                              tr("Frame the mesh from the default viewpoint"));
+    connect(resetViewAction_, &QAction::triggered, levels_, &widgets::LevelViews::resetView);
 }
 
 void MainWindow::createMenus() {
@@ -125,20 +279,40 @@ void MainWindow::createMenus() {
     recentMenu_ = file->addMenu(tr("Open &Recent"));
     recentMenu_->setObjectName(QStringLiteral("menuRecent"));
     file->addSeparator();
+    file->addAction(loadPresetAction_);
+    file->addAction(savePresetAction_);
+    file->addSeparator();
+    file->addAction(exportReportAction_);
+    file->addAction(exportPackAction_);
+    file->addSeparator();
     file->addAction(quitAction_);
+
+    QMenu* edit = menuBar()->addMenu(tr("&Edit"));
+    edit->setObjectName(QStringLiteral("menuEdit"));
+    edit->addAction(undoAction_);
+    edit->addAction(redoAction_);
+
+    QMenu* lod = menuBar()->addMenu(tr("&LOD"));
+    lod->setObjectName(QStringLiteral("menuLod"));
+    lod->addAction(buildAction_);
+    lod->addAction(cancelAction_);
+    lod->addSeparator();
+    lod->addAction(previousLevelAction_);
+    lod->addAction(nextLevelAction_);
 
     QMenu* viewMenu = menuBar()->addMenu(tr("&View"));
     viewMenu->setObjectName(QStringLiteral("menuView"));
-    viewMenu->addAction(wireframeAction_);
-    viewMenu->addAction(flatShadingAction_);
-    viewMenu->addAction(texturesAction_);
-    viewMenu->addAction(vertexColorsAction_);
+    viewMenu->addAction(sideBySideAction_);
+    viewMenu->addAction(heatmapAction_);
+    viewMenu->addAction(compareAction_);
+    viewMenu->addSeparator();
+    for (QAction* a : {wireframeAction_, edgesAction_, flatShadingAction_, texturesAction_, uvCheckerAction_,
+                       vertexColorsAction_, normalColorsAction_})
+        viewMenu->addAction(a);
     viewMenu->addSeparator();
     viewMenu->addAction(resetViewAction_);
     viewMenu->addSeparator();
-    QAction* showStats = statsDock_->toggleViewAction();
-    showStats->setText(tr("&Statistics"));
-    viewMenu->addAction(showStats);
+    for (QDockWidget* d : {statsDock_, paramsDock_, reportDock_, logDock_}) viewMenu->addAction(d->toggleViewAction());
 
     QMenu* help = menuBar()->addMenu(tr("&Help"));
     QAction* about = help->addAction(tr("&About LodForge Studio"));
@@ -152,6 +326,37 @@ void MainWindow::createMenus() {
     });
 }
 
+void MainWindow::createToolBar() {
+    QToolBar* bar = addToolBar(tr("LOD"));
+    bar->setObjectName(QStringLiteral("lodToolBar"));
+    bar->addAction(openAction_);
+    bar->addAction(buildAction_);
+    bar->addAction(exportPackAction_);
+    bar->addSeparator();
+    bar->addAction(sideBySideAction_);
+    bar->addAction(heatmapAction_);
+    bar->addWidget(new QLabel(tr(" Range "), bar));
+    rangeBox_ = new QDoubleSpinBox(bar);
+    rangeBox_->setObjectName(QStringLiteral("heatmapRange"));
+    rangeBox_->setDecimals(6);
+    rangeBox_->setRange(0.0, 1e9);
+    rangeBox_->setSpecialValueText(tr("auto"));
+    rangeBox_->setKeyboardTracking(false);
+    rangeBox_->setToolTip(tr("Distance mapped to the top of the colour map (model units; 0 = the largest)"));
+    connect(rangeBox_, &QDoubleSpinBox::valueChanged, levels_, &widgets::LevelViews::setHeatmapRange);
+    bar->addWidget(rangeBox_);
+    bar->addSeparator();
+    bar->addAction(compareAction_);
+    splitSlider_ = new QSlider(Qt::Horizontal, bar);
+    splitSlider_->setObjectName(QStringLiteral("splitSlider"));
+    splitSlider_->setRange(0, 1000);
+    splitSlider_->setValue(500);
+    splitSlider_->setMaximumWidth(160);
+    splitSlider_->setToolTip(tr("Split position: original on the left, level on the right"));
+    connect(splitSlider_, &QSlider::valueChanged, this, [this](int v) { levels_->setSplitPosition(v / 1000.0); });
+    bar->addWidget(splitSlider_);
+}
+
 void MainWindow::createStatusBar() {
     progressBar_ = new QProgressBar(this);
     progressBar_->setObjectName(QStringLiteral("loadProgress"));
@@ -163,17 +368,82 @@ void MainWindow::createStatusBar() {
     connect(cancelButton_, &QPushButton::clicked, this, &MainWindow::cancelLoading);
     statusBar()->addPermanentWidget(progressBar_);
     statusBar()->addPermanentWidget(cancelButton_);
-    setLoadingUi(false);
+    setBusyUi(false);
 }
 
-void MainWindow::setLoadingUi(bool loading) {
-    progressBar_->setVisible(loading);
-    cancelButton_->setVisible(loading);
-    cancelButton_->setEnabled(loading);
-    if (loading) {
-        progressBar_->setValue(0);
-        progressBar_->setFormat(tr("Loading %p%"));
+void MainWindow::restoreSettings() {
+    QSettings settings;
+    if (const QByteArray geometry = settings.value(geometryKey).toByteArray(); !geometry.isEmpty()) {
+        restoreGeometry(geometry);
+    } else {
+        resize(1280, 800);
     }
+    if (!restoreState(settings.value(stateKey).toByteArray())) {
+        // First start: the views get most of the window.
+        resizeDocks({paramsDock_}, {360}, Qt::Horizontal);
+    }
+    const widgets::ViewOptions defaults;
+    widgets::ViewOptions options;
+    for (const ViewToggle& t : viewToggles_) options.*t.option = settings.value(viewKey + t.key, defaults.*t.option).toBool();
+    setViewOptions(options);
+    sideBySideAction_->setChecked(settings.value(viewKey + QStringLiteral("sideBySide"), false).toBool());
+    const QString last = settings.value(lastPresetKey).toString();
+    if (!last.isEmpty() && QFile::exists(last)) {
+        try {
+            params_->setPreset(lodforge::load_preset(QFile::encodeName(last).toStdString()));
+            presetPath_ = last;
+            appendLog(tr("Preset %1 restored").arg(last));
+        } catch (const lodforge::Error& e) {
+            appendLog(tr("Last preset not restored: %1").arg(QString::fromUtf8(e.what())));
+        }
+    }
+}
+
+void MainWindow::saveSettings() {
+    QSettings settings;
+    settings.setValue(geometryKey, saveGeometry());
+    settings.setValue(stateKey, saveState());
+    const widgets::ViewOptions o = viewOptions();
+    for (const ViewToggle& t : viewToggles_) settings.setValue(viewKey + t.key, o.*t.option);
+    settings.setValue(viewKey + QStringLiteral("sideBySide"), sideBySideAction_->isChecked());
+    if (!presetPath_.isEmpty()) settings.setValue(lastPresetKey, presetPath_);
+}
+
+void MainWindow::setBusyUi(bool busy, const QString& format) {
+    progressBar_->setVisible(busy);
+    cancelButton_->setVisible(busy);
+    cancelButton_->setEnabled(busy);
+    if (busy) {
+        progressBar_->setValue(0);
+        progressBar_->setFormat(format.isEmpty() ? tr("Loading %p%") : format);
+    }
+    if (buildAction_) updateActions();
+}
+
+void MainWindow::updateActions() {
+    const bool busy = isBusy();
+    const bool haveMesh = model_ != nullptr;
+    buildAction_->setEnabled(haveMesh && !busy);
+    cancelAction_->setEnabled(busy);
+    exportReportAction_->setEnabled(!report_->isEmpty());
+    exportPackAction_->setEnabled(haveMesh && !busy);
+    const int level = levels_->currentLevel();
+    nextLevelAction_->setEnabled(level + 1 < levels_->levelCount());
+    previousLevelAction_->setEnabled(level > 0);
+}
+
+void MainWindow::appendLog(const QString& text) {
+    log_->appendPlainText(QStringLiteral("[%1] %2").arg(QDateTime::currentDateTime().toString(QStringLiteral("HH:mm:ss")), text));
+}
+
+void MainWindow::showError(const QString& title, const QString& text, const QString& details) {
+    if (!interactive_) return;
+    // Window-modal and not blocking: the event loop (and the signal listeners) go on.
+    auto* box = new QMessageBox(QMessageBox::Critical, title, text, QMessageBox::Ok, this);
+    box->setObjectName(QStringLiteral("errorBox"));
+    box->setInformativeText(details);
+    box->setAttribute(Qt::WA_DeleteOnClose);
+    box->open();
 }
 
 void MainWindow::showOpenDialog() {
@@ -185,6 +455,7 @@ void MainWindow::showOpenDialog() {
 
 void MainWindow::openFile(const QString& path) {
     if (job_) job_->cancel();  // its result is dropped when it arrives
+    if (task_) task_->cancel();  // it works on the mesh being replaced
     auto* job = new widgets::LoadJob(QFileInfo(path).absoluteFilePath(), this);
     job_ = job;
     connect(job, &widgets::LoadJob::progressChanged, this, [this, job](double fraction, const QString& stage) {
@@ -192,19 +463,23 @@ void MainWindow::openFile(const QString& path) {
     });
     connect(job, &widgets::LoadJob::finished, this,
             [this, job](const widgets::LoadResult& result) { onLoadFinished(job, result); });
-    setLoadingUi(true);
+    setBusyUi(true);
     statusBar()->showMessage(tr("Loading %1…").arg(QFileInfo(path).fileName()));
+    appendLog(tr("Loading %1").arg(path));
     job->start();
 }
 
 void MainWindow::cancelLoading() {
-    if (!job_) return;
-    job_->cancel();
+    if (!job_ && !task_) return;
+    if (job_) job_->cancel();
+    if (task_) task_->cancel();
     cancelButton_->setEnabled(false);
     progressBar_->setFormat(tr("Cancelling…"));
 }
 
 bool MainWindow::isLoading() const { return job_ != nullptr; }
+
+bool MainWindow::isBusy() const { return job_ != nullptr || task_ != nullptr; }
 
 QString MainWindow::currentFile() const { return model_ ? model_->path : QString(); }
 
@@ -221,25 +496,42 @@ void MainWindow::onLoadFinished(widgets::LoadJob* job, const widgets::LoadResult
     job->deleteLater();
     if (job != job_) return;  // superseded by a later openFile
     job_ = nullptr;
-    setLoadingUi(false);
+    setBusyUi(task_ != nullptr);
 
     const QString name = QFileInfo(result.path).fileName();
     switch (result.status) {
     case widgets::LoadResult::Status::ok: {
         model_ = result.model;
-        view_->setScene(model_->scene);
+        widgets::LevelData original;
+        original.index = 0;
+        original.triangles = model_->mesh.triangle_count();
+        original.vertices = model_->mesh.vertex_count();
+        original.mesh = std::shared_ptr<const lodforge::Mesh>(model_, &model_->mesh);
+        original.scene = model_->scene;
+        {
+            const QSignalBlocker b1(heatmapAction_), b2(compareAction_);
+            heatmapAction_->setChecked(false);
+            compareAction_->setChecked(false);
+        }
+        levels_->setCompareVisible(false);
+        levels_->setLevels({original});
+        report_->clear();
         stats_->showInfo(model_->info, model_->elapsedMs, model_->warnings);
-        setWindowTitle(tr("%1 — LodForge Studio").arg(name));
+        setWindowTitle(tr("%1[*] — LodForge Studio").arg(name));
         setWindowFilePath(result.path);
         if (interactive_) addRecentFile(result.path);
         QString message = tr("Loaded %1 in %2 ms").arg(name).arg(model_->elapsedMs);
         if (!model_->warnings.isEmpty()) message += tr(" (%n warning(s), see Statistics)", "", int(model_->warnings.size()));
         statusBar()->showMessage(message);
+        appendLog(message);
+        for (const QString& w : model_->warnings) appendLog(tr("warning: %1").arg(w));
+        updateActions();
         emit loadFinished(true, message);
         return;
     }
     case widgets::LoadResult::Status::cancelled:
         statusBar()->showMessage(tr("Loading %1 cancelled").arg(name), 5000);
+        appendLog(tr("Loading %1 cancelled").arg(name));
         emit loadFinished(false, QString());
         return;
     case widgets::LoadResult::Status::failed:
@@ -247,6 +539,7 @@ void MainWindow::onLoadFinished(widgets::LoadJob* job, const widgets::LoadResult
     }
 
     statusBar()->showMessage(tr("Could not open %1").arg(name), 10000);
+    appendLog(tr("error: %1").arg(result.error));
     if (interactive_) {
         // Window-modal and not blocking: the event loop (and the loadFinished listeners) go on.
         auto* box = new QMessageBox(QMessageBox::Critical, tr("Cannot open file"),
@@ -258,6 +551,271 @@ void MainWindow::onLoadFinished(widgets::LoadJob* job, const widgets::LoadResult
         box->open();
     }
     emit loadFinished(false, result.error.isEmpty() ? tr("Could not open %1").arg(result.path) : result.error);
+}
+
+void MainWindow::failTask(const QString& name, const QString& message) {
+    appendLog(tr("%1: %2").arg(name, message));
+    statusBar()->showMessage(message, 10000);
+    showError(tr("%1 failed").arg(name), tr("%1 could not run.").arg(name), message);
+    emit jobFinished(name, false, message);
+}
+
+void MainWindow::startTask(widgets::Job* job, std::function<void()> onDone) {
+    task_ = job;
+    connect(job, &widgets::Job::progressChanged, this, [this, job](double fraction, const QString& stage) {
+        if (job == task_) onLoadProgress(fraction, stage);
+    });
+    connect(job, &widgets::Job::finished, this, [this, job, onDone = std::move(onDone)](const widgets::JobResult& r) {
+        onTaskFinished(job, r, onDone);
+    });
+    setBusyUi(true, job->name() + tr(" %p%"));
+    statusBar()->showMessage(tr("%1…").arg(job->name()));
+    appendLog(tr("%1 started").arg(job->name()));
+    job->start();
+}
+
+void MainWindow::onTaskFinished(widgets::Job* job, const widgets::JobResult& result,
+                                const std::function<void()>& onDone) {
+    job->deleteLater();
+    if (job == task_) task_ = nullptr;
+    setBusyUi(job_ != nullptr);
+    widgets::JobResult::Status status = result.status;
+    // Cancelled (e.g. by opening another file) but done before it noticed: its output is stale.
+    if (status == widgets::JobResult::Status::ok && job->isCancelling()) status = widgets::JobResult::Status::cancelled;
+    switch (status) {
+    case widgets::JobResult::Status::ok: {
+        onDone();
+        const QString message = tr("%1 done in %2 ms").arg(result.name).arg(result.elapsedMs);
+        appendLog(message);
+        statusBar()->showMessage(message, 10000);
+        updateActions();
+        emit jobFinished(result.name, true, message);
+        return;
+    }
+    case widgets::JobResult::Status::cancelled:
+        appendLog(tr("%1 cancelled after %2 ms").arg(result.name).arg(result.elapsedMs));
+        statusBar()->showMessage(tr("%1 cancelled").arg(result.name), 5000);
+        updateActions();
+        emit jobFinished(result.name, false, QString());
+        return;
+    case widgets::JobResult::Status::failed:
+        updateActions();
+        failTask(result.name, result.error);
+        return;
+    }
+}
+
+void MainWindow::buildLodChain() {
+    const QString name = lodChainJobName();
+    if (!model_) return failTask(name, tr("open a mesh first"));
+    if (isBusy()) return failTask(name, tr("another job is running; wait for it or cancel it"));
+    const lodforge::Preset preset = params_->preset();
+    if (!widgets::methodHasEngine(preset.method))
+        return failTask(name, tr("the method “%1” has no engine in this build yet; choose Edge collapse or "
+                                 "Vertex clustering")
+                                  .arg(widgets::methodDisplayName(preset.method)));
+
+    const widgets::LevelData original = levels_->levels().front();
+    struct Output {
+        std::vector<widgets::LevelData> levels;
+    };
+    auto out = std::make_shared<Output>();
+    auto images = model_->images;
+    auto* job = new widgets::Job(
+        name, [out, original, preset, images](lodforge::Progress* p) {
+            out->levels = widgets::buildLodLevels(original, preset, images, p);
+        },
+        this);
+    const QString meshName = QFileInfo(currentFile()).fileName();
+    startTask(job, [this, out, preset, meshName] {
+        {
+            const QSignalBlocker block(heatmapAction_);
+            heatmapAction_->setChecked(false);
+        }
+        levels_->setLevels(out->levels, false);
+        report_->setReport(meshName, QString::fromStdString(preset.name), widgets::methodDisplayName(preset.method),
+                           out->levels);
+        for (const widgets::LevelData& l : out->levels) {
+            if (l.index == 0) continue;
+            appendLog(tr("  LOD %1: %2 triangles, %3 vertices, error %4 (%5 %), %6 ms, %7")
+                          .arg(l.index)
+                          .arg(l.triangles)
+                          .arg(l.vertices)
+                          .arg(l.error, 0, 'g', 4)
+                          .arg(100.0 * l.errorRelative, 0, 'f', 4)
+                          .arg(l.buildMs, 0, 'f', 1)
+                          .arg(l.stopReason));
+        }
+    });
+}
+
+void MainWindow::computeHeatmaps() {
+    const QString name = heatmapJobName();
+    if (!model_) return failTask(name, tr("open a mesh first"));
+    if (isBusy()) return failTask(name, tr("another job is running; wait for it or cancel it"));
+    auto levels = levels_->levels();
+    auto out = std::make_shared<widgets::HeatmapData>();
+    auto* job = new widgets::Job(
+        name, [out, levels](lodforge::Progress* p) { *out = widgets::computeHeatmaps(levels, p); }, this);
+    startTask(job, [this, out] {
+        levels_->setHeatmaps(*out);
+        levels_->setHeatmapVisible(true);
+        const QSignalBlocker block(heatmapAction_);
+        heatmapAction_->setChecked(true);
+        appendLog(tr("  largest distance to the original: %1").arg(out->maxError, 0, 'g', 4));
+    });
+}
+
+void MainWindow::exportPack(const QString& directory) {
+    const QString name = packJobName();
+    if (!model_) return failTask(name, tr("open a mesh first"));
+    if (isBusy()) return failTask(name, tr("another job is running; wait for it or cancel it"));
+    if (directory.isEmpty()) return failTask(name, tr("no output directory given"));
+    lodforge::PackParams params;
+    params.preset = params_->preset();
+    params.source_path = QFile::encodeName(currentFile()).toStdString();
+    params.output_dir = QFile::encodeName(directory).toStdString();
+    auto result = std::make_shared<lodforge::PackResult>();
+    auto* job = new widgets::Job(
+        name, [params, result](lodforge::Progress* p) {
+            // Read as `lodforge pack` reads it (the view's copy places every glTF instance).
+            const lodforge::Mesh mesh = lodforge::read_mesh(params.source_path, {}, p);
+            *result = lodforge::write_lod_pack(mesh, params, p);
+        },
+        this);
+    packDir_ = directory;
+    startTask(job, [this, result, directory] {
+        lastPackFiles_.clear();
+        for (const std::string& f : result->files) lastPackFiles_ << QString::fromStdString(f);
+        for (std::size_t k = 0; k < result->levels.size(); ++k) {
+            const lodforge::PackLevel& l = result->levels[k];
+            appendLog(tr("  lod%1: %2 triangles, error %3 % of the diagonal, screen coverage %4")
+                          .arg(k)
+                          .arg(l.triangles)
+                          .arg(100.0 * l.error_relative, 0, 'f', 4)
+                          .arg(l.screen_coverage, 0, 'g', 4));
+        }
+        appendLog(tr("  wrote %1 to %2").arg(lastPackFiles_.join(QStringLiteral(", ")), directory));
+    });
+}
+
+void MainWindow::showExportPackDialog() {
+    QString start = packDir_;
+    if (start.isEmpty() && !currentFile().isEmpty())
+        start = QFileInfo(currentFile()).absolutePath() + QLatin1Char('/') + QFileInfo(currentFile()).completeBaseName() +
+                QStringLiteral("_pack");
+    const QString dir = QFileDialog::getExistingDirectory(this, tr("Export LOD pack into"), start);
+    if (!dir.isEmpty()) exportPack(dir);
+}
+
+void MainWindow::setSideBySide(bool sideBySide) {
+    if (sideBySideAction_->isChecked() != sideBySide) {
+        sideBySideAction_->setChecked(sideBySide);  // comes back here through toggled
+        return;
+    }
+    levels_->setArrangement(sideBySide ? widgets::LevelViews::Arrangement::sideBySide
+                                       : widgets::LevelViews::Arrangement::single);
+}
+
+void MainWindow::setHeatmapVisible(bool visible) {
+    if (heatmapAction_->isChecked() != visible) {
+        heatmapAction_->setChecked(visible);
+        return;
+    }
+    if (visible && !levels_->hasHeatmaps()) {
+        {
+            const QSignalBlocker block(heatmapAction_);
+            heatmapAction_->setChecked(false);  // checked once the maps are there
+        }
+        computeHeatmaps();
+        return;
+    }
+    levels_->setHeatmapVisible(visible);
+}
+
+void MainWindow::setCompareVisible(bool visible) {
+    if (compareAction_->isChecked() != visible) {
+        compareAction_->setChecked(visible);
+        return;
+    }
+    levels_->setCompareVisible(visible);
+    levels_->setSplitPosition(splitSlider_->value() / 1000.0);
+}
+
+const lodforge::Preset& MainWindow::preset() const { return params_->preset(); }
+
+void MainWindow::setPreset(const lodforge::Preset& preset, const QString& undoText) {
+    const lodforge::Preset before = params_->preset();
+    if (before == preset) return;
+    undo_->push(new PresetCommand(params_, before, preset, false, undoText.isEmpty() ? tr("Set parameters") : undoText));
+}
+
+bool MainWindow::savePreset(const QString& path, QString* error) {
+    try {
+        lodforge::save_preset(QFile::encodeName(path).toStdString(), params_->preset());
+    } catch (const lodforge::Error& e) {
+        const QString message = QString::fromUtf8(e.what());
+        if (error) *error = message;
+        appendLog(tr("error: %1").arg(message));
+        showError(tr("Cannot save preset"), tr("Could not save the preset."), message);
+        return false;
+    }
+    presetPath_ = QFileInfo(path).absoluteFilePath();
+    undo_->setClean();
+    appendLog(tr("Preset saved to %1").arg(path));
+    return true;
+}
+
+bool MainWindow::loadPreset(const QString& path, QString* error) {
+    lodforge::Preset preset;
+    try {
+        preset = lodforge::load_preset(QFile::encodeName(path).toStdString());
+    } catch (const lodforge::Error& e) {
+        const QString message = QString::fromUtf8(e.what());
+        if (error) *error = message;
+        appendLog(tr("error: %1").arg(message));
+        showError(tr("Cannot load preset"), tr("Could not load the preset."), message);
+        return false;
+    }
+    setPreset(preset, tr("Load preset %1").arg(QFileInfo(path).fileName()));
+    presetPath_ = QFileInfo(path).absoluteFilePath();
+    undo_->setClean();
+    appendLog(tr("Preset loaded from %1").arg(path));
+    return true;
+}
+
+void MainWindow::showSavePresetDialog() {
+    const QString path = QFileDialog::getSaveFileName(this, tr("Save preset"), presetPath_,
+                                                      tr("Presets (*.json);;All files (*)"));
+    if (!path.isEmpty()) savePreset(path);
+}
+
+void MainWindow::showLoadPresetDialog() {
+    const QString path = QFileDialog::getOpenFileName(this, tr("Load preset"), presetPath_,
+                                                      tr("Presets (*.json);;All files (*)"));
+    if (!path.isEmpty()) loadPreset(path);
+}
+
+bool MainWindow::exportReport(const QString& path, QString* error) {
+    QList<QImage> thumbnails;
+    for (int i = 0; i < levels_->levelCount() && !report_->isEmpty(); ++i)
+        thumbnails << levels_->levelImage(i, QSize(240, 180));
+    QString message;
+    if (!report_->exportTo(path, thumbnails, &message)) {
+        if (error) *error = message;
+        appendLog(tr("error: %1").arg(message));
+        showError(tr("Cannot export report"), tr("Could not export the report."), message);
+        return false;
+    }
+    appendLog(tr("Report exported to %1").arg(path));
+    return true;
+}
+
+void MainWindow::showExportReportDialog() {
+    const QString base = currentFile().isEmpty() ? QString() : QFileInfo(currentFile()).completeBaseName() + "_report.html";
+    const QString path = QFileDialog::getSaveFileName(this, tr("Export report"), base,
+                                                      tr("HTML (*.html);;PDF (*.pdf)"));
+    if (!path.isEmpty()) exportReport(path);
 }
 
 QStringList MainWindow::recentFiles() const {
@@ -297,34 +855,30 @@ void MainWindow::updateRecentMenu() {
 }
 
 void MainWindow::setViewOptions(const widgets::ViewOptions& options) {
-    const QSignalBlocker b1(wireframeAction_), b2(flatShadingAction_), b3(texturesAction_),
-        b4(vertexColorsAction_);
-    wireframeAction_->setChecked(options.wireframe);
-    flatShadingAction_->setChecked(options.flatShading);
-    texturesAction_->setChecked(options.textures);
-    vertexColorsAction_->setChecked(options.vertexColors);
-    view_->setViewOptions(options);
+    for (const ViewToggle& t : viewToggles_) {
+        const QSignalBlocker block(t.action);
+        t.action->setChecked(options.*t.option);
+    }
+    levels_->setViewOptions(options);
 }
 
-widgets::ViewOptions MainWindow::viewOptions() const { return view_->viewOptions(); }
+widgets::ViewOptions MainWindow::viewOptions() const { return levels_->viewOptions(); }
 
 void MainWindow::applyViewActions() {
     widgets::ViewOptions options;
-    options.wireframe = wireframeAction_->isChecked();
-    options.flatShading = flatShadingAction_->isChecked();
-    options.textures = texturesAction_->isChecked();
-    options.vertexColors = vertexColorsAction_->isChecked();
-    view_->setViewOptions(options);
+    for (const ViewToggle& t : viewToggles_) options.*t.option = t.action->isChecked();
+    levels_->setViewOptions(options);
 }
 
 QImage MainWindow::grabWindowImage() {
     QImage image = grab().toImage().convertToFormat(QImage::Format_RGB32);
-    // Draw the view's framebuffer over its place explicitly, so the shot holds the frame VTK rendered
-    // whatever way the widget grab composes OpenGL children.
-    const QImage frame = view_->grabFramebuffer();
-    if (!frame.isNull()) {
-        QPainter painter(&image);
-        painter.drawImage(QRect(view_->mapTo(this, QPoint(0, 0)), view_->size()), frame);
+    // Draw every visible view's framebuffer over its place explicitly, so the shot holds the frames VTK
+    // rendered whatever way the widget grab composes OpenGL children.
+    QPainter painter(&image);
+    for (widgets::VtkView* view : findChildren<widgets::VtkView*>()) {
+        if (!view->isVisible()) continue;
+        const QImage frame = view->grabFramebuffer();
+        if (!frame.isNull()) painter.drawImage(QRect(view->mapTo(this, QPoint(0, 0)), view->size()), frame);
     }
     return image;
 }
@@ -341,10 +895,9 @@ void MainWindow::dropEvent(QDropEvent* event) {
 }
 
 void MainWindow::closeEvent(QCloseEvent* event) {
-    QSettings settings;
-    settings.setValue(geometryKey, saveGeometry());
-    settings.setValue(stateKey, saveState());
+    saveSettings();
     if (job_) job_->cancel();
+    if (task_) task_->cancel();
     QMainWindow::closeEvent(event);
 }
 

@@ -1,26 +1,40 @@
-// The studio's main window: the 3D view, the statistics dock, the File and View menus, background
-// loading with progress and Cancel in the status bar, drag and drop, recent files.
+// The studio's main window: the level views (one level with a slider, or all side by side in one
+// camera; heat maps; a split compare), the Statistics, Parameters, Report and Log docks, the File, Edit,
+// LOD and View menus, background jobs (loading, LOD chains, heat maps) with progress and Cancel in the
+// status bar, presets with undo/redo, report export, drag and drop, recent files, persisted layout.
 #pragma once
 
+#include "lodforge/preset.h"
 #include "lodforge/widgets/ViewOptions.h"
 
 #include <QImage>
+#include <QList>
 #include <QMainWindow>
 #include <QStringList>
 
+#include <functional>
 #include <memory>
 
 class QAction;
 class QDockWidget;
+class QDoubleSpinBox;
 class QLabel;
 class QMenu;
+class QPlainTextEdit;
 class QProgressBar;
 class QPushButton;
+class QSlider;
+class QUndoStack;
 
 namespace lodforge::widgets {
+class Job;
+class LevelViews;
 class LoadJob;
+class ParametersPanel;
+class ReportPanel;
 class StatsPanel;
 class VtkView;
+struct JobResult;
 struct LoadedModel;
 struct LoadResult;
 }  // namespace lodforge::widgets
@@ -37,33 +51,71 @@ public:
     ~MainWindow() override;
 
     // Loads `path` in the background. The current mesh stays on screen until the new one is ready, and
-    // stays if loading fails or is cancelled. A load already running is cancelled.
+    // stays if loading fails or is cancelled. A load already running is cancelled, and so is a LOD job.
     void openFile(const QString& path);
+    // Cancels the load or the job that is running (the Cancel button, Esc).
     void cancelLoading();
     bool isLoading() const;
+    bool isBusy() const;  // a load or a job runs
     // The file whose mesh is shown; empty before the first successful load.
     QString currentFile() const;
     std::shared_ptr<const widgets::LoadedModel> model() const;
 
-    // On by default. Off (--screenshot): a failed load is reported only through loadFinished (no dialog
-    // waits for a click) and loads do not change the recent-files list.
+    // On by default. Off (--screenshot, tests): failures are reported only through loadFinished and
+    // jobFinished (no dialog waits for a click) and loads do not change the recent-files list.
     void setInteractive(bool interactive);
 
     void setViewOptions(const widgets::ViewOptions& options);  // also updates the View menu
     widgets::ViewOptions viewOptions() const;
 
+    // Jobs on the loaded mesh, in the background; each ends with jobFinished. Refused (jobFinished with
+    // ok = false) when no mesh is loaded, another job runs, or the preset's method has no engine yet.
+    void buildLodChain();
+    void computeHeatmaps();
+    static QString lodChainJobName();
+    static QString heatmapJobName();
+
+    // The parameters being edited. setPreset is one undoable step (as loading a preset is).
+    const lodforge::Preset& preset() const;
+    void setPreset(const lodforge::Preset& preset, const QString& undoText = {});
+    bool savePreset(const QString& path, QString* error = nullptr);
+    bool loadPreset(const QString& path, QString* error = nullptr);
+    QUndoStack* undoStack() const { return undo_; }
+
+    // Writes the LOD pack of the loaded file with the current preset into `directory`, in the background
+    // (lodforge::write_lod_pack, the function `lodforge pack` calls: the file is read again exactly as the
+    // CLI reads it, so the same preset gives the same pack). Ends with jobFinished(packJobName()).
+    void exportPack(const QString& directory);
+    static QString packJobName();
+    // Files of the last pack written (relative to its directory), empty before.
+    QStringList lastPackFiles() const { return lastPackFiles_; }
+
+    // The report of the last LOD chain with a thumbnail per level: HTML, or PDF for a .pdf path.
+    bool exportReport(const QString& path, QString* error = nullptr);
+
+    // Side by side (all levels in synchronised views) or one level with the slider.
+    void setSideBySide(bool sideBySide);
+    void setHeatmapVisible(bool visible);  // computes the heat maps first when needed
+    void setCompareVisible(bool visible);
+
     QStringList recentFiles() const;
 
-    widgets::VtkView* view() const { return view_; }
+    widgets::VtkView* view() const;  // the single-level view
+    widgets::LevelViews* levelViews() const { return levels_; }
     widgets::StatsPanel* statsPanel() const { return stats_; }
+    widgets::ParametersPanel* parametersPanel() const { return params_; }
+    widgets::ReportPanel* reportPanel() const { return report_; }
+    QPlainTextEdit* logView() const { return log_; }
 
-    // The whole window as shown, with the 3D view's current frame in place.
+    // The whole window as shown, with the 3D views' current frames in place.
     QImage grabWindowImage();
 
 signals:
     // After every load: ok, or the error (empty message when cancelled). Emitted after the view shows the
     // new mesh, or after the error dialog opened.
     void loadFinished(bool ok, const QString& message);
+    // After every job (lodChainJobName(), heatmapJobName()): ok, or the error (empty when cancelled).
+    void jobFinished(const QString& name, bool ok, const QString& message);
 
 protected:
     void dragEnterEvent(QDragEnterEvent* event) override;
@@ -73,32 +125,83 @@ protected:
 private:
     void createActions();
     void createMenus();
+    void createToolBar();
+    void createDocks();
     void createStatusBar();
+    void restoreSettings();
+    void saveSettings();
     void showOpenDialog();
+    void showSavePresetDialog();
+    void showLoadPresetDialog();
+    void showExportReportDialog();
+    void showExportPackDialog();
     void onLoadProgress(double fraction, const QString& stage);
     void onLoadFinished(widgets::LoadJob* job, const widgets::LoadResult& result);
     void addRecentFile(const QString& path);
     void updateRecentMenu();
     void applyViewActions();
-    void setLoadingUi(bool loading);
+    void setBusyUi(bool busy, const QString& format = {});
+    void updateActions();
+    void appendLog(const QString& text);
+    void showError(const QString& title, const QString& text, const QString& details);
+    // Starts `job` as the running task; `onDone` runs on success before jobFinished is emitted.
+    void startTask(widgets::Job* job, std::function<void()> onDone);
+    void failTask(const QString& name, const QString& message);
+    void onTaskFinished(widgets::Job* job, const widgets::JobResult& result, const std::function<void()>& onDone);
 
-    widgets::VtkView* view_ = nullptr;
+    widgets::LevelViews* levels_ = nullptr;
     widgets::StatsPanel* stats_ = nullptr;
+    widgets::ParametersPanel* params_ = nullptr;
+    widgets::ReportPanel* report_ = nullptr;
+    QPlainTextEdit* log_ = nullptr;
     QDockWidget* statsDock_ = nullptr;
+    QDockWidget* paramsDock_ = nullptr;
+    QDockWidget* reportDock_ = nullptr;
+    QDockWidget* logDock_ = nullptr;
     QProgressBar* progressBar_ = nullptr;
     QPushButton* cancelButton_ = nullptr;
+    QDoubleSpinBox* rangeBox_ = nullptr;
+    QSlider* splitSlider_ = nullptr;
+    QUndoStack* undo_ = nullptr;
 
     QAction* openAction_ = nullptr;
     QAction* quitAction_ = nullptr;
+    QAction* loadPresetAction_ = nullptr;
+    QAction* savePresetAction_ = nullptr;
+    QAction* exportReportAction_ = nullptr;
+    QAction* exportPackAction_ = nullptr;
+    QAction* undoAction_ = nullptr;
+    QAction* redoAction_ = nullptr;
+    QAction* buildAction_ = nullptr;
+    QAction* cancelAction_ = nullptr;
+    QAction* sideBySideAction_ = nullptr;
+    QAction* heatmapAction_ = nullptr;
+    QAction* compareAction_ = nullptr;
+    QAction* nextLevelAction_ = nullptr;
+    QAction* previousLevelAction_ = nullptr;
     QAction* wireframeAction_ = nullptr;
     QAction* flatShadingAction_ = nullptr;
     QAction* texturesAction_ = nullptr;
     QAction* vertexColorsAction_ = nullptr;
+    QAction* edgesAction_ = nullptr;
+    QAction* normalColorsAction_ = nullptr;
+    QAction* uvCheckerAction_ = nullptr;
     QAction* resetViewAction_ = nullptr;
     QMenu* recentMenu_ = nullptr;
+    // Each View toggle with the option it sets and its settings key.
+    struct ViewToggle {
+        QAction* action;
+        bool widgets::ViewOptions::*option;
+        QString key;
+    };
+    QList<ViewToggle> viewToggles_;
 
     widgets::LoadJob* job_ = nullptr;  // the load whose result will be shown; older ones are cancelled
+    widgets::Job* task_ = nullptr;     // the LOD chain or heat map job running, if any
     std::shared_ptr<const widgets::LoadedModel> model_;
+    QString presetPath_;
+    QString packDir_;
+    QStringList lastPackFiles_;
     bool interactive_ = true;
 };
 

@@ -1,10 +1,14 @@
 // lodforge-studio [FILE] [--screenshot OUT.png [--size WxH]] [--wireframe] [--flat] [--no-texture]
-//                 [--no-colors]
+//                 [--no-colors] [--edges] [--normals] [--uv-checker]
+//                 [--preset P.json] [--lod-chain R1,R2,..] [--heatmap] [--side-by-side] [--level N] [--compare]
 #include "MainWindow.h"
 
+#include "lodforge/widgets/LevelViews.h"
 #include "lodforge/widgets/LoadJob.h"
 #include "lodforge/widgets/ViewOptions.h"
 #include "lodforge/widgets/VtkView.h"
+
+#include "lodforge/preset.h"
 
 #include <QApplication>
 #include <QCommandLineParser>
@@ -20,6 +24,7 @@ namespace {
 constexpr int exitUsage = 1;
 constexpr int exitLoadFailed = 2;
 constexpr int exitSaveFailed = 3;
+constexpr int exitJobFailed = 4;
 
 void printError(const QString& message) {
     std::fprintf(stderr, "lodforge-studio: %s\n", qUtf8Printable(message));
@@ -33,29 +38,81 @@ bool parseSize(const QString& text, QSize& size) {
     return size.width() >= 64 && size.height() >= 64 && size.width() <= 16384 && size.height() <= 16384;
 }
 
-// --screenshot: when the load finishes, write the window as a PNG and quit with the exit status.
-void saveScreenshotWhenLoaded(lodforge::studio::MainWindow& window, const QString& path) {
-    QObject::connect(&window, &lodforge::studio::MainWindow::loadFinished, &window,
-                     [&window, path](bool ok, const QString& message) {
+// What to do after the file has loaded: build a LOD chain, compute its heat maps, arrange the views, and
+// (--screenshot) write the window as a PNG and quit with the exit status.
+struct StartupPlan {
+    bool buildChain = false;
+    bool heatmap = false;
+    bool sideBySide = false;
+    int level = -1;  // -1: the last level
+    bool compare = false;
+    QString screenshot;  // empty: stay open
+};
+
+void quitWithError(const StartupPlan& plan, const QString& message, int code) {
+    printError(message);
+    if (!plan.screenshot.isEmpty()) QApplication::exit(code);
+}
+
+void finishStartup(lodforge::studio::MainWindow& window, const StartupPlan& plan) {
+    window.setSideBySide(plan.sideBySide);
+    if (plan.level >= 0) window.levelViews()->setCurrentLevel(plan.level);
+    if (plan.compare) window.setCompareVisible(true);
+    if (plan.screenshot.isEmpty()) return;
+    // Let the window settle (layout, first paint of new views) before grabbing it.
+    QTimer::singleShot(plan.sideBySide ? 400 : 100, &window, [&window, path = plan.screenshot] {
+        const QImage image = window.grabWindowImage();
+        if (image.isNull() || !image.save(path, "PNG")) {
+            printError(QStringLiteral("cannot write %1").arg(path));
+            QApplication::exit(exitSaveFailed);
+            return;
+        }
+        QApplication::exit(0);
+    });
+}
+
+void runStartupPlan(lodforge::studio::MainWindow& window, const StartupPlan& plan) {
+    using lodforge::studio::MainWindow;
+    QObject::connect(&window, &MainWindow::loadFinished, &window, [&window, plan](bool ok, const QString& message) {
         if (!ok) {
-            printError(message.isEmpty() ? QStringLiteral("loading was cancelled") : message);
-            QApplication::exit(exitLoadFailed);
+            quitWithError(plan, message.isEmpty() ? QStringLiteral("loading was cancelled") : message, exitLoadFailed);
             return;
         }
         if (const auto model = window.model()) {
             for (const QString& warning : model->warnings) printError(QStringLiteral("warning: %1").arg(warning));
         }
-        // Let the window settle (layout, first paint) before grabbing it.
-        QTimer::singleShot(100, &window, [&window, path] {
-            const QImage image = window.grabWindowImage();
-            if (image.isNull() || !image.save(path, "PNG")) {
-                printError(QStringLiteral("cannot write %1").arg(path));
-                QApplication::exit(exitSaveFailed);
-                return;
-            }
-            QApplication::exit(0);
-        });
+        if (plan.buildChain) {
+            window.buildLodChain();
+        } else if (plan.heatmap) {
+            window.computeHeatmaps();
+        } else {
+            finishStartup(window, plan);
+        }
     });
+    QObject::connect(&window, &MainWindow::jobFinished, &window,
+                     [&window, plan](const QString& name, bool ok, const QString& message) {
+        if (!ok) {
+            quitWithError(plan, QStringLiteral("%1: %2").arg(name, message.isEmpty() ? QStringLiteral("cancelled") : message),
+                          exitJobFailed);
+            return;
+        }
+        if (name == MainWindow::lodChainJobName() && plan.heatmap) {
+            window.computeHeatmaps();
+            return;
+        }
+        finishStartup(window, plan);
+    });
+}
+
+bool parseRatios(const QString& text, std::vector<double>& ratios) {
+    ratios.clear();
+    for (const QString& part : text.split(QLatin1Char(','), Qt::SkipEmptyParts)) {
+        bool ok = false;
+        const double r = part.trimmed().toDouble(&ok);
+        if (!ok || !(r > 0.0 && r <= 1.0)) return false;
+        ratios.push_back(r);
+    }
+    return !ratios.empty();
 }
 
 // The command line; one definition for the GUI run and for --help/--version without a display.
@@ -72,6 +129,24 @@ struct CommandLine {
     QCommandLineOption flat{QStringLiteral("flat"), QStringLiteral("Start with flat shading.")};
     QCommandLineOption noTexture{QStringLiteral("no-texture"), QStringLiteral("Start with textures off.")};
     QCommandLineOption noColors{QStringLiteral("no-colors"), QStringLiteral("Start with vertex colours off.")};
+    QCommandLineOption edges{QStringLiteral("edges"), QStringLiteral("Start with edges drawn over the shading.")};
+    QCommandLineOption normals{QStringLiteral("normals"), QStringLiteral("Start with normals shown as colours.")};
+    QCommandLineOption uvChecker{QStringLiteral("uv-checker"), QStringLiteral("Start with the UV checker texture.")};
+    QCommandLineOption preset{QStringLiteral("preset"),
+                              QStringLiteral("Load the parameters from a preset JSON file and build its LOD chain."),
+                              QStringLiteral("P.json")};
+    QCommandLineOption lodChain{QStringLiteral("lod-chain"),
+                                QStringLiteral("Build a LOD chain with these level ratios, e.g. 0.5,0.1 "
+                                               "(overrides the preset's levels)."),
+                                QStringLiteral("ratios")};
+    QCommandLineOption heatmap{QStringLiteral("heatmap"),
+                               QStringLiteral("Show the levels as heat maps of their distance to the original.")};
+    QCommandLineOption sideBySide{QStringLiteral("side-by-side"),
+                                  QStringLiteral("Show every level side by side in synchronised views.")};
+    QCommandLineOption level{QStringLiteral("level"), QStringLiteral("Show level N in the single view (0 = original)."),
+                             QStringLiteral("N")};
+    QCommandLineOption compare{QStringLiteral("compare"),
+                               QStringLiteral("Split the single view: the original left, the level right.")};
     QCommandLineParser parser;
 
     CommandLine() {
@@ -81,7 +156,8 @@ struct CommandLine {
         parser.addVersionOption();
         parser.addPositionalArgument(QStringLiteral("file"),
                                      QStringLiteral("Mesh to open (PLY, OBJ, glTF, GLB)."), QStringLiteral("[FILE]"));
-        parser.addOptions({screenshot, size, wireframe, flat, noTexture, noColors});
+        parser.addOptions({screenshot, size, wireframe, flat, noTexture, noColors, edges, normals, uvChecker, preset,
+                           lodChain, heatmap, sideBySide, level, compare});
     }
 };
 
@@ -147,14 +223,50 @@ int main(int argc, char* argv[]) {
     options.flatShading = parser.isSet(commandLine.flat);
     options.textures = !parser.isSet(commandLine.noTexture);
     options.vertexColors = !parser.isSet(commandLine.noColors);
+    options.edges = parser.isSet(commandLine.edges);
+    options.normalColors = parser.isSet(commandLine.normals);
+    options.uvChecker = parser.isSet(commandLine.uvChecker);
+    const bool viewFlags = options != lodforge::widgets::ViewOptions{};
+
+    StartupPlan plan;
+    std::vector<double> ratios;
+    if (parser.isSet(commandLine.lodChain) && !parseRatios(parser.value(commandLine.lodChain), ratios)) {
+        printError(QStringLiteral("--lod-chain expects ratios in (0, 1] separated by commas, got '%1'")
+                       .arg(parser.value(commandLine.lodChain)));
+        return exitUsage;
+    }
+    if (parser.isSet(commandLine.level)) {
+        bool ok = false;
+        plan.level = parser.value(commandLine.level).toInt(&ok);
+        if (!ok || plan.level < 0) {
+            printError(QStringLiteral("--level expects a level number >= 0, got '%1'").arg(parser.value(commandLine.level)));
+            return exitUsage;
+        }
+    }
+    plan.buildChain = !ratios.empty() || parser.isSet(commandLine.preset);
+    plan.heatmap = parser.isSet(commandLine.heatmap);
+    plan.sideBySide = parser.isSet(commandLine.sideBySide);
+    plan.compare = parser.isSet(commandLine.compare);
+    if (screenshot) plan.screenshot = parser.value(commandLine.screenshot);
 
     lodforge::studio::MainWindow window;
-    window.setViewOptions(options);
+    // A screenshot is the same whatever the saved settings say; a normal start keeps them unless told.
+    if (screenshot || viewFlags) window.setViewOptions(options);
     if (screenshot || parser.isSet(commandLine.size)) window.resize(size);
-    if (screenshot) {
-        window.setInteractive(false);
-        saveScreenshotWhenLoaded(window, parser.value(commandLine.screenshot));
+    if (screenshot) window.setInteractive(false);
+    if (parser.isSet(commandLine.preset)) {
+        QString error;
+        if (!window.loadPreset(parser.value(commandLine.preset), &error)) {
+            printError(error);
+            return exitUsage;
+        }
     }
+    if (!ratios.empty()) {
+        lodforge::Preset preset = window.preset();
+        preset.levels = lodforge::lod_targets_from_ratios(ratios);
+        window.setPreset(preset);
+    }
+    runStartupPlan(window, plan);
     window.show();
     if (!file.isEmpty()) {
         QTimer::singleShot(0, &window, [&window, file] { window.openFile(file); });

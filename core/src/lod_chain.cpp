@@ -5,6 +5,7 @@
 #include "lodforge/lod_chain.h"
 
 #include "lodforge/error.h"
+#include "lodforge/progress_range.h"
 
 #include <algorithm>
 #include <cmath>
@@ -15,20 +16,6 @@ namespace lodforge {
 namespace {
 
 constexpr std::uint32_t kNone = ~0u;
-
-// Maps the fraction of one stage into [begin, end) of the caller's progress; cancellation passes through.
-class SubProgress : public Progress {
-public:
-    SubProgress(Progress* parent, double begin, double end) : parent_(parent), begin_(begin), end_(end) {}
-    void report(double fraction, std::string_view stage) override {
-        if (parent_) parent_->report(begin_ + (end_ - begin_) * std::clamp(fraction, 0.0, 1.0), stage);
-    }
-    bool cancelled() const override { return parent_ && parent_->cancelled(); }
-
-private:
-    Progress* parent_;
-    double begin_, end_;
-};
 
 bool is_count(const LodLevelTarget& t) { return t.ratio > 0.f || t.triangles > 0; }
 
@@ -195,7 +182,7 @@ LodChainResult build_lod_chain(const Mesh& mesh, const LodChainParams& params, P
             const double step_diagonal = prev.mesh.bounds().diagonal();
             sp.max_error = step_diagonal > 0 ? static_cast<float>(t.max_error * diagonal / step_diagonal) : t.max_error;
         }
-        SubProgress step_progress(progress, begin, begin + per_level * simplify_share);
+        ProgressRange step_progress(progress, begin, begin + per_level * simplify_share);
         SimplifyResult r = simplify(prev.mesh, sp, &step_progress);
 
         LodLevel level;
@@ -234,7 +221,7 @@ LodChainResult build_lod_chain(const Mesh& mesh, const LodChainParams& params, P
         level.mesh = std::move(r.mesh);
 
         if (params.measure) {
-            SubProgress measure_progress(progress, begin + per_level * simplify_share, begin + per_level);
+            ProgressRange measure_progress(progress, begin + per_level * simplify_share, begin + per_level);
             level.distance = compare(mesh, level.mesh, distance, &measure_progress);
             level.measured = true;
         }

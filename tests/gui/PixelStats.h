@@ -106,4 +106,31 @@ inline double differingFraction(const QImage& a, const QImage& b, QColor backgro
     return model ? double(different) / double(model) : 0.0;
 }
 
+// Hue clusters of the model pixels in `region` (whole image when null): the clearly coloured pixels
+// (channels spread >= 40, not dark) binned by hue in 30-degree bins; a cluster is a bin holding at least
+// `minShare` of them. A heat map shows several; a textured or grey rendering one or two.
+inline int hueClusters(const QImage& image, QColor background, QRect region = {}, double minShare = 0.02) {
+    const QImage rgb = image.convertToFormat(QImage::Format_RGB32);
+    if (region.isNull()) region = rgb.rect();
+    qint64 bins[12] = {};
+    qint64 total = 0;
+    for (int y = region.top(); y <= region.bottom(); ++y) {
+        const auto* line = reinterpret_cast<const QRgb*>(rgb.constScanLine(y));
+        for (int x = region.left(); x <= region.right(); ++x) {
+            const QRgb p = line[x];
+            if (nearColor(p, background, 2)) continue;
+            const int r = qRed(p), g = qGreen(p), b = qBlue(p);
+            if (std::max({r, g, b}) - std::min({r, g, b}) < 40 || std::max({r, g, b}) < 50) continue;
+            const int hue = QColor(r, g, b).hsvHue();
+            if (hue < 0) continue;
+            ++bins[std::min(11, hue / 30)];
+            ++total;
+        }
+    }
+    int clusters = 0;
+    for (qint64 n : bins)
+        if (total > 0 && double(n) >= minShare * double(total)) ++clusters;
+    return clusters;
+}
+
 }  // namespace lodforge::testing

@@ -1,5 +1,5 @@
 // Checks studio screenshots by their pixels (used by the ctest screenshot entries).
-//   png_check model FILE [--min-fraction F] [--min-colors N] [--min-chromatic F]
+//   png_check model FILE [--min-fraction F] [--min-colors N] [--min-chromatic F] [--min-hues N]
 //       the 3D view (found by its background colour) shows a model covering at least F of the view,
 //       with at least N distinct colours and at least F of its pixels clearly coloured
 //   png_check differ A B --min-fraction F
@@ -21,7 +21,7 @@ namespace {
 
 int usage() {
     std::fprintf(stderr,
-                 "usage: png_check model FILE [--min-fraction F] [--min-colors N] [--min-chromatic F]\n"
+                 "usage: png_check model FILE [--min-fraction F] [--min-colors N] [--min-chromatic F] [--min-hues N]\n"
                  "       png_check differ A B --min-fraction F\n");
     return 2;
 }
@@ -50,7 +50,7 @@ int main(int argc, char* argv[]) {
 
     QStringList files;
     double minFraction = 0, minChromatic = 0;
-    int minColors = 0;
+    int minColors = 0, minHues = 0;
     for (int i = 0; i < args.size(); ++i) {
         const QString& a = args[i];
         bool ok = true;
@@ -58,6 +58,8 @@ int main(int argc, char* argv[]) {
             minFraction = args[++i].toDouble(&ok);
         } else if (a == QLatin1String("--min-colors") && i + 1 < args.size()) {
             minColors = args[++i].toInt(&ok);
+        } else if (a == QLatin1String("--min-hues") && i + 1 < args.size()) {
+            minHues = args[++i].toInt(&ok);
         } else if (a == QLatin1String("--min-chromatic") && i + 1 < args.size()) {
             minChromatic = args[++i].toDouble(&ok);
         } else if (a.startsWith(QLatin1String("--"))) {
@@ -90,6 +92,12 @@ int main(int argc, char* argv[]) {
         if (s.chromaticFraction < minChromatic) {
             std::printf("FAIL: %.3f of the model pixels coloured, expected >= %.3f\n", s.chromaticFraction,
                         minChromatic);
+            pass = false;
+        }
+        const int hues = lodforge::testing::hueClusters(image, background, s.view);
+        std::printf("%d hue clusters\n", hues);
+        if (hues < minHues) {
+            std::printf("FAIL: %d hue clusters, expected >= %d\n", hues, minHues);
             pass = false;
         }
         return pass ? 0 : 1;

@@ -5,7 +5,9 @@
 #include "lodforge/error.h"
 #include "lodforge/image_decode.h"
 #include "lodforge/mesh.h"
+#include "lodforge/widgets/Job.h"
 #include "lodforge/widgets/LoadJob.h"
+#include "lodforge/widgets/LodLevels.h"
 #include "lodforge/widgets/MeshScene.h"
 #include "lodforge/widgets/QueuedProgress.h"
 #include "lodforge/widgets/StatsPanel.h"
@@ -19,6 +21,9 @@
 #include <QTest>
 #include <QThread>
 
+#include <atomic>
+#include <chrono>
+#include <stdexcept>
 #include <thread>
 
 using namespace lodforge;
@@ -87,6 +92,10 @@ private slots:
     void loadJobCancelled();
     void queuedProgressDeliversOnReceiverThread();
     void statsPanelShowsInfo();
+    void jobTurnsExceptionsIntoResults();
+    void jobCancelledFromTheGuiThread();
+    void lodLevelsRefuseWhatTheyCannotBuild();
+    void scalarSceneShowsValuesAndRange();
 };
 
 void WidgetsTest::sceneOfPlainMeshIsOnePartWithComputedNormals() {
@@ -366,6 +375,143 @@ void WidgetsTest::statsPanelShowsInfo() {
     panel.showInfo(withNotes, -1, {});
     QVERIFY2(panel.text().contains(QStringLiteral("Import notes")), qPrintable(panel.text()));
     QVERIFY2(panel.text().contains(QStringLiteral("gone.mtl")), qPrintable(panel.text()));
+}
+
+void WidgetsTest::jobTurnsExceptionsIntoResults() {
+    using lodforge::widgets::Job;
+    using lodforge::widgets::JobResult;
+    // Whatever the work throws comes back as a result on the GUI thread, never as an exception.
+    struct Case {
+        Job::Work work;
+        JobResult::Status status;
+        const char* message;
+    };
+    const Case cases[] = {
+        {[](Progress*) {}, JobResult::Status::ok, ""},
+        {[](Progress*) { throw Error(Error::Kind::io, "mesh.ply: cannot write"); }, JobResult::Status::failed,
+         "mesh.ply: cannot write"},
+        {[](Progress*) { throw std::runtime_error("boom"); }, JobResult::Status::failed, "test job: boom"},
+        {[](Progress*) { throw std::bad_alloc(); }, JobResult::Status::failed, "not enough memory"},
+        {[](Progress*) { throw 42; }, JobResult::Status::failed, "unknown error"},
+        {[](Progress* p) { check_progress(p, 0.5, "stage"); throw Error(Error::Kind::cancelled, "cancelled"); },
+         JobResult::Status::cancelled, "cancelled"},
+    };
+    for (const Case& c : cases) {
+        Job job(QStringLiteral("test job"), c.work);
+        QSignalSpy finished(&job, &Job::finished);
+        job.start();
+        QVERIFY(finished.wait(10000));
+        const auto result = finished.at(0).at(0).value<lodforge::widgets::JobResult>();
+        QCOMPARE(result.status, c.status);
+        QCOMPARE(result.name, QStringLiteral("test job"));
+        QVERIFY2(result.error.contains(QString::fromLatin1(c.message)), qPrintable(result.error));
+    }
+}
+
+void WidgetsTest::jobCancelledFromTheGuiThread() {
+    using lodforge::widgets::Job;
+    std::atomic<bool> started{false};
+    Job job(QStringLiteral("long"), [&started](Progress* p) {
+        started = true;
+        for (int i = 0; i < 100000; ++i) {
+            check_progress(p, i / 100000.0, "waiting");
+            std::this_thread::sleep_for(std::chrono::milliseconds(1));
+        }
+    });
+    QSignalSpy finished(&job, &Job::finished);
+    QSignalSpy progress(&job, &Job::progressChanged);
+    job.start();
+    QTRY_VERIFY_WITH_TIMEOUT(started && progress.count() > 0, 5000);
+    QVERIFY(job.isRunning());
+    QCOMPARE(QThread::currentThread(), job.thread());
+    job.cancel();
+    QVERIFY(job.isCancelling());
+    QVERIFY(finished.wait(5000));
+    QCOMPARE(finished.at(0).at(0).value<lodforge::widgets::JobResult>().status,
+             lodforge::widgets::JobResult::Status::cancelled);
+}
+
+void WidgetsTest::lodLevelsRefuseWhatTheyCannotBuild() {
+    using namespace lodforge::widgets;
+    LevelData original;
+    original.mesh = std::make_shared<Mesh>(square());
+    original.triangles = 2;
+    Preset preset;
+    preset.method = LodMethod::octree;
+    QVERIFY(!methodHasEngine(preset.method) && methodHasEngine(LodMethod::collapse) && methodHasEngine(LodMethod::cluster));
+    try {
+        buildLodLevels(original, preset, {});
+        QFAIL("a method without an engine must be refused");
+    } catch (const Error& e) {
+        QCOMPARE(e.kind(), Error::Kind::argument);
+        QVERIFY2(QString::fromUtf8(e.what()).contains(QStringLiteral("no engine")), e.what());
+    }
+    preset.method = LodMethod::cluster;
+    preset.levels = {{LodTarget::Kind::error, 0.01}};
+    try {
+        buildLodLevels(original, preset, {});
+        QFAIL("clustering takes no error targets");
+    } catch (const Error& e) {
+        QCOMPARE(e.kind(), Error::Kind::argument);
+    }
+    LevelData empty;
+    empty.mesh = std::make_shared<Mesh>();
+    try {
+        buildLodLevels(empty, Preset{}, {});
+        QFAIL("a mesh without triangles must be refused");
+    } catch (const Error& e) {
+        QCOMPARE(e.kind(), Error::Kind::invalid);
+    }
+}
+
+void WidgetsTest::scalarSceneShowsValuesAndRange() {
+    using namespace lodforge::widgets;
+    const Mesh mesh = square();
+    QVERIFY_THROWS_EXCEPTION(Error, buildScalarScene(mesh, {0.f, 1.f}));
+    // Left edge 0, right edge 1: the view colours it from viridis purple to yellow.
+    const auto scene = buildScalarScene(mesh, {0.f, 1.f, 1.f, 0.f});
+    const MeshSceneInfo info = describe(*scene);
+    QVERIFY(info.hasScalars);
+    QCOMPARE(info.scalarMax, 1.0);
+    VtkView view;
+    view.resize(400, 300);
+    view.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&view));
+    view.setScene(scene);
+    view.setScalarBarVisible(false);
+    view.resetView();
+    QCOMPARE(view.scalarRange(), 1.0);
+    const QImage image = view.grabFramebuffer().convertToFormat(QImage::Format_RGB32);
+    const PixelStats s = measure(image, viewBackgroundColor());
+    QVERIFY2(s.modelFraction() > 0.2, qPrintable(QString::number(s.modelFraction())));
+    QVERIFY(lodforge::testing::hueClusters(image, viewBackgroundColor()) > 2);
+    // The value under the cursor follows the field: small on the left, large on the right.
+    const QRect model = lodforge::testing::backgroundRect(image, viewBackgroundColor());
+    const int y = image.height() / 2;
+    int left = -1, right = -1;
+    for (int x = 0; x < image.width(); ++x) {
+        if (lodforge::testing::nearColor(image.pixel(x, y), viewBackgroundColor(), 2)) continue;
+        if (left < 0) left = x;
+        right = x;
+    }
+    QVERIFY(left >= 0 && right > left + 20 && model.isValid());
+    const auto atLeft = view.scalarAt(QPoint(left + 5, y));
+    const auto atRight = view.scalarAt(QPoint(right - 5, y));
+    QVERIFY(atLeft && atRight);
+    qInfo("scalar at left %.3f, right %.3f", *atLeft, *atRight);
+    // The view looks from the -Z side, so which screen side holds x = +1 depends on the camera; what must
+    // hold: the two ends differ by most of the range, and the yellower end (viridis top) has the larger value.
+    QVERIFY(std::abs(*atLeft - *atRight) > 0.6 && std::min(*atLeft, *atRight) >= 0 && std::max(*atLeft, *atRight) <= 1.0001);
+    auto yellowness = [&](int x) {
+        const QRgb p = image.pixel(x, y);
+        return qRed(p) + qGreen(p) - 2 * qBlue(p);
+    };
+    QCOMPARE(yellowness(right - 5) > yellowness(left + 5), *atRight > *atLeft);
+    // A smaller range maps more of the surface to the top colour.
+    view.setScalarRange(0.25);
+    QCOMPARE(view.scalarRange(), 0.25);
+    const QImage narrowed = view.grabFramebuffer().convertToFormat(QImage::Format_RGB32);
+    QVERIFY(lodforge::testing::differingFraction(image, narrowed, viewBackgroundColor()) > 0.3);
 }
 
 int main(int argc, char* argv[]) {

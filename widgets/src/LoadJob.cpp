@@ -3,16 +3,14 @@
 #include "lodforge/error.h"
 #include "lodforge/image_decode.h"
 #include "lodforge/mesh_io.h"
+#include "lodforge/widgets/Job.h"
 #include "lodforge/widgets/MeshScene.h"
 #include "lodforge/widgets/QueuedProgress.h"
 
-#include <QElapsedTimer>
 #include <QFile>
 #include <QtConcurrent/QtConcurrentRun>
 
-#include <exception>
 #include <map>
-#include <new>
 #include <string>
 
 namespace lodforge::widgets {
@@ -83,38 +81,31 @@ bool LoadJob::isRunning() const { return watcher_.isRunning(); }
 LoadResult LoadJob::load(const QString& path, Progress* progress) {
     LoadResult result;
     result.path = path;
-    try {
-        QElapsedTimer timer;
-        timer.start();
-        auto model = std::make_shared<LoadedModel>();
+    auto model = std::make_shared<LoadedModel>();
+    // Job::run catches everything the reader throws; its messages start with the path.
+    const JobResult run = Job::run(path, [&](Progress* p) {
         model->path = path;
         const std::string file = QFile::encodeName(path).toStdString();
         ReadOptions read;
         read.place_every_instance = true;  // a viewer shows every placement of an instanced glTF mesh
-        model->mesh = read_mesh(file, read, progress);
-        const std::vector<std::shared_ptr<const Image>> images =
-            decodeBaseColorTextures(model->mesh, model->warnings, progress);
-        check_progress(progress, 0.0, "Summarising");
+        model->mesh = read_mesh(file, read, p);
+        model->images = decodeBaseColorTextures(model->mesh, model->warnings, p);
+        check_progress(p, 0.0, "Summarising");
         model->info = mesh_info(model->mesh, file, format_name(detect_format(file)));
-        check_progress(progress, 0.0, "Preparing the view");
-        model->scene = buildMeshScene(model->mesh, images);
-        check_progress(progress, 1.0, "Preparing the view");
-        model->elapsedMs = timer.elapsed();
+        check_progress(p, 0.0, "Preparing the view");
+        model->scene = buildMeshScene(model->mesh, model->images);
+        check_progress(p, 1.0, "Preparing the view");
+    }, progress);
+    model->elapsedMs = run.elapsedMs;
+    switch (run.status) {
+    case JobResult::Status::ok:
         result.status = LoadResult::Status::ok;
         result.model = std::move(model);
-    } catch (const Error& e) {
-        result.status = e.kind() == Error::Kind::cancelled ? LoadResult::Status::cancelled : LoadResult::Status::failed;
-        result.error = QString::fromUtf8(e.what());
-    } catch (const std::bad_alloc&) {
-        result.status = LoadResult::Status::failed;
-        result.error = QStringLiteral("%1: not enough memory to load this mesh").arg(path);
-    } catch (const std::exception& e) {
-        result.status = LoadResult::Status::failed;
-        result.error = QStringLiteral("%1: %2").arg(path, QString::fromUtf8(e.what()));
-    } catch (...) {
-        result.status = LoadResult::Status::failed;
-        result.error = QStringLiteral("%1: unknown error").arg(path);
+        break;
+    case JobResult::Status::cancelled: result.status = LoadResult::Status::cancelled; break;
+    case JobResult::Status::failed: result.status = LoadResult::Status::failed; break;
     }
+    result.error = run.error;
     return result;
 }
 

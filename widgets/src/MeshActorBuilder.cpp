@@ -271,8 +271,35 @@ std::shared_ptr<const MeshScene> buildMeshScene(const Mesh& mesh,
     return scene;
 }
 
+std::shared_ptr<const MeshScene> buildScalarScene(const Mesh& mesh, const std::vector<float>& values) {
+    if (values.size() != mesh.vertex_count())
+        throw Error(Error::Kind::argument, "heat map: " + std::to_string(values.size()) + " values for " +
+                                               std::to_string(mesh.vertex_count()) + " vertices");
+    auto scene = std::make_shared<MeshScene>();
+    scene->computedNormals = mesh.normals.size() != mesh.vertex_count();
+    const std::vector<Vec3f> normals = scene->computedNormals ? vertexNormals(mesh) : mesh.normals;
+    MeshScene::Part part;
+    part.polyData = meshToPolyData(mesh, normals, {}, true, -1);
+    part.polyData->GetPointData()->SetScalars(nullptr);  // the mesh's colours are not shown on a heat map
+    vtkNew<vtkFloatArray> scalars;
+    scalars->SetName(scalarArrayName());
+    scalars->SetNumberOfComponents(1);
+    scalars->SetNumberOfTuples(static_cast<vtkIdType>(values.size()));
+    std::copy(values.begin(), values.end(), scalars->GetPointer(0));
+    part.polyData->GetPointData()->AddArray(scalars);
+    part.locator = vtkSmartPointer<vtkStaticCellLocator>::New();
+    part.locator->SetDataSet(part.polyData);
+    part.locator->BuildLocator();
+    scene->parts.push_back(std::move(part));
+    scene->hasScalars = true;
+    for (float v : values) scene->scalarMax = std::max(scene->scalarMax, double(v));
+    return scene;
+}
+
 MeshSceneInfo describe(const MeshScene& scene) {
     MeshSceneInfo info;
+    info.hasScalars = scene.hasScalars;
+    info.scalarMax = scene.scalarMax;
     info.hasColors = scene.hasColors;
     info.computedNormals = scene.computedNormals;
     for (const MeshScene::Part& part : scene.parts) {

@@ -6,6 +6,7 @@
 #include <vtkImageData.h>
 #include <vtkPolyData.h>
 #include <vtkSmartPointer.h>
+#include <vtkStaticCellLocator.h>
 
 #include <array>
 #include <cstdint>
@@ -23,12 +24,20 @@ public:
         vtkSmartPointer<vtkImageData> texture;  // RGBA, rows bottom-up as VTK samples them; null if none
         std::array<double, 4> baseColor{1, 1, 1, 1};  // material base colour factor (linear RGBA)
         bool hasMaterial = false;
+        // Heat map parts: built with the scene (on the worker), so picking the value under the cursor
+        // does not test every triangle on the GUI thread.
+        vtkSmartPointer<vtkStaticCellLocator> locator;
     };
 
     std::vector<Part> parts;
     bool hasColors = false;
     bool computedNormals = false;
+    // Heat map scenes: a float point array named scalarArrayName() on the single part.
+    bool hasScalars = false;
+    double scalarMax = 0;
 };
+
+inline const char* scalarArrayName() { return "Scalars"; }
 
 // Per-vertex normals: the mesh's own when present, else area-weighted face normals summed per surface
 // point (position_ids), so all wedges of a point share one normal. Points without area get +Z.

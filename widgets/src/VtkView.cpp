@@ -2,23 +2,35 @@
 
 #include "MeshActorBuilder.h"
 
+#include "lodforge/heatmap.h"
+
 #include <vtkActor.h>
 #include <vtkCallbackCommand.h>
 #include <vtkCamera.h>
+#include <vtkCellPicker.h>
+#include <vtkDataArray.h>
+#include <vtkFloatArray.h>
 #include <vtkGenericOpenGLRenderWindow.h>
 #include <vtkGenericRenderWindowInteractor.h>
 #include <vtkInteractorStyleTrackballCamera.h>
+#include <vtkLookupTable.h>
 #include <vtkNew.h>
 #include <vtkOpenGLState.h>
+#include <vtkPlane.h>
+#include <vtkPlaneCollection.h>
 #include <vtkPointData.h>
 #include <vtkPolyDataMapper.h>
 #include <vtkProperty.h>
 #include <vtkRenderer.h>
+#include <vtkScalarBarActor.h>
 #include <vtkSmartPointer.h>
+#include <vtkTextProperty.h>
 #include <vtkTexture.h>
+#include <vtkUnsignedCharArray.h>
 
 #include <QMouseEvent>
 #include <QOpenGLContext>
+#include <QTimer>
 #include <QSurfaceFormat>
 #include <QWheelEvent>
 #include <qopengl.h>  // GL enums; VTK's own GL loader (glew) must not be included after it
@@ -41,6 +53,51 @@ double linearToSrgb(double c) {
     return c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1.0 / 2.4) - 0.055;
 }
 
+const char* const normalColorsName = "NormalColors";
+
+// A checker on the texture coordinates: 8x8 cells, the dark ones tinted red along u and blue along v, so
+// both the scale and the orientation of the UV layout show.
+vtkSmartPointer<vtkImageData> makeCheckerImage() {
+    constexpr int size = 512, cells = 8, cell = size / cells;
+    auto image = vtkSmartPointer<vtkImageData>::New();
+    image->SetDimensions(size, size, 1);
+    image->AllocateScalars(VTK_UNSIGNED_CHAR, 4);
+    auto* out = static_cast<unsigned char*>(image->GetScalarPointer());
+    for (int y = 0; y < size; ++y) {
+        for (int x = 0; x < size; ++x) {
+            unsigned char* p = out + 4 * (y * size + x);
+            const bool dark = ((x / cell) + (y / cell)) % 2 == 0;
+            if (dark) {
+                p[0] = static_cast<unsigned char>(40 + 200 * x / size);
+                p[1] = 40;
+                p[2] = static_cast<unsigned char>(40 + 200 * y / size);
+            } else {
+                p[0] = p[1] = p[2] = 235;
+            }
+            p[3] = 255;
+        }
+    }
+    return image;
+}
+
+// Normals (x, y, z) in [-1, 1] -> RGB in [0, 255], added to the part's point data once.
+void ensureNormalColors(vtkPolyData* polyData) {
+    vtkPointData* pd = polyData->GetPointData();
+    if (pd->GetArray(normalColorsName) || !pd->GetNormals()) return;
+    vtkDataArray* normals = pd->GetNormals();
+    vtkNew<vtkUnsignedCharArray> colors;
+    colors->SetName(normalColorsName);
+    colors->SetNumberOfComponents(3);
+    colors->SetNumberOfTuples(normals->GetNumberOfTuples());
+    for (vtkIdType i = 0; i < normals->GetNumberOfTuples(); ++i) {
+        double n[3];
+        normals->GetTuple(i, n);
+        for (int c = 0; c < 3; ++c)
+            colors->SetValue(3 * i + c, static_cast<unsigned char>(std::lround(std::clamp(n[c] * 0.5 + 0.5, 0.0, 1.0) * 255.0)));
+    }
+    pd->AddArray(colors);
+}
+
 }  // namespace
 
 struct VtkView::Private {
@@ -53,8 +110,13 @@ struct VtkView::Private {
         bool hasTcoords = false;
         bool hasColors = false;
         bool hasMaterial = false;
+        bool hasScalars = false;
         std::array<double, 4> baseColor{1, 1, 1, 1};
     };
+
+    std::vector<Actor> makeActors(const MeshScene& scene);
+    void applyOptions(std::vector<Actor>& list, vtkPlane* clip);
+    void updateLookupTable();
 
     // Observer of the render window: VTK asks us to make the context current, whether it is current,
     // and tells us when a frame is done.
@@ -81,7 +143,9 @@ struct VtkView::Private {
 
     // The interactor never renders itself (EnableRenderOff); it asks for a repaint instead.
     static void onInteractorRender(vtkObject*, unsigned long, void* clientData, void*) {
-        static_cast<Private*>(clientData)->q->update();
+        VtkView* view = static_cast<Private*>(clientData)->q;
+        view->update();
+        emit view->cameraChanged();
     }
 
     VtkView* q;
@@ -100,11 +164,71 @@ struct VtkView::Private {
     std::shared_ptr<const MeshScene> scene;
     std::vector<Actor> actors;
     ViewOptions options;
+
+    std::shared_ptr<const MeshScene> compareScene;
+    std::vector<Actor> compareActors;
+    double split = 0.5;
+    vtkNew<vtkPlane> keepRight;  // the scene's half
+    vtkNew<vtkPlane> keepLeft;   // the compare scene's half
+
+    vtkSmartPointer<vtkCamera> ownCamera;
+    vtkSmartPointer<vtkTexture> checker;
+    vtkNew<vtkLookupTable> lut;
+    vtkNew<vtkScalarBarActor> scalarBar;
+    bool scalarBarVisible = true;
+    double scalarRange = 0;
+    vtkNew<vtkCellPicker> picker;
+    QTimer hoverTimer;
+    QPoint hoverPosition;
 };
+
+std::vector<VtkView::Private::Actor> VtkView::Private::makeActors(const MeshScene& meshScene) {
+    std::vector<Actor> list;
+    for (const MeshScene::Part& part : meshScene.parts) {
+        Actor a;
+        a.mapper = vtkSmartPointer<vtkPolyDataMapper>::New();
+        a.mapper->SetInputData(part.polyData);
+        a.mapper->SetScalarModeToUsePointData();
+        a.mapper->SetColorModeToDirectScalars();
+        a.actor = vtkSmartPointer<vtkActor>::New();
+        a.actor->SetMapper(a.mapper);
+        a.hasTcoords = part.polyData->GetPointData()->GetTCoords() != nullptr;
+        a.hasColors = part.polyData->GetPointData()->GetScalars() != nullptr;
+        a.hasScalars = meshScene.hasScalars && part.polyData->GetPointData()->GetArray(scalarArrayName()) != nullptr;
+        a.hasMaterial = part.hasMaterial;
+        a.baseColor = part.baseColor;
+        if (part.texture && a.hasTcoords) {
+            a.texture = vtkSmartPointer<vtkTexture>::New();
+            a.texture->SetInputData(part.texture);
+            a.texture->InterpolateOn();
+            a.texture->MipmapOn();
+            a.texture->RepeatOn();
+            a.texture->SetColorModeToDirectScalars();
+        }
+        vtkProperty* property = a.actor->GetProperty();
+        property->SetSpecularPower(30.0);
+        property->BackfaceCullingOff();
+        property->SetEdgeColor(0.08, 0.08, 0.1);
+        renderer->AddActor(a.actor);
+        list.push_back(std::move(a));
+    }
+    return list;
+}
+
+void VtkView::Private::updateLookupTable() {
+    double top = scalarRange > 0 ? scalarRange : 0.0;
+    if (!(top > 0)) {
+        if (scene && scene->hasScalars) top = scene->scalarMax;
+    }
+    if (!(top > 0)) top = 1e-9;  // an all-zero field maps to the bottom of the colour map
+    lut->SetRange(0.0, top);
+    lut->Build();
+    const bool heat = scene && scene->hasScalars;
+    scalarBar->SetVisibility(heat && scalarBarVisible);
+}
 
 VtkView::VtkView(QWidget* parent) : QOpenGLWidget(parent), d(std::make_unique<Private>(this)) {
     setFocusPolicy(Qt::StrongFocus);
-    setMouseTracking(false);
 
     const QColor background = viewBackgroundColor();
     d->renderer->SetBackground(background.redF(), background.greenF(), background.blueF());
@@ -128,6 +252,43 @@ VtkView::VtkView(QWidget* parent) : QOpenGLWidget(parent), d(std::make_unique<Pr
     d->renderObserver->SetCallback(&Private::onInteractorRender);
     d->interactor->AddObserver(vtkCommand::RenderEvent, d->renderObserver);
     d->interactor->Initialize();
+
+    d->ownCamera = d->renderer->GetActiveCamera();
+
+    // Viridis, the colour map of lodforge::make_heatmap, so studio and exported heat maps agree.
+    d->lut->SetNumberOfTableValues(256);
+    for (int i = 0; i < 256; ++i) {
+        const Vec4f c = lodforge::viridis(static_cast<float>(i) / 255.f);
+        d->lut->SetTableValue(i, c.x, c.y, c.z, 1.0);
+    }
+    d->lut->SetRange(0.0, 1.0);
+    d->scalarBar->SetLookupTable(d->lut);
+    d->scalarBar->SetTitle("Error");
+    d->scalarBar->SetNumberOfLabels(5);
+    d->scalarBar->SetLabelFormat("%.3g");
+    d->scalarBar->SetPosition(0.86, 0.08);
+    d->scalarBar->SetWidth(0.12);
+    d->scalarBar->SetHeight(0.8);
+    d->scalarBar->SetMaximumWidthInPixels(110);
+    d->scalarBar->UnconstrainedFontSizeOn();  // fixed sizes instead of text scaled to the bar
+    d->scalarBar->GetLabelTextProperty()->SetFontSize(12);
+    d->scalarBar->GetTitleTextProperty()->SetFontSize(13);
+    d->scalarBar->SetVisibility(false);
+    d->renderer->AddActor2D(d->scalarBar);
+
+    auto checker = vtkSmartPointer<vtkTexture>::New();
+    checker->SetInputData(makeCheckerImage());
+    checker->InterpolateOn();
+    checker->RepeatOn();
+    checker->SetColorModeToDirectScalars();
+    d->checker = checker;
+
+    d->picker->SetTolerance(0.0005);
+    d->picker->PickFromListOn();
+    d->hoverTimer.setSingleShot(true);
+    d->hoverTimer.setInterval(30);
+    connect(&d->hoverTimer, &QTimer::timeout, this, &VtkView::pickHover);
+    setMouseTracking(true);
 }
 
 void VtkView::setDefaultSurfaceFormat() {
@@ -192,6 +353,9 @@ void VtkView::paintGL() {
     state->Push();
     state->vtkglDepthFunc(GL_LEQUAL);  // Qt leaves GL_LESS; VTK's passes expect LEQUAL
 
+    // The camera may be shared with views of other bounds: fit the clipping range to this one's.
+    d->renderer->ResetCameraClippingRange();
+    if (!d->compareActors.empty()) updateSplitPlanes();
     d->window->Render();
 
     const int w = d->window->GetSize()[0];
@@ -215,41 +379,117 @@ void VtkView::paintGL() {
 void VtkView::setScene(std::shared_ptr<const MeshScene> scene, bool resetCamera) {
     for (const Private::Actor& a : d->actors) d->renderer->RemoveActor(a.actor);
     d->actors.clear();
+    d->picker->InitializePickList();
+    d->picker->RemoveAllLocators();
     d->scene = std::move(scene);
     if (d->scene) {
-        for (const MeshScene::Part& part : d->scene->parts) {
-            Private::Actor a;
-            a.mapper = vtkSmartPointer<vtkPolyDataMapper>::New();
-            a.mapper->SetInputData(part.polyData);
-            a.mapper->SetScalarModeToUsePointData();
-            a.mapper->SetColorModeToDirectScalars();
-            a.actor = vtkSmartPointer<vtkActor>::New();
-            a.actor->SetMapper(a.mapper);
-            a.hasTcoords = part.polyData->GetPointData()->GetTCoords() != nullptr;
-            a.hasColors = part.polyData->GetPointData()->GetScalars() != nullptr;
-            a.hasMaterial = part.hasMaterial;
-            a.baseColor = part.baseColor;
-            if (part.texture && a.hasTcoords) {
-                a.texture = vtkSmartPointer<vtkTexture>::New();
-                a.texture->SetInputData(part.texture);
-                a.texture->InterpolateOn();
-                a.texture->MipmapOn();
-                a.texture->RepeatOn();
-                a.texture->SetColorModeToDirectScalars();
-            }
-            vtkProperty* property = a.actor->GetProperty();
-            property->SetAmbient(0.12);
-            property->SetDiffuse(0.88);
-            property->SetSpecular(0.08);
-            property->SetSpecularPower(30.0);
-            property->BackfaceCullingOff();
-            d->renderer->AddActor(a.actor);
-            d->actors.push_back(std::move(a));
-        }
+        d->actors = d->makeActors(*d->scene);
+        for (const MeshScene::Part& part : d->scene->parts)
+            if (part.locator) d->picker->AddLocator(part.locator);
     }
+    for (const Private::Actor& a : d->actors) d->picker->AddPickList(a.actor);
+    d->updateLookupTable();
     applyViewOptions();
     if (resetCamera) resetView();
     update();
+}
+
+void VtkView::setCompareScene(std::shared_ptr<const MeshScene> reference) {
+    for (const Private::Actor& a : d->compareActors) d->renderer->RemoveActor(a.actor);
+    d->compareActors.clear();
+    d->compareScene = std::move(reference);
+    if (d->compareScene) d->compareActors = d->makeActors(*d->compareScene);
+    applyViewOptions();
+    update();
+}
+
+const std::shared_ptr<const MeshScene>& VtkView::compareScene() const { return d->compareScene; }
+
+void VtkView::setSplitPosition(double fraction) {
+    const double f = std::clamp(std::isfinite(fraction) ? fraction : 0.5, 0.0, 1.0);
+    if (f == d->split) return;
+    d->split = f;
+    update();
+}
+
+double VtkView::splitPosition() const { return d->split; }
+
+void VtkView::updateSplitPlanes() {
+    vtkRenderer* r = d->renderer;
+    const int w = d->window->GetSize()[0], h = d->window->GetSize()[1];
+    if (w <= 1 || h <= 1) return;
+    auto world = [r](double x, double y, double z) {
+        r->SetDisplayPoint(x, y, z);
+        r->DisplayToWorld();
+        const double* p = r->GetWorldPoint();
+        const double wc = p[3] != 0.0 ? p[3] : 1.0;
+        return std::array<double, 3>{p[0] / wc, p[1] / wc, p[2] / wc};
+    };
+    // The plane through the eye and the screen's vertical line at the split: it divides the picture
+    // exactly at that column, in perspective too.
+    const double x = d->split * w;
+    const auto p0 = world(x, h * 0.5, 0.0), p1 = world(x, h * 0.5, 1.0), up = world(x, h * 0.75, 0.0),
+               right = world(x + 1.0, h * 0.5, 0.0);
+    const std::array<double, 3> ray{p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
+    const std::array<double, 3> vertical{up[0] - p0[0], up[1] - p0[1], up[2] - p0[2]};
+    std::array<double, 3> n{ray[1] * vertical[2] - ray[2] * vertical[1], ray[2] * vertical[0] - ray[0] * vertical[2],
+                            ray[0] * vertical[1] - ray[1] * vertical[0]};
+    const double side = n[0] * (right[0] - p0[0]) + n[1] * (right[1] - p0[1]) + n[2] * (right[2] - p0[2]);
+    if (side < 0) n = {-n[0], -n[1], -n[2]};
+    d->keepRight->SetOrigin(p0.data());
+    d->keepRight->SetNormal(n.data());
+    d->keepLeft->SetOrigin(p0.data());
+    d->keepLeft->SetNormal(-n[0], -n[1], -n[2]);
+}
+
+void VtkView::setSharedCamera(VtkView* source) {
+    vtkCamera* camera = source ? source->d->renderer->GetActiveCamera() : d->ownCamera.Get();
+    d->renderer->SetActiveCamera(camera);
+    update();
+}
+
+void VtkView::setScalarRange(double maximum) {
+    d->scalarRange = std::isfinite(maximum) && maximum > 0 ? maximum : 0.0;
+    d->updateLookupTable();
+    update();
+}
+
+double VtkView::scalarRange() const { return d->lut->GetRange()[1]; }
+
+void VtkView::setScalarBarVisible(bool visible) {
+    d->scalarBarVisible = visible;
+    d->updateLookupTable();
+    update();
+}
+
+std::optional<double> VtkView::scalarAt(QPoint position) {
+    if (!d->scene || !d->scene->hasScalars || !d->window->GetReadyForRendering()) return std::nullopt;
+    const qreal ratio = devicePixelRatioF();
+    const double x = position.x() * ratio;
+    const double y = d->window->GetSize()[1] - 1 - position.y() * ratio;
+    if (!d->picker->Pick(x, y, 0.0, d->renderer) || d->picker->GetCellId() < 0) return std::nullopt;
+    auto* polyData = vtkPolyData::SafeDownCast(d->picker->GetDataSet());
+    if (!polyData) return std::nullopt;
+    vtkDataArray* values = polyData->GetPointData()->GetArray(scalarArrayName());
+    if (!values) return std::nullopt;
+    vtkIdType count = 0;
+    const vtkIdType* ids = nullptr;
+    polyData->GetCellPoints(d->picker->GetCellId(), count, ids);
+    if (count != 3) return std::nullopt;
+    // A triangle's parametric coordinates (r, s) weigh its corners 1 - r - s, r, s.
+    const double* pc = d->picker->GetPCoords();
+    const double weights[3] = {1.0 - pc[0] - pc[1], pc[0], pc[1]};
+    double value = 0;
+    for (int k = 0; k < 3; ++k) value += weights[k] * values->GetTuple1(ids[k]);
+    return std::max(0.0, value);
+}
+
+void VtkView::pickHover() {
+    if (const std::optional<double> value = scalarAt(d->hoverPosition)) {
+        emit scalarHovered(*value);
+    } else {
+        emit hoverLeft();
+    }
 }
 
 const std::shared_ptr<const MeshScene>& VtkView::scene() const { return d->scene; }
@@ -264,31 +504,75 @@ void VtkView::setViewOptions(const ViewOptions& options) {
 const ViewOptions& VtkView::viewOptions() const { return d->options; }
 
 void VtkView::applyViewOptions() {
-    const ViewOptions& o = d->options;
-    for (Private::Actor& a : d->actors) {
+    const bool split = !d->compareActors.empty();
+    d->applyOptions(d->actors, split ? d->keepRight.Get() : nullptr);
+    d->applyOptions(d->compareActors, d->keepLeft);
+}
+
+void VtkView::Private::applyOptions(std::vector<Actor>& list, vtkPlane* clip) {
+    const ViewOptions& o = options;
+    for (Actor& a : list) {
         vtkProperty* property = a.actor->GetProperty();
         if (o.wireframe) {
             property->SetRepresentationToWireframe();
         } else {
             property->SetRepresentationToSurface();
         }
+        property->SetEdgeVisibility(o.edges && !o.wireframe);
         if (o.flatShading) {
             property->SetInterpolationToFlat();
         } else {
             property->SetInterpolationToGouraud();
         }
+        a.mapper->RemoveAllClippingPlanes();
+        if (clip) a.mapper->AddClippingPlane(clip);
 
-        // Texture first; vertex colours where no texture shows; else the material colour or neutral grey.
-        const bool showTexture = o.textures && a.texture;
+        const bool normalColors = o.normalColors && !a.hasScalars &&
+                                  a.mapper->GetInput()->GetPointData()->GetNormals() != nullptr;
+        // Unlit for normal colours, so the colour is the normal itself.
+        property->SetAmbient(normalColors ? 1.0 : 0.12);
+        property->SetDiffuse(normalColors ? 0.0 : 0.88);
+        property->SetSpecular(normalColors ? 0.0 : 0.08);
+        property->SetOpacity(1.0);
+
+        if (a.hasScalars) {
+            a.actor->SetTexture(nullptr);
+            a.mapper->SetLookupTable(lut);
+            a.mapper->SetScalarModeToUsePointFieldData();
+            a.mapper->SelectColorArray(scalarArrayName());
+            a.mapper->SetColorModeToMapScalars();
+            a.mapper->UseLookupTableScalarRangeOn();
+            a.mapper->InterpolateScalarsBeforeMappingOn();
+            a.mapper->ScalarVisibilityOn();
+            property->SetColor(1.0, 1.0, 1.0);
+            continue;
+        }
+        if (normalColors) {
+            ensureNormalColors(a.mapper->GetInput());
+            a.actor->SetTexture(nullptr);
+            a.mapper->SetScalarModeToUsePointFieldData();
+            a.mapper->SelectColorArray(normalColorsName);
+            a.mapper->SetColorModeToDirectScalars();
+            a.mapper->ScalarVisibilityOn();
+            property->SetColor(1.0, 1.0, 1.0);
+            continue;
+        }
+        a.mapper->SetScalarModeToUsePointData();
+        a.mapper->SetColorModeToDirectScalars();
+
+        // Texture first (the UV checker replaces it); vertex colours where no texture shows; else the
+        // material colour or neutral grey.
+        vtkTexture* texture = a.hasTcoords && o.uvChecker ? checker.Get() : (o.textures ? a.texture.Get() : nullptr);
+        const bool showTexture = texture != nullptr;
         const bool showColors = !showTexture && o.vertexColors && a.hasColors;
-        a.actor->SetTexture(showTexture ? a.texture.Get() : nullptr);
+        a.actor->SetTexture(texture);
         a.mapper->SetScalarVisibility(showColors);
 
         const double opacity = a.hasMaterial ? std::clamp(a.baseColor[3], 0.0, 1.0) : 1.0;
         property->SetOpacity(opacity);
         const bool whiteMaterial = !a.hasMaterial ||
                                    (a.baseColor[0] >= 1.0 && a.baseColor[1] >= 1.0 && a.baseColor[2] >= 1.0);
-        if (showColors) {
+        if (showColors || (showTexture && texture == checker.Get())) {
             property->SetColor(1.0, 1.0, 1.0);
         } else if (showTexture || !whiteMaterial) {
             // A texture is modulated by the material's colour factor, as glTF defines it.
@@ -312,6 +596,7 @@ void VtkView::resetView() {
     d->renderer->ResetCamera();
     d->renderer->ResetCameraClippingRange();
     update();
+    emit cameraChanged();
 }
 
 quint64 VtkView::frameCount() const { return d->frames; }
@@ -373,6 +658,11 @@ void VtkView::mouseReleaseEvent(QMouseEvent* event) {
 void VtkView::mouseMoveEvent(QMouseEvent* event) {
     setEventInformation(d->interactor, this, event->position(), event->modifiers());
     d->interactor->InvokeEvent(vtkCommand::MouseMoveEvent);
+    if (event->buttons() == Qt::NoButton && d->scene && d->scene->hasScalars) {
+        // Picking is a ray cast over the mesh: once the cursor rests, not on every event.
+        d->hoverPosition = event->position().toPoint();
+        d->hoverTimer.start();
+    }
     event->accept();
 }
 
@@ -394,6 +684,8 @@ void VtkView::enterEvent(QEnterEvent* event) {
 
 void VtkView::leaveEvent(QEvent* event) {
     d->interactor->InvokeEvent(vtkCommand::LeaveEvent);
+    d->hoverTimer.stop();
+    if (d->scene && d->scene->hasScalars) emit hoverLeft();
     QOpenGLWidget::leaveEvent(event);
 }
 

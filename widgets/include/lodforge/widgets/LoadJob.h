@@ -1,6 +1,7 @@
 // Loading a mesh file off the GUI thread: read, summarise, decode textures, build the drawable scene.
 #pragma once
 
+#include "lodforge/image_decode.h"
 #include "lodforge/mesh.h"
 #include "lodforge/mesh_info.h"
 #include "lodforge/progress.h"
@@ -24,6 +25,8 @@ struct LoadedModel {
     lodforge::MeshInfo info;
     QStringList warnings;  // problems that did not stop the load, e.g. a texture that does not decode
     std::shared_ptr<const MeshScene> scene;
+    // The decoded base colour texture of each material (null where none), for the scenes of its levels.
+    std::vector<std::shared_ptr<const lodforge::Image>> images;
     qint64 elapsedMs = 0;  // wall time of the whole load
 };
 

@@ -29,6 +29,11 @@ std::shared_ptr<const MeshScene> buildMeshScene(
     const lodforge::Mesh& mesh,
     const std::vector<std::shared_ptr<const lodforge::Image>>& materialImages);
 
+// A heat map scene: `mesh`'s surface (one part, no materials, colours or texture) with one scalar per vertex
+// (`values`, e.g. distances in model units) that the view colour-maps (viridis) over a range it is given.
+// Throws lodforge::Error(argument) when the sizes differ.
+std::shared_ptr<const MeshScene> buildScalarScene(const lodforge::Mesh& mesh, const std::vector<float>& values);
+
 struct MeshScenePartInfo {
     std::string material;        // material name, empty when the mesh has no materials
     std::size_t points = 0;      // render vertices of this part
@@ -42,6 +47,8 @@ struct MeshSceneInfo {
     std::vector<MeshScenePartInfo> parts;
     bool hasColors = false;       // per-vertex RGBA colours
     bool computedNormals = false; // the mesh had no normals; smooth ones were computed
+    bool hasScalars = false;      // a heat map scene (buildScalarScene)
+    double scalarMax = 0;         // its largest value
 };
 
 MeshSceneInfo describe(const MeshScene& scene);

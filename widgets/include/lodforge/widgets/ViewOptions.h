@@ -1,5 +1,5 @@
 // How the 3D view draws a mesh. One options model shared by the studio's View menu and its command line
-// (`--wireframe`, `--flat`, `--no-texture`, `--no-colors`), so both always mean the same thing.
+// (`--wireframe`, `--flat`, `--no-texture`, `--no-colors`, `--edges`, `--normals`, `--uv-checker`), so both always mean the same thing.
 #pragma once
 
 #include <QColor>
@@ -11,6 +11,9 @@ struct ViewOptions {
     bool flatShading = false;   // one normal per triangle instead of the interpolated vertex normals
     bool textures = true;       // apply base colour textures where the mesh has texture coordinates
     bool vertexColors = true;   // show per-vertex colours on parts that show no texture
+    bool edges = false;         // triangle edges drawn over the shaded surface
+    bool normalColors = false;  // colour = normal (x, y, z -> r, g, b), unlit: shows the shading normals
+    bool uvChecker = false;     // a checker texture on the texture coordinates instead of the mesh's texture
 
     friend bool operator==(const ViewOptions&, const ViewOptions&) = default;
 };

@@ -4,6 +4,11 @@
 // into Qt's framebuffer (the recipe and its traps are in shared/docs/qt6-vtk.md). Camera: trackball;
 // left drag rotates, middle drag or Shift+left drag pans, right drag or the wheel zooms, Ctrl+left drag
 // spins around the view axis.
+//
+// Besides meshes it shows heat map scenes (buildScalarScene): scalars colour-mapped with viridis over
+// [0, scalarRange()], a scalar bar, and the value under the cursor (scalarHovered). A compare scene
+// splits the view: the compare scene left of the split position, the scene right of it, both in the
+// same camera (a swipe between the original and a level).
 #pragma once
 
 #include "lodforge/widgets/ViewOptions.h"
@@ -11,6 +16,7 @@
 #include <QOpenGLWidget>
 
 #include <memory>
+#include <optional>
 
 namespace lodforge::widgets {
 
@@ -38,6 +44,24 @@ public:
     // 15 degrees from above.
     void resetView();
 
+    // From now on this view uses `source`'s camera: moving either moves both (connect cameraChanged to
+    // the other views' update()). nullptr gives the view a camera of its own again.
+    void setSharedCamera(VtkView* source);
+
+    // Heat map scenes: the value mapped to the top of the colour map (<= 0: the scene's largest value).
+    void setScalarRange(double maximum);
+    double scalarRange() const;
+    void setScalarBarVisible(bool visible);
+    // The scalar of the surface under `position` (widget coordinates), interpolated from the vertices of
+    // the picked triangle; nothing when no heat map surface is there.
+    std::optional<double> scalarAt(QPoint position);
+
+    // Split compare: `reference` (nullptr: none) drawn left of splitPosition, the scene right of it.
+    void setCompareScene(std::shared_ptr<const MeshScene> reference);
+    const std::shared_ptr<const MeshScene>& compareScene() const;
+    void setSplitPosition(double fraction);  // 0 = left edge, 1 = right edge
+    double splitPosition() const;
+
     // Frames rendered since construction; tests and screenshots wait for it to move.
     quint64 frameCount() const;
 
@@ -45,6 +69,11 @@ public:
 
 signals:
     void frameRendered();
+    // The camera moved through this view (interaction, resetView): views sharing it must repaint.
+    void cameraChanged();
+    // The heat map value under the mouse; hoverLeft when the cursor leaves the surface.
+    void scalarHovered(double value);
+    void hoverLeft();
 
 protected:
     void initializeGL() override;
@@ -62,6 +91,8 @@ protected:
 private:
     void releaseGraphics();
     void applyViewOptions();
+    void updateSplitPlanes();
+    void pickHover();
 
     struct Private;
     std::unique_ptr<Private> d;

@@ -1,0 +1,117 @@
+// The studio's central area: the levels of detail of one mesh, either one at a time with a level slider
+// or side by side in synchronised views (one camera: moving one moves all), each labelled with its
+// triangle count and error; optionally as error heat maps, or split between the original and a level.
+#pragma once
+
+#include "lodforge/widgets/LodLevels.h"
+#include "lodforge/widgets/ViewOptions.h"
+
+#include <QImage>
+#include <QList>
+#include <QWidget>
+
+#include <vector>
+
+class QGridLayout;
+class QLabel;
+class QSlider;
+class QStackedWidget;
+
+namespace lodforge::widgets {
+
+class VtkView;
+
+class LevelViews : public QWidget {
+    Q_OBJECT
+
+public:
+    enum class Arrangement { single, sideBySide };
+
+    explicit LevelViews(QWidget* parent = nullptr);
+    ~LevelViews() override;
+
+    // Levels 0..N, level 0 the original. Only the original: the slider has nothing to choose. Drops the
+    // heat maps; the current level becomes the last one (or stays when the count is unchanged).
+    void setLevels(std::vector<LevelData> levels, bool resetCamera = true);
+    const std::vector<LevelData>& levels() const { return levels_; }
+    int levelCount() const { return int(levels_.size()); }
+
+    void setArrangement(Arrangement arrangement);
+    Arrangement arrangement() const { return arrangement_; }
+
+    void setCurrentLevel(int level);
+    int currentLevel() const { return current_; }
+
+    // Heat maps of the current levels (computeHeatmaps); shown while heatmapVisible.
+    void setHeatmaps(HeatmapData heatmaps);
+    bool hasHeatmaps() const { return !heatmaps_.scenes.empty(); }
+    const HeatmapData& heatmaps() const { return heatmaps_; }
+    void setHeatmapVisible(bool visible);
+    bool heatmapVisible() const { return heatmapVisible_; }
+    // The distance mapped to the top of the colour map, model units; <= 0: the largest over all levels.
+    void setHeatmapRange(double maximum);
+    double heatmapRange() const;
+
+    // The single view split: the original (as loaded, textured) left of the split position, the current
+    // level (or its heat map) right of it.
+    void setCompareVisible(bool visible);
+    bool compareVisible() const { return compareVisible_; }
+    void setSplitPosition(double fraction);
+
+    void setViewOptions(const ViewOptions& options);
+    const ViewOptions& viewOptions() const { return options_; }
+    void resetView();
+
+    VtkView* singleView() const { return single_; }
+    QLabel* singleLabel() const { return singleLabel_; }
+    QSlider* levelSlider() const { return slider_; }
+    // Side by side: tile i shows level i.
+    QList<VtkView*> tileViews() const;
+    QList<QLabel*> tileLabels() const;
+
+    // "LOD 2 · 1,464 triangles · error 0.42 % (0.0061)"; "Original · 5,856 triangles".
+    QString levelLabelText(int level) const;
+
+    // Level `level` as the views draw it now (heat map or not), `size` at most; for report thumbnails.
+    QImage levelImage(int level, QSize size);
+
+signals:
+    void currentLevelChanged(int level);
+    // The heat map value under the cursor, as text for the status bar; empty when it left the surface.
+    void hoverText(const QString& text);
+
+private:
+    struct Tile {
+        QWidget* box = nullptr;
+        QLabel* label = nullptr;
+        VtkView* view = nullptr;
+    };
+
+    std::shared_ptr<const MeshScene> sceneOf(int level) const;
+    void showLevelIn(VtkView* view, int level);
+    void rebuildTiles();
+    void refreshSingle();
+    void refreshTiles();
+    void connectView(VtkView* view, int levelOrCurrent);
+
+    QStackedWidget* stack_ = nullptr;
+    QWidget* singlePage_ = nullptr;
+    QWidget* tilesPage_ = nullptr;
+    QGridLayout* grid_ = nullptr;
+    VtkView* single_ = nullptr;
+    QLabel* singleLabel_ = nullptr;
+    QSlider* slider_ = nullptr;
+    QList<Tile> tiles_;
+
+    std::vector<LevelData> levels_;
+    HeatmapData heatmaps_;
+    Arrangement arrangement_ = Arrangement::single;
+    int current_ = 0;
+    bool heatmapVisible_ = false;
+    double heatmapRange_ = 0;
+    bool compareVisible_ = false;
+    double split_ = 0.5;
+    ViewOptions options_;
+};
+
+}  // namespace lodforge::widgets

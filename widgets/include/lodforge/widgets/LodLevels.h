@@ -1,0 +1,59 @@
+// The levels of detail the studio shows: built from a Preset on a worker thread (with the engines of
+// lodforge_core), each with its measured error, build time and drawable scene; and their error heat maps.
+#pragma once
+
+#include "lodforge/image_decode.h"
+#include "lodforge/mesh.h"
+#include "lodforge/preset.h"
+#include "lodforge/progress.h"
+
+#include <QString>
+
+#include <cstddef>
+#include <memory>
+#include <vector>
+
+namespace lodforge::widgets {
+
+class MeshScene;
+
+struct LevelData {
+    int index = 0;  // 0 = the original
+    std::size_t triangles = 0;
+    std::size_t vertices = 0;
+    double error = 0;           // measured symmetric Hausdorff distance to the original, model units
+    double errorRelative = 0;   // the same relative to the original's bounding-box diagonal
+    double buildMs = 0;         // time to build and measure this level (0 for the original)
+    QString stopReason;         // why the engine stopped ("target reached", ...), empty for the original
+    // Every vertex is a vertex of the original at its place (half-edge collapse): the distance to the
+    // original is zero at the level's own vertices, so its heat map is drawn on the original instead.
+    bool verticesOnOriginal = true;
+    std::shared_ptr<const lodforge::Mesh> mesh;
+    std::shared_ptr<const MeshScene> scene;
+};
+
+// Whether the method has an engine in this build (collapse and cluster today).
+bool methodHasEngine(lodforge::LodMethod method);
+QString methodDisplayName(lodforge::LodMethod method);
+
+// Levels 0..N: `original` first (as given), then one per preset level, built with the preset's method,
+// weights and border locking, measured against the original with compare(). `images`: the decoded base
+// colour textures of the materials (LoadedModel::images), so the levels show their texture.
+// Throws lodforge::Error: argument for targets the method cannot take or a method without an engine
+// (the message says so), cancelled when `progress` asks to stop.
+std::vector<LevelData> buildLodLevels(const LevelData& original, const lodforge::Preset& preset,
+                                      const std::vector<std::shared_ptr<const lodforge::Image>>& images,
+                                      lodforge::Progress* progress = nullptr);
+
+struct HeatmapData {
+    // Per level: a scene whose scalars are the distance to the original (model units) at each vertex of
+    // the surface drawn (see LevelData::verticesOnOriginal). Level 0's field is zero.
+    std::vector<std::shared_ptr<const MeshScene>> scenes;
+    std::vector<float> levelMax;  // largest value per level
+    double maxError = 0;          // largest value over all levels
+};
+
+// Throws lodforge::Error(cancelled) when `progress` asks to stop.
+HeatmapData computeHeatmaps(const std::vector<LevelData>& levels, lodforge::Progress* progress = nullptr);
+
+}  // namespace lodforge::widgets

@@ -1,0 +1,64 @@
+// The report of a LOD chain: a table per level (triangles, vertices, error, time) and a plot of error
+// against triangle count (Qt Charts); exported as one self-contained HTML file or a PDF, with a
+// thumbnail of every level.
+#pragma once
+
+#include "lodforge/widgets/LodLevels.h"
+
+#include <QImage>
+#include <QList>
+#include <QString>
+#include <QWidget>
+
+#include <vector>
+
+class QChartView;
+class QLabel;
+class QTableWidget;
+
+namespace lodforge::widgets {
+
+struct ReportRow {
+    int level = 0;
+    std::size_t triangles = 0;
+    std::size_t vertices = 0;
+    double error = 0;          // model units
+    double errorRelative = 0;  // of the bounding-box diagonal
+    double buildMs = 0;
+    QString stopReason;
+};
+
+class ReportPanel : public QWidget {
+    Q_OBJECT
+
+public:
+    explicit ReportPanel(QWidget* parent = nullptr);
+
+    void setReport(const QString& meshName, const QString& presetName, const QString& method,
+                   const std::vector<LevelData>& levels);
+    void clear();
+    bool isEmpty() const { return rows_.empty(); }
+    const std::vector<ReportRow>& rows() const { return rows_; }
+    QTableWidget* table() const { return table_; }
+
+    // The chart as an image (for the exported report).
+    QImage chartImage(QSize size) const;
+
+    // HTML with the thumbnails and the chart embedded (data: URLs), so the file stands alone.
+    QString toHtml(const QList<QImage>& thumbnails) const;
+    // By the suffix of `path`: .pdf writes a PDF, anything else HTML. Atomic (temporary, then rename);
+    // on failure returns false with the reason in `error` (naming the file).
+    bool exportTo(const QString& path, const QList<QImage>& thumbnails, QString* error) const;
+
+private:
+    QString html(const QList<QImage>& thumbnails, bool embedImages) const;
+    void updateChart();
+
+    QLabel* title_ = nullptr;
+    QTableWidget* table_ = nullptr;
+    QChartView* chart_ = nullptr;
+    QString meshName_, presetName_, method_;
+    std::vector<ReportRow> rows_;
+};
+
+}  // namespace lodforge::widgets

@@ -1,0 +1,226 @@
+#include "lodforge/widgets/ReportPanel.h"
+
+#include <QBuffer>
+#include <QChart>
+#include <QChartView>
+#include <QDateTime>
+#include <QFileInfo>
+#include <QHeaderView>
+#include <QLabel>
+#include <QLineSeries>
+#include <QLocale>
+#include <QLogValueAxis>
+#include <QPageSize>
+#include <QPainter>
+#include <QPdfWriter>
+#include <QSaveFile>
+#include <QScatterSeries>
+#include <QSplitter>
+#include <QTableWidget>
+#include <QTextDocument>
+#include <QValueAxis>
+#include <QVBoxLayout>
+
+#include <algorithm>
+
+namespace lodforge::widgets {
+
+namespace {
+
+const QStringList columnTitles = {QStringLiteral("Level"), QStringLiteral("Triangles"), QStringLiteral("Vertices"),
+                                  QStringLiteral("Error (% diagonal)"), QStringLiteral("Error (model units)"),
+                                  QStringLiteral("Time (ms)"), QStringLiteral("Stopped")};
+
+QStringList cellsOf(const ReportRow& r) {
+    const QLocale locale;
+    return {r.level == 0 ? QStringLiteral("original") : QString::number(r.level),
+            locale.toString(qulonglong(r.triangles)),
+            locale.toString(qulonglong(r.vertices)),
+            QString::number(100.0 * r.errorRelative, 'f', 4),
+            QString::number(r.error, 'g', 4),
+            r.level == 0 ? QStringLiteral("—") : QString::number(r.buildMs, 'f', 1),
+            r.stopReason};
+}
+
+QByteArray pngBytes(const QImage& image) {
+    QByteArray bytes;
+    QBuffer buffer(&bytes);
+    buffer.open(QIODevice::WriteOnly);
+    image.save(&buffer, "PNG");
+    return bytes;
+}
+
+}  // namespace
+
+ReportPanel::ReportPanel(QWidget* parent) : QWidget(parent) {
+    auto* layout = new QVBoxLayout(this);
+    title_ = new QLabel(tr("Build a LOD chain to see its report."), this);
+    title_->setObjectName(QStringLiteral("reportTitle"));
+    title_->setWordWrap(true);
+    layout->addWidget(title_);
+    auto* splitter = new QSplitter(Qt::Vertical, this);
+    table_ = new QTableWidget(0, int(columnTitles.size()), splitter);
+    table_->setObjectName(QStringLiteral("reportTable"));
+    table_->setHorizontalHeaderLabels(columnTitles);
+    table_->horizontalHeader()->setSectionResizeMode(QHeaderView::ResizeToContents);
+    table_->verticalHeader()->hide();
+    table_->setEditTriggers(QAbstractItemView::NoEditTriggers);
+    chart_ = new QChartView(splitter);
+    chart_->setObjectName(QStringLiteral("reportChart"));
+    chart_->setRenderHint(QPainter::Antialiasing);
+    chart_->setMinimumHeight(160);
+    layout->addWidget(splitter, 1);
+    updateChart();
+}
+
+void ReportPanel::clear() {
+    rows_.clear();
+    table_->setRowCount(0);
+    title_->setText(tr("Build a LOD chain to see its report."));
+    updateChart();
+}
+
+void ReportPanel::setReport(const QString& meshName, const QString& presetName, const QString& method,
+                            const std::vector<LevelData>& levels) {
+    meshName_ = meshName;
+    presetName_ = presetName;
+    method_ = method;
+    rows_.clear();
+    for (const LevelData& l : levels)
+        rows_.push_back({l.index, l.triangles, l.vertices, l.error, l.errorRelative, l.buildMs, l.stopReason});
+    table_->setRowCount(int(rows_.size()));
+    for (int r = 0; r < int(rows_.size()); ++r) {
+        const QStringList cells = cellsOf(rows_[std::size_t(r)]);
+        for (int c = 0; c < int(cells.size()); ++c) {
+            auto* item = new QTableWidgetItem(cells[c]);
+            if (c >= 1 && c <= 5) item->setTextAlignment(Qt::AlignRight | Qt::AlignVCenter);
+            table_->setItem(r, c, item);
+        }
+    }
+    title_->setText(tr("%1 — preset “%2”, %3, %n level(s) besides the original", "", int(rows_.size()) - 1)
+                        .arg(meshName_, presetName_, method_));
+    updateChart();
+}
+
+void ReportPanel::updateChart() {
+    auto* chart = new QChart;
+    chart->setTitle(tr("Error against triangle count"));
+    chart->legend()->hide();
+    if (rows_.size() > 1) {
+        auto* line = new QLineSeries(chart);
+        auto* points = new QScatterSeries(chart);
+        points->setMarkerSize(9);
+        for (const ReportRow& r : rows_) {
+            line->append(double(std::max<std::size_t>(r.triangles, 1)), 100.0 * r.errorRelative);
+            points->append(double(std::max<std::size_t>(r.triangles, 1)), 100.0 * r.errorRelative);
+        }
+        chart->addSeries(line);
+        chart->addSeries(points);
+        auto* x = new QLogValueAxis(chart);
+        x->setTitleText(tr("triangles"));
+        x->setLabelFormat(QStringLiteral("%g"));
+        x->setBase(10);
+        auto* y = new QValueAxis(chart);
+        y->setTitleText(tr("error (% of the diagonal)"));
+        y->setMin(0);
+        chart->addAxis(x, Qt::AlignBottom);
+        chart->addAxis(y, Qt::AlignLeft);
+        for (QAbstractSeries* s : chart->series()) {
+            s->attachAxis(x);
+            s->attachAxis(y);
+        }
+    }
+    QChart* old = chart_->chart();
+    chart_->setChart(chart);
+    delete old;
+}
+
+QImage ReportPanel::chartImage(QSize size) const {
+    QImage image(size, QImage::Format_RGB32);
+    image.fill(Qt::white);
+    QPainter painter(&image);
+    painter.setRenderHint(QPainter::Antialiasing);
+    chart_->chart()->resize(size);
+    chart_->scene()->render(&painter, QRectF(QPointF(0, 0), size), chart_->chart()->geometry());
+    painter.end();
+    chart_->chart()->resize(chart_->size());
+    return image;
+}
+
+QString ReportPanel::toHtml(const QList<QImage>& thumbnails) const { return html(thumbnails, true); }
+
+QString ReportPanel::html(const QList<QImage>& thumbnails, bool embedImages) const {
+    auto imageSource = [embedImages](const QImage& image, const QString& name) {
+        return embedImages ? QStringLiteral("data:image/png;base64,") + QString::fromLatin1(pngBytes(image).toBase64())
+                           : name;
+    };
+    QString out;
+    out += QStringLiteral("<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>LodForge report: %1</title>\n")
+               .arg(meshName_.toHtmlEscaped());
+    out += QStringLiteral("<style>body{font-family:sans-serif} table{border-collapse:collapse} "
+                          "td,th{border:1px solid #999;padding:3px 8px} td.n{text-align:right}</style></head><body>\n");
+    out += QStringLiteral("<h1>LOD report: %1</h1>\n").arg(meshName_.toHtmlEscaped());
+    out += QStringLiteral("<p>Preset “%1”, method %2. Generated %3 by LodForge Studio.</p>\n")
+               .arg(presetName_.toHtmlEscaped(), method_.toHtmlEscaped(),
+                    QDateTime::currentDateTime().toString(Qt::ISODate));
+    out += QStringLiteral("<table border=\"1\" cellpadding=\"4\" cellspacing=\"0\">\n<tr>");
+    for (const QString& title : columnTitles) out += QStringLiteral("<th>%1</th>").arg(title.toHtmlEscaped());
+    if (!thumbnails.isEmpty()) out += QStringLiteral("<th>View</th>");
+    out += QStringLiteral("</tr>\n");
+    for (std::size_t i = 0; i < rows_.size(); ++i) {
+        out += QStringLiteral("<tr class=\"level\">");
+        const QStringList cells = cellsOf(rows_[i]);
+        for (int c = 0; c < int(cells.size()); ++c)
+            out += (c >= 1 && c <= 5 ? QStringLiteral("<td class=\"n\" align=\"right\">%1</td>")
+                                     : QStringLiteral("<td>%1</td>"))
+                       .arg(cells[c].toHtmlEscaped());
+        if (!thumbnails.isEmpty()) {
+            const QImage& thumb = i < std::size_t(thumbnails.size()) ? thumbnails[qsizetype(i)] : QImage();
+            out += thumb.isNull() ? QStringLiteral("<td></td>")
+                                  : QStringLiteral("<td><img src=\"%1\" width=\"%2\" height=\"%3\"></td>")
+                                        .arg(imageSource(thumb, QStringLiteral("thumb%1.png").arg(i)))
+                                        .arg(thumb.width())
+                                        .arg(thumb.height());
+        }
+        out += QStringLiteral("</tr>\n");
+    }
+    out += QStringLiteral("</table>\n");
+    if (rows_.size() > 1)
+        out += QStringLiteral("<h2>Error against triangle count</h2>\n<p><img src=\"%1\" width=\"640\" height=\"360\"></p>\n")
+                   .arg(imageSource(chartImage(QSize(640, 360)), QStringLiteral("chart.png")));
+    out += QStringLiteral("</body></html>\n");
+    return out;
+}
+
+bool ReportPanel::exportTo(const QString& path, const QList<QImage>& thumbnails, QString* error) const {
+    auto fail = [&](const QString& why) {
+        if (error) *error = QStringLiteral("%1: %2").arg(path, why);
+        return false;
+    };
+    if (rows_.empty()) return fail(tr("there is no report yet (build a LOD chain first)"));
+    const bool pdf = QFileInfo(path).suffix().compare(QStringLiteral("pdf"), Qt::CaseInsensitive) == 0;
+    QSaveFile file(path);
+    if (!file.open(QIODevice::WriteOnly)) return fail(file.errorString());
+    if (pdf) {
+        // QTextDocument lays the same HTML out on A4 pages; images come from its resources.
+        QTextDocument document;
+        for (int i = 0; i < thumbnails.size(); ++i)
+            document.addResource(QTextDocument::ImageResource, QUrl(QStringLiteral("thumb%1.png").arg(i)), thumbnails[i]);
+        document.addResource(QTextDocument::ImageResource, QUrl(QStringLiteral("chart.png")),
+                             chartImage(QSize(640, 360)));
+        document.setHtml(html(thumbnails, false));
+        QPdfWriter writer(&file);
+        writer.setPageSize(QPageSize(QPageSize::A4));
+        writer.setResolution(150);
+        writer.setTitle(QStringLiteral("LodForge report: %1").arg(meshName_));
+        writer.setCreator(QStringLiteral("LodForge Studio"));
+        document.print(&writer);  // paginates
+    } else {
+        const QByteArray bytes = toHtml(thumbnails).toUtf8();
+        if (file.write(bytes) != bytes.size()) return fail(file.errorString());
+    }
+    if (!file.commit()) return fail(file.errorString());
+    return true;
+}
+
+}  // namespace lodforge::widgets
