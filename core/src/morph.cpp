@@ -308,8 +308,9 @@ std::vector<std::uint32_t> morph_points(const MorphMesh& morph) {
 }
 
 void finish_morph(MorphMesh& morph, const std::string& source) {
-    const std::size_t nv = morph.base.vertex_count();
     if (morph.frame_positions.empty()) throw_error(Error::Kind::invalid, source, "a morph mesh needs at least one frame");
+    if (morph.base.positions.empty()) morph.base.positions = morph.frame_positions.front();
+    const std::size_t nv = morph.base.vertex_count();
     if (morph.base.triangle_count() == 0) throw_error(Error::Kind::invalid, source, "a morph mesh needs triangles");
     for (std::size_t i = 0; i < morph.base.indices.size(); ++i)
         if (morph.base.indices[i] >= nv)
@@ -340,8 +341,10 @@ void finish_morph(MorphMesh& morph, const std::string& source) {
         morph.normals_from_input = false;
         for (const auto& p : morph.frame_positions) morph.frame_normals.push_back(vertex_normals(morph.base, p));
     } else {
+        // Unit normals stay bit for bit (a float file round trip is exact); others are renormalised.
         for (auto& frame : morph.frame_normals)
-            for (Vec3f& n : frame) n = normalized(n);
+            for (Vec3f& n : frame)
+                if (std::fabs(dot(n, n) - 1.f) > 1e-6f) n = normalized(n);
     }
     morph.base.positions = morph.frame_positions.front();
     if (morph.normals_from_input) morph.base.normals = morph.frame_normals.front();

@@ -576,9 +576,12 @@ double Simplifier::frames_cost(std::uint32_t u, std::uint32_t v, double geometri
     return combined + attributes;
 }
 
-// No face around u flips or becomes a needle in any extra frame when u moves onto v.
+// No face around u flips or becomes a needle in any extra frame when u moves onto v. Other frames only
+// refuse real flips (normal turned past 90°): with the full normal limit in every pose of a strongly
+// deforming sequence few collapses stay legal and the coarse levels get stuck (docs/morph.md).
+constexpr double kFrameMinDot = 0.0;
 bool Simplifier::frames_valid(std::uint32_t u, std::uint32_t v) const {
-    const double min_dot = params_.min_normal_dot;
+    const double min_dot = std::min(double(params_.min_normal_dot), kFrameMinDot);
     for (std::uint32_t face : pfaces_[u]) {
         const std::uint32_t* c = &fpt_[3 * face];
         if (c[0] == v || c[1] == v || c[2] == v) continue;

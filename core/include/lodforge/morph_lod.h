@@ -36,7 +36,7 @@ struct MorphLodParams {
     // Weights, seams, normal limit. Targets are set per level, placement is half-edge, weld is off
     // (morph_points() decides which wedges are one point), extra_frames are set for the single order.
     SimplifyParams simplify;
-    SimplifyParams::FrameCost frame_cost = SimplifyParams::FrameCost::max;
+    SimplifyParams::FrameCost frame_cost = SimplifyParams::FrameCost::sum;  // measured better (docs/morph.md)
     // Keyframes whose positions enter the single order's cost, spread evenly (first and last kept);
     // 0 = all of them.
     std::size_t cost_frames = 0;
