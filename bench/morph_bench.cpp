@@ -6,7 +6,8 @@
 // bounding-box diagonal) of the level at every keyframe against that keyframe's full mesh — mean over
 // the frames of the mean distance, and the worst frame's Hausdorff distance; build seconds; the .lfmorph
 // file size per frame (float and 16-bit quantised positions); extraction time per frame change (blend +
-// faces of the level + compact mesh, median over a sweep of t at fixed LOD factor).
+// faces of the level + compact mesh, median over a sweep of t at fixed LOD factor; also the face replay
+// alone and the blend alone, which is all a runtime redoes per frame while the sequence stays).
 //
 //   lodforge_bench_morph [--models horse,sphere,cube] [--samples N] [--frame-stride S] [--reps N]
 //                        [--frame-cost max|sum] [--cost-frames N] [--orders single,per-frame,naive]
@@ -145,10 +146,11 @@ int main(int argc, char** argv) {
                 }
             std::filesystem::remove(tmp);
             // Extraction per frame change: t sweeps the sequence at a fixed LOD factor.
-            std::printf("\n| order | LOD factor | extraction per frame change, ms (median of %zu) | faces only, ms |\n|---|---|---|---|\n", reps);
+            std::printf("\n| order | LOD factor | extraction per frame change, ms (median of %zu) | faces only, ms | blend only, ms |\n|---|---|---|---|---|\n", reps);
             for (const MorphLod& lod : lods)
                 for (double f : {1.0, 0.5, 0.0}) {
-                    std::vector<double> full, faces;
+                    std::vector<double> full, faces, blend;
+                    std::vector<Vec3f> pos, nrm;
                     for (std::size_t r = 0; r < reps; ++r) {
                         const double t = double(r) / double(reps - 1 > 0 ? reps - 1 : 1);
                         auto a = Clock::now();
@@ -159,11 +161,16 @@ int main(int argc, char** argv) {
                         const auto idx = morph_level_indices(morph, seq, morph_collapses_for(seq, f));
                         faces.push_back(seconds_since(a) * 1e3);
                         if (m.triangle_count() * 3 != idx.size()) throw Error(Error::Kind::invalid, "extraction mismatch");
+                        a = Clock::now();
+                        morph_positions_at(morph, t, pos);
+                        morph_normals_at(morph, t, nrm);
+                        blend.push_back(seconds_since(a) * 1e3);
                     }
                     std::sort(full.begin(), full.end());
                     std::sort(faces.begin(), faces.end());
-                    std::printf("| %s | %.1f | %.3f | %.3f |\n", morph_order_name(lod.order), f, full[full.size() / 2],
-                                faces[faces.size() / 2]);
+                    std::sort(blend.begin(), blend.end());
+                    std::printf("| %s | %.1f | %.3f | %.3f | %.3f |\n", morph_order_name(lod.order), f, full[full.size() / 2],
+                                faces[faces.size() / 2], blend[blend.size() / 2]);
                 }
         }
     } catch (const Error& e) {
