@@ -38,20 +38,6 @@ Vec3f normalized(Vec3f v) {
     return len > 0.f ? v * (1.f / len) : Vec3f{0, 0, 1};
 }
 
-// Indices of `count` frames spread evenly over `total` (first and last kept).
-std::vector<std::size_t> pick_frames(std::size_t total, std::size_t count) {
-    std::vector<std::size_t> out;
-    if (count == 0 || count >= total) {
-        out.resize(total);
-        std::iota(out.begin(), out.end(), std::size_t{0});
-        return out;
-    }
-    for (std::size_t i = 0; i < count; ++i)
-        out.push_back(count == 1 ? 0
-                                 : static_cast<std::size_t>(std::llround(double(i) * double(total - 1) / double(count - 1))));
-    return out;
-}
-
 std::string describe_face(const Mesh& mesh, std::size_t corner) {
     return "face " + std::to_string(corner / 3) + " corner " + std::to_string(corner % 3) + " is vertex " +
            std::to_string(mesh.indices[corner]);
@@ -95,7 +81,7 @@ MorphMesh load_sequence(const std::string& dir, const MorphLoadOptions& options,
     if (files.size() < 2)
         throw_error(Error::Kind::invalid, dir,
                     "a morph sequence needs at least two .obj or .ply frames, found " + std::to_string(files.size()));
-    const std::vector<std::size_t> chosen = pick_frames(files.size(), options.frames);
+    const std::vector<std::size_t> chosen = spread_frames(files.size(), options.frames);
     MorphMesh morph;
     morph.source = dir;
     for (std::size_t i = 0; i < chosen.size(); ++i) {
@@ -159,7 +145,7 @@ MorphMesh load_gltf_morph(const std::string& path, const MorphLoadOptions& optio
             all.back()[t] = 1.f;
             names.push_back("target " + std::to_string(t) + (mt.names[t].empty() ? "" : " '" + mt.names[t] + "'"));
         }
-        for (std::size_t i : pick_frames(all.size(), options.frames)) {
+        for (std::size_t i : spread_frames(all.size(), options.frames)) {
             weights.push_back(all[i]);
             morph.frame_names.push_back(names[i]);
         }
@@ -189,7 +175,35 @@ std::uint32_t find_root(std::vector<std::uint32_t>& parent, std::uint32_t x) {
     return x;
 }
 
+// Blends frame arrays a and b at fraction s, renormalising when asked.
+void blend_frames(const std::vector<Vec3f>& a, const std::vector<Vec3f>* b, float s, bool unit, std::vector<Vec3f>& out) {
+    out.resize(a.size());
+    if (!b || s == 0.f) {
+        std::copy(a.begin(), a.end(), out.begin());
+        return;
+    }
+    const float r = 1.f - s;
+    for (std::size_t v = 0; v < a.size(); ++v) {
+        const Vec3f x = a[v] * r + (*b)[v] * s;
+        out[v] = unit ? normalized(x) : x;
+    }
+}
+
 }  // namespace
+
+std::vector<std::size_t> spread_frames(std::size_t total, std::size_t count) {
+    std::vector<std::size_t> out;
+    if (count == 0 || count >= total) {
+        out.resize(total);
+        std::iota(out.begin(), out.end(), std::size_t{0});
+        return out;
+    }
+    for (std::size_t i = 0; i < count; ++i)
+        out.push_back(count == 1 ? 0
+                                 : static_cast<std::size_t>(std::llround(double(i) * double(total - 1) / double(count - 1))));
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
+}
 
 MorphSpan morph_span(std::size_t frame_count, double t) {
     if (frame_count == 0) throw Error(Error::Kind::argument, "morph: no frames");
@@ -202,28 +216,14 @@ MorphSpan morph_span(std::size_t frame_count, double t) {
 
 void morph_positions_at(const MorphMesh& morph, double t, std::vector<Vec3f>& out) {
     const MorphSpan span = morph_span(morph.frame_count(), t);
-    const auto& a = morph.frame_positions[span.frame];
-    out.resize(a.size());
-    if (span.s == 0.f) {
-        std::copy(a.begin(), a.end(), out.begin());
-        return;
-    }
-    const auto& b = morph.frame_positions[span.frame + 1];
-    const float s = span.s, r = 1.f - span.s;
-    for (std::size_t v = 0; v < a.size(); ++v) out[v] = a[v] * r + b[v] * s;
+    const auto& f = morph.frame_positions;
+    blend_frames(f[span.frame], span.frame + 1 < f.size() ? &f[span.frame + 1] : nullptr, span.s, false, out);
 }
 
 void morph_normals_at(const MorphMesh& morph, double t, std::vector<Vec3f>& out) {
     const MorphSpan span = morph_span(morph.frame_count(), t);
-    const auto& a = morph.frame_normals[span.frame];
-    out.resize(a.size());
-    if (span.s == 0.f) {
-        std::copy(a.begin(), a.end(), out.begin());
-        return;
-    }
-    const auto& b = morph.frame_normals[span.frame + 1];
-    const float s = span.s, r = 1.f - span.s;
-    for (std::size_t v = 0; v < a.size(); ++v) out[v] = normalized(a[v] * r + b[v] * s);
+    const auto& f = morph.frame_normals;
+    blend_frames(f[span.frame], span.frame + 1 < f.size() ? &f[span.frame + 1] : nullptr, span.s, true, out);
 }
 
 Mesh morph_mesh_at(const MorphMesh& morph, double t) {

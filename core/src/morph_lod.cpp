@@ -16,6 +16,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <string>
 
@@ -40,19 +41,6 @@ Mesh frame_input(const MorphMesh& morph, std::size_t frame, const std::vector<st
     if (morph.normals_from_input) m.normals = morph.frame_normals[frame];
     m.position_ids = points;
     return m;
-}
-
-std::vector<std::size_t> spread(std::size_t total, std::size_t count) {
-    std::vector<std::size_t> out;
-    if (count == 0 || count >= total) {
-        out.resize(total);
-        std::iota(out.begin(), out.end(), std::size_t{0});
-        return out;
-    }
-    for (std::size_t i = 0; i < count; ++i)
-        out.push_back(count == 1 ? 0 : static_cast<std::size_t>(std::llround(double(i) * double(total - 1) / double(count - 1))));
-    out.erase(std::unique(out.begin(), out.end()), out.end());
-    return out;
 }
 
 MorphSequence build_sequence(const MorphMesh& morph, const MorphLodParams& params, std::size_t frame,
@@ -184,12 +172,12 @@ MorphLod build_morph_lod(const MorphMesh& morph, const MorphLodParams& params, P
     lod.triangles = replay_collapses(morph.base, none, 0).size() / 3;
     std::vector<std::size_t> frames{0};
     std::vector<std::size_t> cost_frames{0};
-    if (params.order == MorphOrder::per_frame) frames = spread(morph.frame_count(), 0);
-    if (params.order == MorphOrder::single) cost_frames = spread(morph.frame_count(), params.cost_frames);
+    if (params.order == MorphOrder::per_frame) frames = spread_frames(morph.frame_count(), 0);
+    if (params.order == MorphOrder::single) cost_frames = spread_frames(morph.frame_count(), params.cost_frames);
     for (std::size_t i = 0; i < frames.size(); ++i) {
         check_progress(progress, double(i) / double(frames.size()), "morph lod");
         lod.sequences.push_back(build_sequence(morph, params, frames[i], points, cost_frames,
-                                               morph.base.triangle_count(), nullptr));
+                                               morph.base.triangle_count(), progress));
     }
     check_progress(progress, 1.0, "morph lod");
     return lod;
@@ -233,8 +221,8 @@ Mesh extract_morph(const MorphMesh& morph, const MorphLod& lod, double t, double
 std::vector<MorphLevelError> measure_morph_lod(const MorphMesh& morph, const MorphLod& lod,
                                                const MorphMeasureParams& params, Progress* progress) {
     std::vector<std::size_t> frames = params.frames, levels = params.levels;
-    if (frames.empty()) frames = spread(morph.frame_count(), 0);
-    if (levels.empty()) levels = spread(lod.levels.size(), 0);
+    if (frames.empty()) frames = spread_frames(morph.frame_count(), 0);
+    if (levels.empty()) levels = spread_frames(lod.levels.size(), 0);
     DistanceParams dp = params.distance;
     dp.vertex_errors = false;
     std::vector<MorphLevelError> out;

@@ -186,3 +186,14 @@ TEST(MorphLod, BadLevelsAreArgumentErrors) {
         }
     }
 }
+
+TEST(MorphLod, CancellationThrows) {
+    CancelFlagProgress cancel;
+    cancel.cancel();
+    try {
+        build_morph_lod(horse(), params(MorphOrder::single), &cancel);
+        ADD_FAILURE() << "not cancelled";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.kind(), Error::Kind::cancelled);
+    }
+}

@@ -45,6 +45,10 @@ struct MorphSpan {
 // Throws Error(argument) when t is not in [0, 1] or frame_count is 0.
 MorphSpan morph_span(std::size_t frame_count, double t);
 
+// Indices of `count` of `total` frames spread evenly (first and last kept, no repeats); 0 or count ≥
+// total = all of them.
+std::vector<std::size_t> spread_frames(std::size_t total, std::size_t count);
+
 // Blended positions / renormalised normals at t (out is resized to the vertex count).
 void morph_positions_at(const MorphMesh& morph, double t, std::vector<Vec3f>& out);
 void morph_normals_at(const MorphMesh& morph, double t, std::vector<Vec3f>& out);
