@@ -304,7 +304,13 @@ MorphLodFile read_morph_lod(const std::string& path, Progress* progress) {
         point_count = std::max(point_count, p + 1);
     }
     if (flags & kColors) base.colors = r.get_all<Vec4f>(nv, "colours");
-    for (std::uint32_t s = 0; s < sets; ++s) base.texcoords.push_back(r.get_all<Vec2f>(nv, "texcoords"));
+    for (const Vec4f& c : base.colors)
+        if (!std::isfinite(c.x) || !std::isfinite(c.y) || !std::isfinite(c.z) || !std::isfinite(c.w)) r.fail("non-finite colour");
+    for (std::uint32_t s = 0; s < sets; ++s) {
+        base.texcoords.push_back(r.get_all<Vec2f>(nv, "texcoords"));
+        for (const Vec2f& t : base.texcoords.back())
+            if (!std::isfinite(t.x) || !std::isfinite(t.y)) r.fail("non-finite texcoord");
+    }
     Vec3f lo{}, ext{};
     if (q) {
         lo = r.get<Vec3f>("box origin");
@@ -391,6 +397,14 @@ MorphLodFile read_morph_lod(const std::string& path, Progress* progress) {
     SimplifyResult none;
     none.input_points = points;
     lod.triangles = replay_collapses(base, none, 0).size() / 3;
+    // The level table must describe the sequences (info and LOD factors rely on it).
+    for (std::size_t s = 0; s < lod.sequences.size(); ++s) {
+        const MorphSequence& seq = lod.sequences[s];
+        for (std::size_t l = 0; l < seq.level_collapses.size(); ++l)
+            if (replay_collapses(base, seq.sequence, seq.level_collapses[l]).size() / 3 != seq.level_triangles[l])
+                throw_error(Error::Kind::format, path, "sequence " + std::to_string(s) + ": level " + std::to_string(l) +
+                                                           " does not have the triangle count the file states");
+    }
     check_progress(progress, 1.0, "Reading morph LOD");
     return out;
 }

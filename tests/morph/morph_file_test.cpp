@@ -210,6 +210,22 @@ TEST(MorphFile, CorruptAndLyingFilesAreRejected) {
     write_bytes(bad, b);
     const std::string cycle = error_of(bad);
     EXPECT_NE(cycle.find("sequence 0"), std::string::npos) << cycle;
+    // A level table that lies about its triangle count: the first sequence's first level_triangles
+    // entry, right after its frame, collapse count, move count and L level collapse counts.
+    {
+        b = good;
+        const std::size_t nv = f.morph.vertex_count(), nt = f.morph.base.triangle_count(), K = f.morph.frame_count();
+        const std::size_t L = f.lod.levels.size();
+        const std::size_t seq0 = header + 12 * nt + 8 * nv + 24 + 6 * nv * K;
+        std::uint32_t tris = 0;
+        std::memcpy(&tris, b.data() + seq0 + 12 + 4 * L, 4);
+        ASSERT_EQ(tris, f.lod.sequences[0].level_triangles[0]);  // the layout is what docs/morph.md says
+        tris += 1;
+        std::memcpy(b.data() + seq0 + 12 + 4 * L, &tris, 4);
+        reseal(b);
+        write_bytes(bad, b);
+        EXPECT_NE(error_of(bad).find("triangle count"), std::string::npos);
+    }
     // Missing file, a directory.
     EXPECT_NE(error_of(dir.file("missing.lfmorph")).find("no such file"), std::string::npos);
     try {
