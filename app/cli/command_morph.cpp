@@ -31,7 +31,7 @@ void add_build(CLI::App& morph, const GlobalOptions& global) {
         std::vector<std::string> inputs;
         std::string output, order = "single", levels = "0.5,0.25,0.1,0.03", landmarks, weights;
         std::string encoding = "16bit", frame_cost = "sum";
-        long long frames = 0, cost_frames = 0;
+        long long frames = 0, cost_frames = 16;
         bool close_seams = false;
     };
     auto o = std::make_shared<Options>();
@@ -49,7 +49,8 @@ void add_build(CLI::App& morph, const GlobalOptions& global) {
     cmd->add_option("--frame-cost", o->frame_cost, "single order: combine frame costs by max or sum")
         ->check(CLI::IsMember({"max", "sum"}))
         ->capture_default_str();
-    cmd->add_option("--cost-frames", o->cost_frames, "single order: frames whose shapes enter the cost (0 = all)");
+    cmd->add_option("--cost-frames", o->cost_frames, "single order: frames whose shapes enter the cost (0 = all)")
+        ->capture_default_str();
     cmd->add_option("--encoding", o->encoding, "Positions/normals in the file: float or 16bit")
         ->check(CLI::IsMember({"float", "16bit"}))
         ->capture_default_str();

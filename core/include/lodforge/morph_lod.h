@@ -38,8 +38,9 @@ struct MorphLodParams {
     SimplifyParams simplify;
     SimplifyParams::FrameCost frame_cost = SimplifyParams::FrameCost::sum;  // measured better (docs/morph.md)
     // Keyframes whose positions enter the single order's cost, spread evenly (first and last kept);
-    // 0 = all of them.
-    std::size_t cost_frames = 0;
+    // 0 = all of them. 16 measured best overall (docs/morph.md): more frames add flip constraints that
+    // strongly deforming sequences pay for, fewer lose poses.
+    std::size_t cost_frames = 16;
 };
 
 // One collapse sequence (indices into the morph mesh's vertices and points) and where its levels end.
