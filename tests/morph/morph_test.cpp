@@ -260,3 +260,15 @@ TEST(Morph, PointsHoldInEveryFrame) {
         for (const auto& f : m.frame_positions) ASSERT_EQ(f[v], f[first[pts[v]]]);
     }
 }
+
+TEST(Morph, PlySequenceLoadsLikeTheObjSequence) {
+    test::ScratchDir dir("morph-ply");
+    for (const char* name : {"0001", "0010", "0020"})
+        write_mesh(read_mesh(horse_dir() + "/" + name + ".obj"), dir.file(std::string("f") + name + ".ply"));
+    const MorphMesh m = load_morph(dir.path().string());
+    ASSERT_EQ(m.frame_count(), 3u);
+    EXPECT_EQ(m.frame_names[1], "f0010.ply");
+    const Mesh f10 = read_mesh(horse_dir() + "/0010.obj");
+    EXPECT_EQ(max_distance(m.frame_positions[1], f10.positions), 0.0);
+    EXPECT_EQ(m.base.indices, f10.indices);
+}
