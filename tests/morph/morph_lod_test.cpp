@@ -1,5 +1,6 @@
 // LOD of morphing meshes: the three collapse orders, level validity in every frame, extraction.
 #include "lodforge/error.h"
+#include "lodforge/mesh_io.h"
 #include "lodforge/metrics.h"
 #include "lodforge/morph.h"
 #include "lodforge/morph_lod.h"
@@ -196,4 +197,33 @@ TEST(MorphLod, CancellationThrows) {
     } catch (const Error& e) {
         EXPECT_EQ(e.kind(), Error::Kind::cancelled);
     }
+}
+
+TEST(MorphLod, FaceMaterialsFollowTheirFaces) {
+    // A hand-made morph mesh with four materials: the milk truck and a sheared copy of it.
+    MorphMesh m;
+    m.base = read_mesh(test::shared_data("tex-cesium-milk-truck/CesiumMilkTruck.gltf"));
+    ASSERT_GT(m.base.materials.size(), 1u);
+    std::vector<Vec3f> sheared = m.base.positions;
+    for (Vec3f& p : sheared) p.x += 0.3f * p.y;
+    m.frame_positions = {m.base.positions, sheared};
+    finish_morph(m, "truck");
+    MorphLodParams p = params(MorphOrder::single);
+    const MorphLod lod = build_morph_lod(m, p);
+    const Mesh full = extract_morph(m, lod, 0.0, 1.0);
+    // At full detail every face keeps its material, in input order (faces dropped up front excepted).
+    ASSERT_EQ(full.face_materials.size(), full.triangle_count());
+    std::vector<std::uint32_t> counts(m.base.materials.size(), 0), full_counts(m.base.materials.size(), 0);
+    for (std::uint32_t f : m.base.face_materials) ++counts[f];
+    for (std::uint32_t f : full.face_materials) ++full_counts[f];
+    EXPECT_EQ(full_counts, counts);
+    const Mesh coarse = extract_morph(m, lod, 1.0, 0.0);
+    ASSERT_EQ(coarse.face_materials.size(), coarse.triangle_count());
+    // Material borders are seams: the simplifier keeps them, so each material keeps some faces.
+    std::vector<std::uint32_t> coarse_counts(m.base.materials.size(), 0);
+    for (std::uint32_t f : coarse.face_materials) ++coarse_counts[f];
+    for (std::size_t i = 0; i < counts.size(); ++i)
+        if (counts[i] > 0) {
+            EXPECT_GT(coarse_counts[i], 0u) << "material " << i;
+        }
 }
