@@ -16,5 +16,6 @@ void add_simplify_command(CLI::App& app, const GlobalOptions& global);
 void add_lod_command(CLI::App& app, const GlobalOptions& global);
 void add_compare_command(CLI::App& app, const GlobalOptions& global);
 void add_pack_command(CLI::App& app, const GlobalOptions& global);
+void add_morph_command(CLI::App& app, const GlobalOptions& global);
 
 }  // namespace lodforge::cli

@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
     add_lod_command(app, global);
     add_compare_command(app, global);
     add_pack_command(app, global);
+    add_morph_command(app, global);
 
     install_interrupt_handler();
     try {

@@ -202,6 +202,7 @@ float component_value(const std::uint8_t* p, int type, bool normalized) {
 struct Instance {
     int mesh = -1;
     Mat4 world = kIdentity;
+    int node = -1;
 };
 
 struct PrimitiveJob {
@@ -220,6 +221,7 @@ struct PrimitiveData {
     std::vector<Vec3f> normals;
     std::vector<Vec4f> colors;
     std::vector<std::vector<Vec2f>> texcoords;  // [set], empty set = absent
+    std::vector<std::vector<Vec3f>> target_positions, target_normals;  // [target][vertex], morph only
 };
 
 class GltfImporter {
@@ -233,6 +235,7 @@ public:
         collect_primitives();
         convert_materials();
         build();
+        if (options_.morph_targets) read_weights_animation();
         return std::move(mesh_);
     }
 
@@ -301,7 +304,7 @@ private:
             if (first || options_.place_every_instance) {
                 // A skinned mesh ignores its node's transform (glTF spec); without posing the skin the
                 // mesh-space bind pose is the best geometry we have.
-                instances_.push_back({node.mesh, node.skin >= 0 ? kIdentity : world});
+                instances_.push_back({node.mesh, node.skin >= 0 ? kIdentity : world, index});
             }
         }
         on_path[ui] = 1;
@@ -365,6 +368,14 @@ private:
                     fail(Error::Kind::format, where(job) + " refers to material " + std::to_string(prim.material) +
                                                   " of " + std::to_string(model_.materials.size()));
                 needs_default_material_ = needs_default_material_ || prim.material < 0;
+                if (options_.morph_targets) {
+                    if (!jobs_.empty() && prim.targets.size() != morph_count_)
+                        fail(Error::Kind::unsupported, where(job) + " has " + std::to_string(prim.targets.size()) +
+                                                           " morph targets, an earlier primitive " +
+                                                           std::to_string(morph_count_) + "; morphing needs the same count");
+                    morph_count_ = prim.targets.size();
+                    for (const auto& target : prim.targets) morph_normals_ = morph_normals_ || target.count("NORMAL") > 0;
+                }
                 jobs_.push_back(job);
             }
         }
@@ -535,11 +546,104 @@ private:
             d.texcoords[set].resize(job.count);
             for (std::size_t i = 0; i < job.count; ++i) d.texcoords[set][i] = {v[2 * i], 1.f - v[2 * i + 1]};
         }
+        if (options_.morph_targets) load_targets(prim, job, at, d);
         return d;
+    }
+
+    // Target deltas are directions: the linear part of the world transform, no translation. A normal
+    // delta is divided by the length of the transformed (unnormalised) base normal, so that adding it to
+    // the stored unit normal keeps the proportions of the file's n + d.
+    void load_targets(const tinygltf::Primitive& prim, const PrimitiveJob& job, const std::string& at,
+                      PrimitiveData& d) const {
+        const Mat4& m = job.instance->world;
+        const std::array<double, 9> nm = normal_matrix(m);
+        std::vector<float> base_normals;
+        std::size_t comps = 0;
+        if (const int n = attribute(prim, "NORMAL"); n >= 0) base_normals = read_floats(n, {3}, comps, at + " NORMAL");
+        d.target_positions.assign(morph_count_, std::vector<Vec3f>(job.count));
+        if (morph_normals_) d.target_normals.assign(morph_count_, std::vector<Vec3f>(job.count));
+        for (std::size_t t = 0; t < prim.targets.size(); ++t) {
+            const std::string what = at + " target " + std::to_string(t);
+            auto read = [&](const char* name) {
+                const auto it = prim.targets[t].find(name);
+                if (it == prim.targets[t].end()) return std::vector<float>();
+                std::vector<float> v = read_floats(it->second, {3}, comps, what + " " + name);
+                if (v.size() != 3 * job.count)
+                    fail(Error::Kind::format, what + " " + name + " has " + std::to_string(v.size() / 3) +
+                                                  " elements but POSITION has " + std::to_string(job.count));
+                for (float x : v)
+                    if (!std::isfinite(x)) fail(Error::Kind::invalid, what + " " + name + " has a non-finite value");
+                return v;
+            };
+            const std::vector<float> dp = read("POSITION");
+            for (std::size_t i = 0; i < job.count && !dp.empty(); ++i) {
+                const double x = dp[3 * i], y = dp[3 * i + 1], z = dp[3 * i + 2];
+                d.target_positions[t][i] = {static_cast<float>(m[0] * x + m[4] * y + m[8] * z),
+                                            static_cast<float>(m[1] * x + m[5] * y + m[9] * z),
+                                            static_cast<float>(m[2] * x + m[6] * y + m[10] * z)};
+            }
+            const std::vector<float> dn = read("NORMAL");
+            for (std::size_t i = 0; i < job.count && !dn.empty() && !base_normals.empty(); ++i) {
+                auto apply = [&](const float* v) {
+                    return std::array<double, 3>{nm[0] * v[0] + nm[3] * v[1] + nm[6] * v[2],
+                                                 nm[1] * v[0] + nm[4] * v[1] + nm[7] * v[2],
+                                                 nm[2] * v[0] + nm[5] * v[1] + nm[8] * v[2]};
+                };
+                const auto b = apply(&base_normals[3 * i]);
+                const double len = std::sqrt(b[0] * b[0] + b[1] * b[1] + b[2] * b[2]);
+                const double inv = len > 0 ? 1.0 / len : 1.0;
+                const auto e = apply(&dn[3 * i]);
+                d.target_normals[t][i] = {static_cast<float>(e[0] * inv), static_cast<float>(e[1] * inv),
+                                          static_cast<float>(e[2] * inv)};
+            }
+        }
+    }
+
+    // Keys of the first weights channel whose node places a morphing mesh.
+    void read_weights_animation() {
+        GltfMorphTargets& out = *options_.morph_targets;
+        if (morph_count_ == 0) return;
+        for (const tinygltf::Animation& anim : model_.animations)
+            for (const tinygltf::AnimationChannel& ch : anim.channels) {
+                if (ch.target_path != "weights") continue;
+                const bool placed = std::any_of(instances_.begin(), instances_.end(),
+                                                [&](const Instance& i) { return i.node == ch.target_node; });
+                if (!placed) continue;
+                const std::string what = "animation '" + anim.name + "' weights";
+                if (ch.sampler < 0 || static_cast<std::size_t>(ch.sampler) >= anim.samplers.size())
+                    fail(Error::Kind::format, what + " refers to sampler " + std::to_string(ch.sampler) + " of " +
+                                                  std::to_string(anim.samplers.size()));
+                const tinygltf::AnimationSampler& sampler = anim.samplers[static_cast<std::size_t>(ch.sampler)];
+                std::size_t comps = 0;
+                const std::vector<float> times = read_floats(sampler.input, {1}, comps, what + " input");
+                const std::vector<float> values = read_floats(sampler.output, {1}, comps, what + " output");
+                const std::string interpolation = sampler.interpolation.empty() ? "LINEAR" : sampler.interpolation;
+                const std::size_t per_key = (interpolation == "CUBICSPLINE" ? 3 : 1) * morph_count_;
+                if (times.empty() || values.size() != times.size() * per_key)
+                    fail(Error::Kind::format, what + ": " + std::to_string(values.size()) + " values for " +
+                                                  std::to_string(times.size()) + " keys and " +
+                                                  std::to_string(morph_count_) + " targets");
+                for (std::size_t k = 0; k < times.size(); ++k) {
+                    if (!std::isfinite(times[k]) || (k > 0 && !(times[k] > times[k - 1])))
+                        fail(Error::Kind::format, what + ": key times must increase (key " + std::to_string(k) + ")");
+                    const std::size_t first = k * per_key + (per_key > morph_count_ ? morph_count_ : 0);
+                    out.key_weights.emplace_back(values.begin() + static_cast<std::ptrdiff_t>(first),
+                                                 values.begin() + static_cast<std::ptrdiff_t>(first + morph_count_));
+                }
+                out.key_times = times;
+                out.interpolation = interpolation;
+                return;
+            }
     }
 
     // Store vertex `i` of `d` at mesh vertex `target` (which already exists).
     void store(const PrimitiveData& d, std::size_t i, std::size_t target) {
+        if (GltfMorphTargets* mt = options_.morph_targets) {
+            for (std::size_t t = 0; t < mt->position_deltas.size(); ++t) {
+                mt->position_deltas[t][target] = d.target_positions[t][i];
+                if (!mt->normal_deltas.empty()) mt->normal_deltas[t][target] = d.target_normals[t][i];
+            }
+        }
         mesh_.positions[target] = d.positions[i];
         if (has_normals_) mesh_.normals[target] = d.normals.empty() ? Vec3f{} : d.normals[i];
         if (has_colors_) mesh_.colors[target] = d.colors.empty() ? Vec4f{1, 1, 1, 1} : d.colors[i];
@@ -555,6 +659,10 @@ private:
         if (has_normals_) mesh_.normals.emplace_back();
         if (has_colors_) mesh_.colors.emplace_back();
         for (auto& set : mesh_.texcoords) set.emplace_back();
+        if (GltfMorphTargets* mt = options_.morph_targets) {
+            for (auto& t : mt->position_deltas) t.emplace_back();
+            for (auto& t : mt->normal_deltas) t.emplace_back();
+        }
         return v;
     }
 
@@ -680,6 +788,30 @@ private:
         if (has_normals_) mesh_.normals.assign(point_total_, Vec3f{});
         if (has_colors_) mesh_.colors.assign(point_total_, Vec4f{1, 1, 1, 1});
         mesh_.texcoords.assign(texcoord_sets_, std::vector<Vec2f>(point_total_));
+        if (GltfMorphTargets* mt = options_.morph_targets) {
+            mt->position_deltas.assign(morph_count_, std::vector<Vec3f>(point_total_));
+            if (morph_normals_ && has_normals_) mt->normal_deltas.assign(morph_count_, std::vector<Vec3f>(point_total_));
+            mt->names.assign(morph_count_, std::string());
+            mt->default_weights.assign(morph_count_, 0.f);
+            if (!instances_.empty()) {
+                const auto& gm = model_.meshes[static_cast<std::size_t>(instances_.front().mesh)];
+                for (std::size_t t = 0; t < morph_count_ && t < gm.weights.size(); ++t)
+                    mt->default_weights[t] = static_cast<float>(gm.weights[t]);
+                // Target names: the common "targetNames" extra, else the POSITION accessor's name.
+                if (gm.extras.Has("targetNames") && gm.extras.Get("targetNames").IsArray()) {
+                    const auto& names = gm.extras.Get("targetNames");
+                    for (std::size_t t = 0; t < morph_count_ && t < names.ArrayLen(); ++t)
+                        if (names.Get(static_cast<int>(t)).IsString()) mt->names[t] = names.Get(static_cast<int>(t)).Get<std::string>();
+                }
+                for (std::size_t t = 0; t < morph_count_ && !gm.primitives.empty(); ++t) {
+                    if (!mt->names[t].empty() || t >= gm.primitives.front().targets.size()) continue;
+                    const auto& target = gm.primitives.front().targets[t];
+                    const auto it = target.find("POSITION");
+                    if (it != target.end() && it->second >= 0 && static_cast<std::size_t>(it->second) < model_.accessors.size())
+                        mt->names[t] = model_.accessors[static_cast<std::size_t>(it->second)].name;
+                }
+            }
+        }
 
         const double steps = static_cast<double>(std::max<std::size_t>(jobs_.size(), 1)) * 2;
         for (std::size_t j = 0; j < jobs_.size(); ++j) {
@@ -730,6 +862,8 @@ private:
     bool has_normals_ = false;
     bool has_colors_ = false;
     std::size_t texcoord_sets_ = 0;
+    std::size_t morph_count_ = 0;
+    bool morph_normals_ = false;
     bool needs_default_material_ = false;
     std::uint32_t default_material_ = 0;
 };

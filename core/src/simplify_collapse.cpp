@@ -368,6 +368,11 @@ private:
         prefetch(bytes + 64);
     }
     double evaluate(std::uint32_t u, std::uint32_t v, Plan& plan, bool full);
+    // Extra frames (SimplifyParams::extra_frames): per-frame quadrics and positions, [point * frames + f].
+    void setup_frames();
+    void add_frame_border_planes(std::uint32_t p, std::uint32_t q, std::uint32_t face);
+    double frames_cost(std::uint32_t u, std::uint32_t v, double geometric, double total, double weight) const;
+    bool frames_valid(std::uint32_t u, std::uint32_t v) const;
     bool valid(std::uint32_t u, std::uint32_t v, const Plan& plan);
     void collapse(std::uint32_t u, std::uint32_t v, const Plan& plan);
     void update_best(std::uint32_t p);
@@ -411,6 +416,9 @@ private:
     std::size_t alive_faces_ = 0;
     std::vector<std::uint32_t> scratch_a_, scratch_b_, scratch_n_, ring_;
     std::vector<std::pair<double, std::uint32_t>> options_;
+    std::size_t frames_ = 0;                  // extra frames
+    std::vector<Quadric> frame_geo_;
+    std::vector<Vec3d> frame_pos_;
     SimplifyResult result_;
 };
 
@@ -502,6 +510,101 @@ void Simplifier::setup() {
     }
     point_alive_.assign(points_, 1);
     heap_.reset(points_);
+    if (!params_.extra_frames.empty()) setup_frames();
+}
+
+void Simplifier::setup_frames() {
+    frames_ = params_.extra_frames.size();
+    frame_pos_.resize(points_ * frames_);
+    frame_geo_.assign(points_ * frames_, Quadric{});
+    for (std::size_t f = 0; f < frames_; ++f) {
+        const std::vector<Vec3f>* frame = params_.extra_frames[f];
+        // Frame 0's normalisation for all: costs stay comparable across frames.
+        for (std::size_t p = 0; p < points_; ++p) {
+            const Vec3d q = to3d((*frame)[representative_[p]]);
+            frame_pos_[p * frames_ + f] = {(q.x - centre_.x) / scale_, (q.y - centre_.y) / scale_, (q.z - centre_.z) / scale_};
+        }
+    }
+    for (std::uint32_t face = 0; face < face_alive_.size(); ++face) {
+        if (!face_alive_[face]) continue;
+        const std::uint32_t* c = &fpt_[3 * face];
+        for (std::size_t f = 0; f < frames_; ++f) {
+            const Vec3d p0 = frame_pos_[c[0] * frames_ + f], p1 = frame_pos_[c[1] * frames_ + f],
+                        p2 = frame_pos_[c[2] * frames_ + f];
+            const Vec3d n = crossd(sub(p1, p0), sub(p2, p0));
+            const double len = std::sqrt(dotd(n, n));
+            if (!(len > 0)) continue;
+            const Vec3d un{n.x / len, n.y / len, n.z / len};
+            const Quadric q = Quadric::from_plane(un, -dotd(un, p0), 0.5 * len);
+            for (int k = 0; k < 3; ++k) frame_geo_[c[k] * frames_ + f] += q;
+        }
+    }
+}
+
+// The border constraint plane of edge pq (see classify_points) in every extra frame.
+void Simplifier::add_frame_border_planes(std::uint32_t p, std::uint32_t q, std::uint32_t face) {
+    const std::uint32_t* cc = &fpt_[3 * face];
+    for (std::size_t f = 0; f < frames_; ++f) {
+        auto at = [&](std::uint32_t point) { return frame_pos_[point * frames_ + f]; };
+        const Vec3d n = crossd(sub(at(cc[1]), at(cc[0])), sub(at(cc[2]), at(cc[0])));
+        const Vec3d e = sub(at(q), at(p));
+        Vec3d m = crossd(e, n);
+        const double len = std::sqrt(dotd(m, m));
+        if (!(len > 0)) continue;
+        m = {m.x / len, m.y / len, m.z / len};
+        Quadric bq = Quadric::from_plane(m, -dotd(m, at(p)), dotd(e, e));
+        bq.weight = 0;
+        frame_geo_[p * frames_ + f] += bq;
+        frame_geo_[q * frames_ + f] += bq;
+    }
+}
+
+// Frame 0's geometric cost and its total (geometry plus attributes) over `weight`, combined with the
+// geometric cost of u's region at v in every extra frame.
+double Simplifier::frames_cost(std::uint32_t u, std::uint32_t v, double geometric, double total,
+                               double weight) const {
+    auto mean = [](double q, double w) { return w > 0 ? q / w : q * 1e12; };
+    const double attributes = mean(total, weight) - mean(geometric, weight);
+    double combined = mean(geometric, weight);
+    for (std::size_t f = 0; f < frames_; ++f) {
+        const Quadric& q = frame_geo_[u * frames_ + f];
+        const double c = mean(q.evaluate(frame_pos_[v * frames_ + f]), q.weight);
+        if (params_.frame_cost == SimplifyParams::FrameCost::max) combined = std::max(combined, c);
+        else combined += c;
+    }
+    if (params_.frame_cost == SimplifyParams::FrameCost::sum) combined /= double(frames_ + 1);
+    return combined + attributes;
+}
+
+// No face around u flips or becomes a needle in any extra frame when u moves onto v. Other frames only
+// refuse real flips (normal turned past 90°): with the full normal limit in every pose of a strongly
+// deforming sequence few collapses stay legal and the coarse levels get stuck (docs/morph.md).
+constexpr double kFrameMinDot = 0.0;
+bool Simplifier::frames_valid(std::uint32_t u, std::uint32_t v) const {
+    const double min_dot = std::min(double(params_.min_normal_dot), kFrameMinDot);
+    for (std::uint32_t face : pfaces_[u]) {
+        const std::uint32_t* c = &fpt_[3 * face];
+        if (c[0] == v || c[1] == v || c[2] == v) continue;
+        for (std::size_t f = 0; f < frames_; ++f) {
+            Vec3d p[3], q[3];
+            for (int k = 0; k < 3; ++k) {
+                p[k] = frame_pos_[c[k] * frames_ + f];
+                q[k] = c[k] == u ? frame_pos_[v * frames_ + f] : p[k];
+            }
+            const Vec3d n0 = crossd(sub(p[1], p[0]), sub(p[2], p[0]));
+            const Vec3d n1 = crossd(sub(q[1], q[0]), sub(q[2], q[0]));
+            const double l0 = dotd(n0, n0), l1 = dotd(n1, n1);
+            if (!(l0 > 0)) continue;
+            double longest = 0;
+            for (int k = 0; k < 3; ++k) {
+                const Vec3d e = sub(q[(k + 1) % 3], q[k]);
+                longest = std::max(longest, dotd(e, e));
+            }
+            if (!(l1 > 1e-12 * longest * longest)) return false;
+            if (dotd(n0, n1) < min_dot * std::sqrt(l0 * l1)) return false;
+        }
+    }
+    return true;
 }
 
 void Simplifier::classify_points() {
@@ -538,6 +641,7 @@ void Simplifier::classify_points() {
                         bq.weight = 0;  // a constraint, not surface: it must not dilute the mean
                         pts_[p].geo += bq;
                         pts_[q].geo += bq;
+                        if (frames_ > 0) add_frame_border_planes(p, q, f);
                         break;
                     }
                 }
@@ -645,6 +749,7 @@ double Simplifier::evaluate(std::uint32_t u, std::uint32_t v, Plan& plan, bool f
         if (q.evaluate(pts_[u].pos) < q.evaluate(plan.position) && pts_[v].kind == Kind::interior) plan.position = pts_[u].pos;
     }
     double cost = q.evaluate(plan.position);
+    const double geometric = cost;
     if (dims_ > 0) {
         for (int i = 0; i < plan.count; ++i) {
             bool first = true;  // a wedge with two material classes is counted once
@@ -658,6 +763,7 @@ double Simplifier::evaluate(std::uint32_t u, std::uint32_t v, Plan& plan, bool f
             }
     }
     const double weight = q.weight;
+    if (frames_ > 0) return frames_cost(u, v, geometric, cost, weight);
     return weight > 0 ? cost / weight : cost * 1e12;
 }
 
@@ -717,7 +823,7 @@ bool Simplifier::valid(std::uint32_t u, std::uint32_t v, const Plan& plan) {
             if (!face_ok(f, v)) return false;
         }
     }
-    return true;
+    return frames_ == 0 || frames_valid(u, v);
 }
 
 void Simplifier::collapse(std::uint32_t u, std::uint32_t v, const Plan& plan) {
@@ -751,6 +857,7 @@ void Simplifier::collapse(std::uint32_t u, std::uint32_t v, const Plan& plan) {
     std::erase_if(fv, [&](std::uint32_t f) { return !face_alive_[f]; });
 
     pts_[v].geo += pts_[u].geo;
+    for (std::size_t f = 0; f < frames_; ++f) frame_geo_[v * frames_ + f] += frame_geo_[u * frames_ + f];
     Collapse rec;
     rec.from_point = u;
     rec.to_point = v;
@@ -852,6 +959,17 @@ SimplifyResult Simplifier::run() {
     if (!weights_ok) throw Error(Error::Kind::argument, "simplify: attribute weights must be finite and >= 0");
     if (!(p.min_normal_dot >= -1.f && p.min_normal_dot <= 1.f))
         throw Error(Error::Kind::argument, "simplify: min_normal_dot must be in [-1, 1]");
+    if (!p.extra_frames.empty() && p.placement != Placement::half_edge)
+        throw Error(Error::Kind::argument, "simplify: extra_frames need Placement::half_edge");
+    for (std::size_t f = 0; f < p.extra_frames.size(); ++f) {
+        const std::vector<Vec3f>* frame = p.extra_frames[f];
+        if (!frame || frame->size() != mesh_.vertex_count())
+            throw Error(Error::Kind::argument, "simplify: extra frame " + std::to_string(f) + " has " +
+                                                   std::to_string(frame ? frame->size() : 0) + " positions for " +
+                                                   std::to_string(mesh_.vertex_count()) + " vertices");
+        for (const Vec3f& x : *frame)
+            if (!is_finite(x)) throw Error(Error::Kind::argument, "simplify: extra frame " + std::to_string(f) + " has a non-finite position");
+    }
 
     check_progress(progress_, 0.0, "simplify");
     setup();

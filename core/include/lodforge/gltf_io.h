@@ -5,8 +5,26 @@
 #include "lodforge/progress.h"
 
 #include <string>
+#include <vector>
 
 namespace lodforge {
+
+// Morph targets of the imported primitives (filled only when GltfReadOptions::morph_targets is set;
+// see docs/morph.md). Every primitive must have the same number of targets. Deltas are per Mesh vertex,
+// in the same space as the Mesh (the node's world transform applied, without translation); normal
+// deltas are scaled so that normalize(mesh.normals[v] + Σ w·normal_delta) is the morphed normal.
+struct GltfMorphTargets {
+    std::vector<std::string> names;                   // per target; empty strings when unnamed
+    std::vector<std::vector<Vec3f>> position_deltas;  // [target][vertex]
+    std::vector<std::vector<Vec3f>> normal_deltas;    // [target][vertex]; empty when no target has NORMAL
+    std::vector<float> default_weights;               // mesh.weights (zeros when absent)
+    // The first animation channel driving the weights of a node that places a morphing mesh
+    // (empty when none): key times in seconds and the weights at each key ([key][target]).
+    std::vector<float> key_times;
+    std::vector<std::vector<float>> key_weights;
+    std::string interpolation;  // "LINEAR", "STEP" or "CUBICSPLINE" (in-tangents dropped on import)
+    std::size_t target_count() const { return position_deltas.size(); }
+};
 
 // Every triangle primitive of every mesh reachable from the default scene (or all scenes' roots when
 // none is default) is appended once, placed by the world transform of its first instance in
@@ -19,6 +37,8 @@ struct GltfReadOptions {
     // its instances), with an import note naming meshes that other nodes instance again.
     // true: every node instance placed as its own copy (what a viewer shows).
     bool place_every_instance = false;
+    // When set, receives the morph targets (Error(unsupported) when primitives disagree on the count).
+    GltfMorphTargets* morph_targets = nullptr;
 };
 
 Mesh read_gltf(const std::string& path, Progress* progress = nullptr, const GltfReadOptions& options = {});

@@ -49,6 +49,17 @@ struct SimplifyParams {
     Placement placement = Placement::half_edge;
     // A collapse is refused when it turns a face's normal by more than acos(min_normal_dot).
     float min_normal_dot = 0.2f;
+    // Morphing meshes (docs/morph.md): further positions of the same vertices, one array per frame (the
+    // mesh's own positions are frame 0). Each frame gets its own plane quadrics; a collapse's geometric
+    // cost is combined over all frames (attributes count once, from the mesh) and the flip and needle
+    // checks hold in every frame, so one collapse order serves every frame. Needs Placement::half_edge;
+    // the arrays must outlive the call. Empty (the default) leaves the simplifier exactly as it was.
+    std::vector<const std::vector<Vec3f>*> extra_frames;
+    enum class FrameCost {
+        max,  // the worst frame's cost
+        sum,  // the sum over frames, divided by the frame count (so max_error keeps its meaning)
+    };
+    FrameCost frame_cost = FrameCost::max;
 };
 
 // One point collapse: every vertex (wedge) of point `from_point` moves onto a vertex of `to_point`.

@@ -1,0 +1,180 @@
+// `lodforge morph build | extract | info`: morphing meshes with LOD (docs/morph.md).
+#include "commands.h"
+#include "simplify_options.h"
+#include "terminal_progress.h"
+
+#include "lodforge/error.h"
+#include "lodforge/mesh_io.h"
+#include "lodforge/morph.h"
+#include "lodforge/morph_file.h"
+#include "lodforge/morph_lod.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace lodforge::cli {
+namespace {
+
+MorphOrder parse_order(const std::string& s) {
+    if (s == "single") return MorphOrder::single;
+    if (s == "per-frame") return MorphOrder::per_frame;
+    if (s == "naive") return MorphOrder::naive;
+    throw Error(Error::Kind::argument, "morph build: --order must be single, per-frame or naive, got '" + s + "'");
+}
+
+void add_build(CLI::App& morph, const GlobalOptions& global) {
+    struct Options {
+        std::vector<std::string> inputs;
+        std::string output, order = "single", levels = "0.5,0.25,0.1,0.03", landmarks, weights;
+        std::string encoding = "16bit", frame_cost = "sum";
+        long long frames = 0, cost_frames = 16;
+        bool close_seams = false;
+    };
+    auto o = std::make_shared<Options>();
+    CLI::App* cmd = morph.add_subcommand(
+        "build", "Build a morph LOD file from keyframes with identical connectivity (a directory of .obj/.ply "
+                 "frames sorted by name, or a .gltf/.glb with morph targets)");
+    cmd->add_option("INPUT", o->inputs, "Sequence directory or glTF (two meshes + --landmarks: not supported yet)")
+        ->required()
+        ->expected(1, 2);
+    cmd->add_option("-o,--output", o->output, "Output .lfmorph file")->required();
+    cmd->add_option("--frames", o->frames, "Keep this many keyframes, evenly spread (0 = all)");
+    cmd->add_option("--order", o->order, "Collapse order: single (one order over all frames), per-frame, naive")
+        ->capture_default_str();
+    cmd->add_option("--levels", o->levels, "Stored levels as triangle ratios, decreasing, in (0, 1)")->capture_default_str();
+    cmd->add_option("--frame-cost", o->frame_cost, "single order: combine frame costs by max or sum")
+        ->check(CLI::IsMember({"max", "sum"}))
+        ->capture_default_str();
+    cmd->add_option("--cost-frames", o->cost_frames, "single order: frames whose shapes enter the cost (0 = all)")
+        ->capture_default_str();
+    cmd->add_option("--encoding", o->encoding, "Positions/normals in the file: float or 16bit")
+        ->check(CLI::IsMember({"float", "16bit"}))
+        ->capture_default_str();
+    cmd->add_option("--weights", o->weights, "Attribute weights, e.g. normal=0.05,color=0.1,uv=0.1");
+    cmd->add_flag("--close-seams", o->close_seams, "Let attribute seams close (flat-shaded inputs)");
+    cmd->add_option("--landmarks", o->landmarks, "Landmark correspondences for two genus-0 meshes (not supported yet)");
+    cmd->callback([o, &global] {
+        if (o->inputs.size() == 2 || !o->landmarks.empty())
+            throw_error(Error::Kind::unsupported, o->inputs.front(),
+                        "morph build from two meshes with --landmarks (supermesh by sphere mapping, case (b)) is "
+                        "not supported yet; give one sequence directory or glTF with morph targets");
+        if (o->frames < 0 || o->cost_frames < 0)
+            throw Error(Error::Kind::argument, "morph build: --frames and --cost-frames must be >= 0");
+        if (o->frames == 1) throw Error(Error::Kind::argument, "morph build: --frames must be 0 (all) or at least 2");
+        MorphLodParams params;
+        params.order = parse_order(o->order);
+        params.levels.clear();
+        for (double r : parse_number_list(o->levels, "--levels")) params.levels.push_back(static_cast<float>(r));
+        params.frame_cost = o->frame_cost == "max" ? SimplifyParams::FrameCost::max : SimplifyParams::FrameCost::sum;
+        params.cost_frames = static_cast<std::size_t>(o->cost_frames);
+        if (!o->weights.empty()) parse_weights(o->weights, params.simplify.weights);
+        params.simplify.preserve_seams = !o->close_seams;
+        TerminalProgress progress(!global.quiet && stderr_is_terminal());
+        MorphLoadOptions lo;
+        lo.frames = static_cast<std::size_t>(o->frames);
+        const MorphMesh mesh = load_morph(o->inputs.front(), lo, &progress);
+        const MorphLod lod = build_morph_lod(mesh, params, &progress);
+        MorphWriteOptions wo;
+        wo.encoding = o->encoding == "float" ? MorphEncoding::float32 : MorphEncoding::quantized16;
+        write_morph_lod(o->output, mesh, lod, wo, &progress);
+        const MorphFileStats st = morph_file_stats(mesh, lod, wo);
+        std::printf("%s: %zu frames, %zu vertices, %zu triangles, order %s, %zu sequence(s)\n", o->output.c_str(),
+                    mesh.frame_count(), mesh.vertex_count(), lod.triangles, morph_order_name(lod.order), lod.sequences.size());
+        for (std::size_t l = 0; l < lod.levels.size(); ++l)
+            std::printf("  level %zu (ratio %.3g): %zu triangles\n", l, double(lod.levels[l]),
+                        lod.sequences.front().level_triangles[l]);
+        std::printf("  %zu bytes, %.1f KB per frame\n", st.total_bytes,
+                    double(st.total_bytes) / double(mesh.frame_count()) / 1024.0);
+    });
+}
+
+void add_extract(CLI::App& morph, const GlobalOptions& global) {
+    struct Options {
+        std::string input, output;
+        double t = 0, lod = 1;
+    };
+    auto o = std::make_shared<Options>();
+    CLI::App* cmd = morph.add_subcommand("extract", "Write the pose at time t with LOD factor F as a mesh");
+    cmd->add_option("IN", o->input, "Morph LOD file (.lfmorph)")->required();
+    cmd->add_option("--t", o->t, "Time in [0, 1] across the whole sequence")->required();
+    cmd->add_option("--lod", o->lod, "LOD factor in [0, 1]: 0 the coarsest stored level, 1 full detail")->required();
+    cmd->add_option("-o,--output", o->output, "Output mesh (.ply or .obj)")->required();
+    cmd->callback([o, &global] {
+        if (!(o->t >= 0 && o->t <= 1)) throw Error(Error::Kind::argument, "morph extract: --t must be in [0, 1]");
+        if (!(o->lod >= 0 && o->lod <= 1)) throw Error(Error::Kind::argument, "morph extract: --lod must be in [0, 1]");
+        TerminalProgress progress(!global.quiet && stderr_is_terminal());
+        const MorphLodFile f = read_morph_lod(o->input, &progress);
+        const Mesh m = extract_morph(f.morph, f.lod, o->t, o->lod);
+        write_mesh(m, o->output, {}, &progress);
+        std::printf("%s: t %.4g, LOD %.4g: %zu triangles, %zu vertices\n", o->output.c_str(), o->t, o->lod,
+                    m.triangle_count(), m.vertex_count());
+    });
+}
+
+void add_info(CLI::App& morph) {
+    struct Options {
+        std::string input;
+        bool json = false;
+    };
+    auto o = std::make_shared<Options>();
+    CLI::App* cmd = morph.add_subcommand("info", "Describe a morph LOD file");
+    cmd->add_option("IN", o->input, "Morph LOD file (.lfmorph)")->required();
+    cmd->add_flag("--json", o->json, "Print JSON");
+    cmd->callback([o] {
+        const MorphLodFile f = read_morph_lod(o->input);
+        const MorphWriteOptions wo{f.encoding};
+        const MorphFileStats st = morph_file_stats(f.morph, f.lod, wo);
+        nlohmann::ordered_json j;
+        j["file"] = o->input;
+        j["version"] = f.version;
+        j["bytes"] = f.file_bytes;
+        j["encoding"] = f.encoding == MorphEncoding::float32 ? "float" : "16bit";
+        j["frames"] = f.morph.frame_count();
+        j["vertices"] = f.morph.vertex_count();
+        j["triangles"] = f.lod.triangles;
+        j["normals"] = f.morph.normals_from_input ? "stored" : "computed";
+        j["order"] = morph_order_name(f.lod.order);
+        j["sequences"] = f.lod.sequences.size();
+        j["bytes_per_frame"] = double(f.file_bytes) / double(f.morph.frame_count());
+        j["frame_bytes"] = st.frame_bytes;
+        j["sequence_bytes"] = st.sequence_bytes;
+        nlohmann::ordered_json levels = nlohmann::ordered_json::array();
+        for (std::size_t l = 0; l < f.lod.levels.size(); ++l) {
+            nlohmann::ordered_json e;
+            e["ratio"] = f.lod.levels[l];
+            e["triangles"] = f.lod.sequences.front().level_triangles[l];
+            e["collapses"] = f.lod.sequences.front().level_collapses[l];
+            levels.push_back(e);
+        }
+        j["levels"] = levels;
+        if (o->json) {
+            std::printf("%s\n", j.dump(2).c_str());
+            return;
+        }
+        std::printf("%s: lfmorph v%u, %s, %zu bytes (%.1f KB per frame)\n", o->input.c_str(), f.version,
+                    f.encoding == MorphEncoding::float32 ? "float" : "16-bit", f.file_bytes,
+                    double(f.file_bytes) / double(f.morph.frame_count()) / 1024.0);
+        std::printf("frames: %zu, vertices: %zu, triangles: %zu, normals: %s\n", f.morph.frame_count(),
+                    f.morph.vertex_count(), f.lod.triangles, f.morph.normals_from_input ? "stored" : "computed");
+        std::printf("order: %s, %zu sequence(s)\n", morph_order_name(f.lod.order), f.lod.sequences.size());
+        for (std::size_t l = 0; l < f.lod.levels.size(); ++l)
+            std::printf("  level %zu (ratio %.3g): %zu triangles\n", l, double(f.lod.levels[l]),
+                        f.lod.sequences.front().level_triangles[l]);
+    });
+}
+
+}  // namespace
+
+void add_morph_command(CLI::App& app, const GlobalOptions& global) {
+    CLI::App* morph = app.add_subcommand("morph", "Morphing meshes with LOD: build, extract, info");
+    morph->require_subcommand(1);
+    add_build(*morph, global);
+    add_extract(*morph, global);
+    add_info(*morph);
+}
+
+}  // namespace lodforge::cli

@@ -1,0 +1,181 @@
+// Morph LOD benchmark: the three collapse orders of build_morph_lod (single order over all frames,
+// one order per keyframe as the LODStrips thesis does, naive = frame 0's order reused) on the horse
+// gallop and the glTF morph samples, in one run.
+//
+// Printed per model, order and level: Metro distance (compare(), symmetric, relative to the frame's
+// bounding-box diagonal) of the level at every keyframe against that keyframe's full mesh — mean over
+// the frames of the mean distance, and the worst frame's Hausdorff distance; build seconds; the .lfmorph
+// file size per frame (float and 16-bit quantised positions); extraction time per frame change (blend +
+// faces of the level + compact mesh, median over a sweep of t at fixed LOD factor; also the face replay
+// alone and the blend alone, which is all a runtime redoes per frame while the sequence stays).
+//
+//   lodforge_bench_morph [--models horse,sphere,cube] [--samples N] [--frame-stride S] [--reps N]
+//                        [--frame-cost max|sum] [--cost-frames N] [--orders single,per-frame,naive]
+
+#include "lodforge/error.h"
+#include "lodforge/morph.h"
+#include "lodforge/morph_file.h"
+#include "lodforge/morph_lod.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <sstream>
+#include <string>
+#include <vector>
+
+using namespace lodforge;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+std::vector<std::string> split(const std::string& s) {
+    std::vector<std::string> out;
+    std::stringstream ss(s);
+    std::string item;
+    while (std::getline(ss, item, ',')) out.push_back(item);
+    return out;
+}
+
+struct Model {
+    std::string key, label, path;
+    bool close_seams = false;  // flat-shaded quads: every edge is a normal seam
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    std::string models = "horse,sphere,cube";
+    std::size_t samples = 20000, stride = 1, reps = 50, cost_frames = 0;
+    std::string frame_cost = "sum", orders = "single,per-frame,naive";
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        auto next = [&]() -> std::string {
+            if (i + 1 >= argc) {
+                std::fprintf(stderr, "%s needs a value\n", a.c_str());
+                std::exit(2);
+            }
+            return argv[++i];
+        };
+        if (a == "--models") models = next();
+        else if (a == "--samples") samples = std::strtoul(next().c_str(), nullptr, 10);
+        else if (a == "--frame-stride") stride = std::max<std::size_t>(1, std::strtoul(next().c_str(), nullptr, 10));
+        else if (a == "--frame-cost") frame_cost = next();
+        else if (a == "--cost-frames") cost_frames = std::strtoul(next().c_str(), nullptr, 10);
+        else if (a == "--orders") orders = next();
+        else if (a == "--reps") reps = std::max<std::size_t>(1, std::strtoul(next().c_str(), nullptr, 10));
+        else {
+            std::fprintf(stderr, "usage: lodforge_bench_morph [--models horse,sphere,cube] [--samples N] "
+                                 "[--frame-stride S] [--reps N] [--frame-cost max|sum] [--cost-frames N]\n"
+                                 "       [--orders single,per-frame,naive]\n");
+            return 2;
+        }
+    }
+    const std::string data = LODFORGE_SHARED_DATA;
+    const std::vector<Model> all = {
+        {"horse", "horse gallop (48 OBJ frames)", data + "/seq-horse-gallop", false},
+        {"sphere", "AnimatedMorphSphere (glTF, 2 targets, weights animation)",
+         data + "/morph-animated-morph-sphere/AnimatedMorphSphere.gltf", true},
+        {"cube", "AnimatedMorphCube (glTF, 2 targets, weights animation)",
+         data + "/morph-animated-morph-cube/AnimatedMorphCube.gltf", true},
+    };
+    const std::string tmp = (std::filesystem::temp_directory_path() / "lodforge-bench-morph.lfmorph").string();
+    try {
+        for (const std::string& key : split(models)) {
+            const auto it = std::find_if(all.begin(), all.end(), [&](const Model& m) { return m.key == key; });
+            if (it == all.end()) {
+                std::fprintf(stderr, "unknown model %s\n", key.c_str());
+                return 2;
+            }
+            auto t0 = Clock::now();
+            const MorphMesh morph = load_morph(it->path);
+            std::printf("\n## %s: %zu vertices, %zu triangles, %zu frames (load %.2f s)\n", it->label.c_str(),
+                        morph.vertex_count(), morph.base.triangle_count(), morph.frame_count(), seconds_since(t0));
+            MorphMeasureParams mp;
+            for (std::size_t f = 0; f < morph.frame_count(); f += stride) mp.frames.push_back(f);
+            mp.distance.samples = samples;
+            std::printf("measured at %zu frames, %zu samples per surface\n\n", mp.frames.size(), samples);
+            std::printf("| order | level | triangles | mean of per-frame mean | worst frame mean | worst Hausdorff | build s |\n");
+            std::printf("|---|---|---|---|---|---|---|\n");
+            std::vector<MorphLod> lods;
+            for (MorphOrder order : {MorphOrder::single, MorphOrder::per_frame, MorphOrder::naive}) {
+                if (orders.find(morph_order_name(order)) == std::string::npos) continue;
+                MorphLodParams p;
+                p.frame_cost = frame_cost == "max" ? SimplifyParams::FrameCost::max : SimplifyParams::FrameCost::sum;
+                p.cost_frames = cost_frames;
+                p.order = order;
+                p.simplify.preserve_seams = !it->close_seams;
+                t0 = Clock::now();
+                MorphLod lod = build_morph_lod(morph, p);
+                const double build = seconds_since(t0);
+                const std::vector<MorphLevelError> errors = measure_morph_lod(morph, lod, mp);
+                for (std::size_t level = 0; level < lod.levels.size(); ++level) {
+                    double sum = 0, worst_mean = 0, worst_h = 0, tris = 0;
+                    std::size_t n = 0;
+                    for (const MorphLevelError& e : errors) {
+                        if (e.level != level) continue;
+                        sum += e.distance.mean_relative;
+                        worst_mean = std::max(worst_mean, e.distance.mean_relative);
+                        worst_h = std::max(worst_h, e.distance.hausdorff_relative);
+                        tris += double(e.triangles);
+                        ++n;
+                    }
+                    std::printf("| %s | %.2f | %.0f | %.3e | %.3e | %.3e | %s |\n", morph_order_name(order),
+                                double(lod.levels[level]), tris / double(n), sum / double(n), worst_mean, worst_h,
+                                level == 0 ? std::to_string(build).substr(0, 5).c_str() : "");
+                }
+                lods.push_back(std::move(lod));
+            }
+            std::printf("\n| order | encoding | file bytes | bytes per frame | per frame, KB | sequences, KB |\n|---|---|---|---|---|---|\n");
+            for (const MorphLod& lod : lods)
+                for (MorphEncoding enc : {MorphEncoding::float32, MorphEncoding::quantized16}) {
+                    MorphWriteOptions wo;
+                    wo.encoding = enc;
+                    write_morph_lod(tmp, morph, lod, wo);
+                    const auto bytes = std::filesystem::file_size(tmp);
+                    const MorphFileStats st = morph_file_stats(morph, lod, wo);
+                    std::printf("| %s | %s | %llu | %.0f | %.1f | %.1f |\n", morph_order_name(lod.order),
+                                enc == MorphEncoding::float32 ? "float" : "16-bit", static_cast<unsigned long long>(bytes),
+                                double(bytes) / double(morph.frame_count()), double(bytes) / double(morph.frame_count()) / 1024.0,
+                                double(st.sequence_bytes) / 1024.0);
+                }
+            std::filesystem::remove(tmp);
+            // Extraction per frame change: t sweeps the sequence at a fixed LOD factor.
+            std::printf("\n| order | LOD factor | extraction per frame change, ms (median of %zu) | faces only, ms | blend only, ms |\n|---|---|---|---|---|\n", reps);
+            for (const MorphLod& lod : lods)
+                for (double f : {1.0, 0.5, 0.0}) {
+                    std::vector<double> full, faces, blend;
+                    std::vector<Vec3f> pos, nrm;
+                    for (std::size_t r = 0; r < reps; ++r) {
+                        const double t = double(r) / double(reps - 1 > 0 ? reps - 1 : 1);
+                        auto a = Clock::now();
+                        const Mesh m = extract_morph(morph, lod, t, f);
+                        full.push_back(seconds_since(a) * 1e3);
+                        const MorphSequence& seq = lod.sequences[morph_sequence_at(lod, morph.frame_count(), t)];
+                        a = Clock::now();
+                        const auto idx = morph_level_indices(morph, seq, morph_collapses_for(seq, f));
+                        faces.push_back(seconds_since(a) * 1e3);
+                        if (m.triangle_count() * 3 != idx.size()) throw Error(Error::Kind::invalid, "extraction mismatch");
+                        a = Clock::now();
+                        morph_positions_at(morph, t, pos);
+                        morph_normals_at(morph, t, nrm);
+                        blend.push_back(seconds_since(a) * 1e3);
+                    }
+                    std::sort(full.begin(), full.end());
+                    std::sort(faces.begin(), faces.end());
+                    std::sort(blend.begin(), blend.end());
+                    std::printf("| %s | %.1f | %.3f | %.3f | %.3f |\n", morph_order_name(lod.order), f, full[full.size() / 2],
+                                faces[faces.size() / 2], blend[blend.size() / 2]);
+                }
+        }
+    } catch (const Error& e) {
+        std::fprintf(stderr, "lodforge_bench_morph: %s\n", e.what());
+        return 1;
+    }
+    return 0;
+}
