@@ -1,0 +1,132 @@
+// Extracting a mesh from the prioritized marching-cube octree at a priority or a triangle budget.
+//
+// The 003 document (KAIST thesis, 2007, §6.1-6.2): for the nodes numbered i, i - 1, ..., 1 the children
+// not expanded themselves are triangulated; the budget is turned into a priority through the cumulative
+// triangle table. We walk the order forwards instead (the same set of nodes, no 'expanded' flags to
+// reset), and triangulate each node of the cut by table look-up; a node with a finer neighbour is
+// re-triangulated with its shared faces split (mc_tables.cpp), which closes the seam by index with no
+// moved vertices. No floating-point work: positions, normals and colours were computed at build time.
+#include "lodforge/error.h"
+#include "mc_octree_internal.h"
+
+#include <algorithm>
+
+namespace lodforge {
+
+using mc::none;
+
+std::uint64_t mc_triangles_at(const McOctree& tree, std::size_t priority) {
+    if (tree.triangle_counts.empty()) return 0;
+    return tree.triangle_counts[std::min(priority, tree.triangle_counts.size() - 1)];
+}
+
+std::size_t mc_priority_for_triangles(const McOctree& tree, std::uint64_t triangles) {
+    const auto& t = tree.triangle_counts;
+    if (t.empty() || t[0] > triangles) return 0;
+    // Binary search over the cumulative table (monotone on the meshes we measured, docs/mcoctree.md);
+    // stepping back afterwards keeps the answer within the budget even where a refinement removed triangles.
+    std::size_t i = static_cast<std::size_t>(std::upper_bound(t.begin(), t.end(), triangles) - t.begin()) - 1;
+    while (i > 0 && t[i] > triangles) --i;
+    return i;
+}
+
+McOctreeExtractor::McOctreeExtractor(const McOctree& tree) : tree_(&tree) {
+    remap_.assign(tree.positions.size(), 0);
+    stamp_.assign(tree.positions.size(), 0);
+}
+
+const McExtraction& McOctreeExtractor::extract(std::size_t priority) {
+    const McOctree& tree = *tree_;
+    if (priority > tree.max_priority())
+        throw Error(Error::Kind::argument, "mcoctree: priority " + std::to_string(priority) + " is above the maximum " +
+                                               std::to_string(tree.max_priority()));
+    if (++generation_ == 0) {  // stamps wrapped: start over
+        std::fill(stamp_.begin(), stamp_.end(), 0u);
+        generation_ = 1;
+    }
+    McExtraction& r = result_;
+    r.priority = priority;
+    r.active_nodes = r.transition_nodes = 0;
+    Mesh& m = r.mesh;
+    m.positions.clear();
+    m.normals.clear();
+    m.colors.clear();
+    m.indices.clear();
+    m.indices.reserve(3 * mc_triangles_at(tree, priority));
+    const bool colors = tree.has_colors();
+    const mc::CaseTable& table = mc::case_table();
+    std::uint8_t buf[3 * mc::max_triangles];
+
+    auto vertex = [&](std::uint32_t v) {
+        if (stamp_[v] != generation_) {
+            stamp_[v] = generation_;
+            remap_[v] = static_cast<std::uint32_t>(m.positions.size());
+            m.positions.push_back(tree.positions[v]);
+            m.normals.push_back(tree.normals[v]);
+            if (colors) m.colors.push_back(tree.colors[v]);
+        }
+        return remap_[v];
+    };
+    auto emit = [&](std::uint32_t node) {
+        const McNode& n = tree.nodes[node];
+        ++r.active_nodes;
+        const std::uint32_t refine = mc::refine_mask(tree, node, priority);
+        const std::uint8_t* edges;
+        int count;
+        if (refine == 0) {
+            const std::uint32_t c = mc::corner_config(n.inside);
+            edges = table.edges[c].data();
+            count = table.count[c];
+        } else {
+            ++r.transition_nodes;
+            count = mc::triangulate(n.inside, refine, buf);
+            edges = buf;
+        }
+        for (int k = 0; k < 3 * count; ++k) m.indices.push_back(vertex(mc::sub_edge_vertex(tree, n, edges[k])));
+    };
+
+    if (priority == 0) {
+        if (!tree.nodes.empty()) emit(0);
+    } else {
+        for (std::size_t k = 0; k < priority; ++k) {
+            const McNode& p = tree.nodes[tree.order[k]];
+            const int children = std::popcount(unsigned(p.child_mask));
+            for (int c = 0; c < children; ++c) {
+                const std::uint32_t ci = p.first_child + static_cast<std::uint32_t>(c);
+                if (tree.nodes[ci].priority > priority) emit(ci);
+            }
+        }
+    }
+    return r;
+}
+
+std::vector<McCell> McOctreeExtractor::cells(std::size_t priority) const {
+    const McOctree& tree = *tree_;
+    std::vector<McCell> out;
+    auto add = [&](std::uint32_t i) {
+        const McNode& n = tree.nodes[i];
+        const float size = tree.cube_size * float(1u << n.level);
+        out.push_back({tree.origin + Vec3f{float(n.x), float(n.y), float(n.z)} * size, size, n.level, i});
+    };
+    priority = std::min(priority, tree.max_priority());
+    if (priority == 0) {
+        if (!tree.nodes.empty()) add(0);
+        return out;
+    }
+    for (std::size_t k = 0; k < priority; ++k) {
+        const McNode& p = tree.nodes[tree.order[k]];
+        const int children = std::popcount(unsigned(p.child_mask));
+        for (int c = 0; c < children; ++c) {
+            const std::uint32_t ci = p.first_child + static_cast<std::uint32_t>(c);
+            if (tree.nodes[ci].priority > priority) add(ci);
+        }
+    }
+    return out;
+}
+
+McExtraction extract_mc_octree(const McOctree& tree, std::size_t priority) {
+    McOctreeExtractor ex(tree);
+    return ex.extract(priority);
+}
+
+}  // namespace lodforge
