@@ -183,6 +183,7 @@ std::uint64_t morton(std::uint32_t x, std::uint32_t y, std::uint32_t z) {
 struct TmpNode {
     std::uint64_t code;  // Morton code at the node's level
     std::uint32_t x, y, z;
+    std::uint32_t corners = 0;  // leaves: inside corners (bit c = corner c), known from the flood
 };
 
 double median_spacing(const PointCloud& pc, const KdTree& tree) {
@@ -304,7 +305,7 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
             }
             const auto x = std::uint32_t(k & mc::max_lattice), y = std::uint32_t((k >> 17) & mc::max_lattice),
                        z = std::uint32_t((k >> 34) & mc::max_lattice);
-            leaves.push_back({morton(x, y, z), x, y, z});
+            leaves.push_back({morton(x, y, z), x, y, z, inside});
             for (int f = 0; f < 6; ++f) {
                 const int a = f / 2, side = f & 1;
                 std::uint32_t fm = 0, count = 0;
@@ -335,7 +336,7 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
     for (std::uint32_t l = 1; l <= levels; ++l) {
         for (const TmpNode& c : lv[l - 1]) {
             const std::uint64_t code = c.code >> 3;
-            if (lv[l].empty() || lv[l].back().code != code) lv[l].push_back({code, c.x >> 1, c.y >> 1, c.z >> 1});
+            if (lv[l].empty() || lv[l].back().code != code) lv[l].push_back({code, c.x >> 1, c.y >> 1, c.z >> 1, 0});
         }
     }
     std::vector<std::size_t> offset(levels + 2, 0);
@@ -351,6 +352,9 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
             McNode& n = tree.nodes[offset[l] + i];
             n.x = lv[l][i].x, n.y = lv[l][i].y, n.z = lv[l][i].z;
             n.level = static_cast<std::uint8_t>(l);
+            if (l == 0)
+                for (int c = 0; c < 8; ++c)
+                    if (lv[0][i].corners & (1u << c)) n.inside |= 1u << mc::corner_sample(c);
             maps[l].insert(pack(n.x, n.y, n.z), static_cast<std::uint32_t>(offset[l] + i));
             if (l == 0) continue;
             n.first_child = static_cast<std::uint32_t>(offset[l - 1] + child);
@@ -376,12 +380,10 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
             if (s != 13) corner_keys.push_back(sample_key(tree.nodes[ni], s));
     check_progress(progress, 0.55, "mcoctree: octree");
     field.evaluate(corner_keys);
-    for (McNode& n : tree.nodes) {
-        for (int s = 0; s < 27; ++s) {
-            if (s == 13) continue;
-            if (n.level == 0 && (s % 3 == 1 || (s / 3) % 3 == 1 || s / 9 == 1)) continue;
-            if (field.inside(sample_key(n, s))) n.inside |= 1u << s;
-        }
+    for (std::size_t ni = 0; ni < offset[0]; ++ni) {
+        McNode& n = tree.nodes[ni];
+        for (int s = 0; s < 27; ++s)
+            if (s != 13 && field.inside(sample_key(n, s))) n.inside |= 1u << s;
     }
 
     // Vertices: the crossing of an edge at any level is the crossing of the one leaf edge the recursive

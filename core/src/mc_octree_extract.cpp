@@ -30,10 +30,15 @@ std::size_t mc_priority_for_triangles(const McOctree& tree, std::uint64_t triang
     return i;
 }
 
-McOctreeExtractor::McOctreeExtractor(const McOctree& tree) : tree_(&tree) {
-    remap_.assign(tree.positions.size(), 0);
-    stamp_.assign(tree.positions.size(), 0);
+McOctreeExtractor::McOctreeExtractor(const McOctree& tree)
+    : tree_(&tree), seams_(std::make_unique<mc::SeamCache>()) {
+    remap_.assign(2 * tree.positions.size(), 0);  // (stamp, output index) pairs: one cache line per look-up
+    priority_.resize(tree.nodes.size());
+    for (std::size_t i = 0; i < tree.nodes.size(); ++i) priority_[i] = tree.nodes[i].priority;
+    active_.assign((tree.nodes.size() + 63) / 64, 0);
 }
+
+McOctreeExtractor::~McOctreeExtractor() = default;
 
 const McExtraction& McOctreeExtractor::extract(std::size_t priority) {
     const McOctree& tree = *tree_;
@@ -41,7 +46,7 @@ const McExtraction& McOctreeExtractor::extract(std::size_t priority) {
         throw Error(Error::Kind::argument, "mcoctree: priority " + std::to_string(priority) + " is above the maximum " +
                                                std::to_string(tree.max_priority()));
     if (++generation_ == 0) {  // stamps wrapped: start over
-        std::fill(stamp_.begin(), stamp_.end(), 0u);
+        for (std::size_t v = 0; v < remap_.size(); v += 2) remap_[v] = 0;
         generation_ = 1;
     }
     McExtraction& r = result_;
@@ -51,52 +56,69 @@ const McExtraction& McOctreeExtractor::extract(std::size_t priority) {
     m.positions.clear();
     m.normals.clear();
     m.colors.clear();
-    m.indices.clear();
-    m.indices.reserve(3 * mc_triangles_at(tree, priority));
+    m.indices.resize(3 * mc_triangles_at(tree, priority));
+    std::uint32_t* out = m.indices.data();
     const bool colors = tree.has_colors();
     const mc::CaseTable& table = mc::case_table();
-    std::uint8_t buf[3 * mc::max_triangles];
+    const std::uint32_t* prio = priority_.data();
+    auto priority_of = [prio](std::uint32_t n) { return prio[n]; };
+    std::uint32_t* remap = remap_.data();
+    const std::uint32_t gen = generation_;
 
-    auto vertex = [&](std::uint32_t v) {
-        if (stamp_[v] != generation_) {
-            stamp_[v] = generation_;
-            remap_[v] = static_cast<std::uint32_t>(m.positions.size());
-            m.positions.push_back(tree.positions[v]);
-            m.normals.push_back(tree.normals[v]);
-            if (colors) m.colors.push_back(tree.colors[v]);
-        }
-        return remap_[v];
-    };
-    auto emit = [&](std::uint32_t node) {
-        const McNode& n = tree.nodes[node];
-        ++r.active_nodes;
-        const std::uint32_t refine = mc::refine_mask(tree, node, priority);
-        const std::uint8_t* edges;
-        int count;
-        if (refine == 0) {
-            const std::uint32_t c = mc::corner_config(n.inside);
-            edges = table.edges[c].data();
-            count = table.count[c];
-        } else {
-            ++r.transition_nodes;
-            count = mc::triangulate(n.inside, refine, buf);
-            edges = buf;
-        }
-        for (int k = 0; k < 3 * count; ++k) m.indices.push_back(vertex(mc::sub_edge_vertex(tree, n, edges[k])));
-    };
-
+    // The cut: children of expanded nodes that are not expanded themselves. Marked in a bitmap and then
+    // walked in storage order (level by level, Morton order within a level), which keeps the node and
+    // vertex reads local; the priority order itself jumps all over the model.
+    std::fill(active_.begin(), active_.end(), 0);
+    auto mark = [&](std::uint32_t i) { active_[i >> 6] |= std::uint64_t(1) << (i & 63); };
     if (priority == 0) {
-        if (!tree.nodes.empty()) emit(0);
+        if (!tree.nodes.empty()) mark(0);
     } else {
         for (std::size_t k = 0; k < priority; ++k) {
             const McNode& p = tree.nodes[tree.order[k]];
             const int children = std::popcount(unsigned(p.child_mask));
             for (int c = 0; c < children; ++c) {
                 const std::uint32_t ci = p.first_child + static_cast<std::uint32_t>(c);
-                if (tree.nodes[ci].priority > priority) emit(ci);
+                if (prio[ci] > priority) mark(ci);
             }
         }
     }
+    std::uint32_t vid[mc::sub_edge_count];
+    for (std::size_t w = 0; w < active_.size(); ++w) {
+        for (std::uint64_t bits = active_[w]; bits; bits &= bits - 1) {
+            const auto node = static_cast<std::uint32_t>(w * 64 + std::size_t(std::countr_zero(bits)));
+            const McNode& n = tree.nodes[node];
+            ++r.active_nodes;
+            const std::uint32_t refine = n.level == 0 ? 0 : mc::refine_mask(tree, node, priority, priority_of);
+            const std::uint8_t* edges;
+            int count;
+            if (refine == 0) {
+                const std::uint32_t c = mc::corner_config(n.inside);
+                edges = table.edges[c].data();
+                count = table.count[c];
+            } else {
+                ++r.transition_nodes;
+                edges = seams_->get(n.inside, refine, count);
+            }
+            if (count == 0) continue;
+            // output index of every crossing sub-edge of the node (bits walked in order: no popcount)
+            const std::uint32_t* ids = tree.vertex_ids.data() + n.first_vertex;
+            std::uint64_t cross = refine == 0 ? (n.crossings & 0xfff) : n.crossings;
+            for (; cross; cross &= cross - 1) {
+                const std::uint32_t v = *ids++;
+                std::uint32_t* slot = remap + 2 * std::size_t(v);
+                if (slot[0] != gen) {
+                    slot[0] = gen;
+                    slot[1] = static_cast<std::uint32_t>(m.positions.size());
+                    m.positions.push_back(tree.positions[v]);
+                    m.normals.push_back(tree.normals[v]);
+                    if (colors) m.colors.push_back(tree.colors[v]);
+                }
+                vid[std::countr_zero(cross)] = slot[1];
+            }
+            for (int k = 0; k < 3 * count; ++k) *out++ = vid[edges[k]];
+        }
+    }
+    m.indices.resize(static_cast<std::size_t>(out - m.indices.data()));
     return r;
 }
 

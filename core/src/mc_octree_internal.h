@@ -5,6 +5,7 @@
 #include "lodforge/mc_octree.h"
 #include "mc_tables.h"
 
+#include <array>
 #include <bit>
 #include <cstdint>
 #include <vector>
@@ -13,24 +14,35 @@ namespace lodforge::mc {
 
 constexpr std::uint32_t none = UINT32_MAX;
 
+// The refinement each neighbour slot brings when that neighbour is expanded: a face neighbour splits the
+// shared face and its four edges, an edge neighbour the shared edge (the edges of a face neighbour's face
+// include the edges it shares with the node, so OR-ing the slots is the whole rule).
+inline const std::array<std::uint32_t, neighbour_slots>& slot_refinement() {
+    static const std::array<std::uint32_t, neighbour_slots> table = [] {
+        std::array<std::uint32_t, neighbour_slots> t{};
+        for (int f = 0; f < 6; ++f) t[std::size_t(f)] = face_bit(f) | face_edges_mask(f);
+        for (int e = 0; e < full_edges; ++e) t[std::size_t(6 + e)] = 1u << e;
+        return t;
+    }();
+    return table;
+}
+
 // Which edges and faces of `node` are shared with nodes one level finer when the nodes whose priority is
 // <= `expanded_up_to` are expanded (a same-level neighbour that is expanded has finer children there).
+// `priority` is the per-node priority (McNode::priority, or a dense copy of it).
+template <class PriorityOf>
+inline std::uint32_t refine_mask(const McOctree& tree, std::uint32_t node, std::uint64_t expanded_up_to,
+                                 const PriorityOf& priority) {
+    const std::uint32_t* nb = &tree.neighbours[std::size_t(node) * neighbour_slots];
+    const auto& bits = slot_refinement();
+    std::uint32_t refine = 0;
+    for (int s = 0; s < neighbour_slots; ++s)
+        if (nb[s] != none && priority(nb[s]) <= expanded_up_to) refine |= bits[std::size_t(s)];
+    return refine;
+}
 inline std::uint32_t refine_mask(const McOctree& tree, std::uint32_t node, std::uint64_t expanded_up_to) {
     if (tree.nodes[node].level == 0) return 0;
-    const std::uint32_t* nb = &tree.neighbours[std::size_t(node) * neighbour_slots];
-    auto expanded = [&](std::uint32_t n) { return n != none && tree.nodes[n].priority <= expanded_up_to; };
-    std::uint32_t refine = 0;
-    bool slot_expanded[neighbour_slots];
-    bool any = false;
-    for (int s = 0; s < neighbour_slots; ++s) any |= (slot_expanded[s] = expanded(nb[s]));
-    if (!any) return 0;
-    for (int f = 0; f < 6; ++f)
-        if (slot_expanded[f]) refine |= face_bit(f) | face_edges_mask(f);
-    for (int e = 0; e < full_edges; ++e) {
-        const auto s = edge_neighbour_slots(e);
-        if (slot_expanded[s[0]] || slot_expanded[s[1]] || slot_expanded[s[2]]) refine |= 1u << e;
-    }
-    return refine;
+    return refine_mask(tree, node, expanded_up_to, [&](std::uint32_t n) { return tree.nodes[n].priority; });
 }
 
 inline std::uint32_t sub_edge_vertex(const McOctree& tree, const McNode& n, int sub_edge) {
@@ -38,12 +50,6 @@ inline std::uint32_t sub_edge_vertex(const McOctree& tree, const McNode& n, int 
     return tree.vertex_ids[n.first_vertex + static_cast<std::uint32_t>(std::popcount(below))];
 }
 
-inline int node_triangle_count(const McOctree& tree, std::uint32_t node, std::uint32_t refine) {
-    const McNode& n = tree.nodes[node];
-    if (refine == 0) return case_table().count[corner_config(n.inside)];
-    std::uint8_t buf[3 * max_triangles];
-    return triangulate(n.inside, refine, buf);
-}
 
 // Keys: lattice points packed 17 bits per axis (plus, for edges, axis and level above bit 51).
 inline std::uint64_t pack(std::uint32_t x, std::uint32_t y, std::uint32_t z) {
@@ -98,6 +104,39 @@ private:
     std::vector<std::uint32_t> values_;
     std::size_t mask_ = 0, size_ = 0;
 };
+
+// Triangulations of refined nodes, computed once per (samples, refinement) pair met: the seams then cost a
+// table look-up like every other node. Not thread-safe (one per extractor).
+class SeamCache {
+public:
+    // Sub-edge triples and their count for `inside` with `refine` (refine != 0).
+    const std::uint8_t* get(std::uint32_t inside, std::uint32_t refine, int& count) {
+        const std::uint64_t key = std::uint64_t(inside & 0x7ffffff) | (std::uint64_t(refine) << 27);
+        std::uint32_t at = map_.find(key);
+        if (at == none) {
+            std::uint8_t buf[3 * max_triangles];
+            const int n = triangulate(inside, refine, buf);
+            at = static_cast<std::uint32_t>(data_.size());
+            data_.push_back(static_cast<std::uint8_t>(n));
+            data_.insert(data_.end(), buf, buf + 3 * n);
+            map_.insert(key, at);
+        }
+        count = data_[at];
+        return data_.data() + at + 1;
+    }
+
+private:
+    KeyMap map_{1 << 12};
+    std::vector<std::uint8_t> data_;
+};
+
+inline int node_triangle_count(const McOctree& tree, std::uint32_t node, std::uint32_t refine, SeamCache& cache) {
+    const McNode& n = tree.nodes[node];
+    if (refine == 0) return case_table().count[corner_config(n.inside)];
+    int count = 0;
+    cache.get(n.inside, refine, count);
+    return count;
+}
 
 // Numbers the internal nodes by priority and fills order, metric-driven heap, and triangle_counts
 // (mc_octree_priority.cpp). `level_maps[l]` maps packed node coordinates at level l to node indices.

@@ -36,11 +36,23 @@ void number_mc_octree(McOctree& tree, const std::vector<KeyMap>& maps, Progress*
     tree.triangle_counts.clear();
     for (McNode& node : tree.nodes) node.priority = none;
 
-    auto find = [&](std::uint32_t level, std::int64_t x, std::int64_t y, std::int64_t z) -> std::uint32_t {
-        const std::int64_t size = std::int64_t(grid >> level);
+    // offset (dx, dy, dz) -> neighbour slot for faces and edges; corners (-1) go through the level's map
+    int slot_of[27];
+    for (int& s : slot_of) s = -1;
+    for (int s = 0; s < neighbour_slots; ++s) {
+        const auto o = neighbour_offset(s);
+        slot_of[(o[0] + 1) + 3 * (o[1] + 1) + 9 * (o[2] + 1)] = s;
+    }
+    auto find = [&](std::uint32_t node, int dx, int dy, int dz) -> std::uint32_t {
+        const int s = slot_of[(dx + 1) + 3 * (dy + 1) + 9 * (dz + 1)];
+        if (s >= 0) return tree.neighbours[std::size_t(node) * neighbour_slots + std::size_t(s)];
+        const McNode& a = tree.nodes[node];
+        const std::int64_t size = std::int64_t(grid >> a.level);
+        const std::int64_t x = std::int64_t(a.x) + dx, y = std::int64_t(a.y) + dy, z = std::int64_t(a.z) + dz;
         if (x < 0 || y < 0 || z < 0 || x >= size || y >= size || z >= size) return none;
-        return maps[level].find(pack(std::uint32_t(x), std::uint32_t(y), std::uint32_t(z)));
+        return maps[a.level].find(pack(std::uint32_t(x), std::uint32_t(y), std::uint32_t(z)));
     };
+    SeamCache seams;
     auto push = [&](std::uint32_t node) {
         if (tree.nodes[node].level > 0) heap.push({std::fabs(tree.metric[node]), node});
     };
@@ -49,7 +61,7 @@ void number_mc_octree(McOctree& tree, const std::vector<KeyMap>& maps, Progress*
         return p.first_child + static_cast<std::uint32_t>(std::popcount(unsigned(p.child_mask) & ((1u << octant) - 1)));
     };
 
-    std::uint64_t total = node_triangle_count(tree, 0, 0);
+    std::uint64_t total = node_triangle_count(tree, 0, 0, seams);
     triangles[0] = static_cast<std::uint32_t>(total);
     tree.triangle_counts.push_back(total);
     push(0);
@@ -62,7 +74,6 @@ void number_mc_octree(McOctree& tree, const std::vector<KeyMap>& maps, Progress*
         node.priority = static_cast<std::uint32_t>(++numbered);
         tree.order.push_back(x);
         if ((numbered & 0x3fff) == 0) check_progress(progress, 0.8 + 0.2 * double(numbered) / double(internal), "mcoctree: priorities");
-        const std::uint32_t level = node.level;
 
         // Children become present; each waits for the unexpanded coarse nodes it touches.
         total -= triangles[x];
@@ -71,14 +82,13 @@ void number_mc_octree(McOctree& tree, const std::vector<KeyMap>& maps, Progress*
             if (c == none) continue;
             std::uint8_t count = 0;
             for (int d = 1; d < 8; ++d) {
-                const std::int64_t dx = (d & 1) ? ((o & 1) ? 1 : -1) : 0, dy = (d & 2) ? ((o & 2) ? 1 : -1) : 0,
-                                   dz = (d & 4) ? ((o & 4) ? 1 : -1) : 0;
-                const std::uint32_t m = find(level, std::int64_t(node.x) + dx, std::int64_t(node.y) + dy,
-                                             std::int64_t(node.z) + dz);
+                const int dx = (d & 1) ? ((o & 1) ? 1 : -1) : 0, dy = (d & 2) ? ((o & 2) ? 1 : -1) : 0,
+                          dz = (d & 4) ? ((o & 4) ? 1 : -1) : 0;
+                const std::uint32_t m = find(x, dx, dy, dz);
                 if (m != none && tree.nodes[m].priority == none) ++count;
             }
             blockers[c] = count;
-            triangles[c] = static_cast<std::uint32_t>(node_triangle_count(tree, c, refine_mask(tree, c, numbered)));
+            triangles[c] = static_cast<std::uint32_t>(node_triangle_count(tree, c, refine_mask(tree, c, numbered), seams));
             total += triangles[c];
             if (count == 0) push(c);
         }
@@ -87,8 +97,7 @@ void number_mc_octree(McOctree& tree, const std::vector<KeyMap>& maps, Progress*
             for (int dy = -1; dy <= 1; ++dy)
                 for (int dx = -1; dx <= 1; ++dx) {
                     if (dx == 0 && dy == 0 && dz == 0) continue;
-                    const std::uint32_t m = find(level, std::int64_t(node.x) + dx, std::int64_t(node.y) + dy,
-                                                 std::int64_t(node.z) + dz);
+                    const std::uint32_t m = find(x, dx, dy, dz);
                     if (m == none) continue;
                     const McNode& nb = tree.nodes[m];
                     if (nb.priority != none) {
@@ -105,7 +114,7 @@ void number_mc_octree(McOctree& tree, const std::vector<KeyMap>& maps, Progress*
                     } else if (nb.parent == none || tree.nodes[nb.parent].priority != none) {
                         const bool shares_edge = (dx == 0) + (dy == 0) + (dz == 0) >= 1;
                         if (!shares_edge) continue;
-                        const auto now = static_cast<std::uint32_t>(node_triangle_count(tree, m, refine_mask(tree, m, numbered)));
+                        const auto now = static_cast<std::uint32_t>(node_triangle_count(tree, m, refine_mask(tree, m, numbered), seams));
                         total = total - triangles[m] + now;
                         triangles[m] = now;
                     }

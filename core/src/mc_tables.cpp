@@ -150,13 +150,6 @@ std::uint32_t face_edges_mask(int f) {
     return mask;
 }
 
-std::uint32_t corner_config(std::uint32_t inside) {
-    std::uint32_t c = 0;
-    for (int k = 0; k < 8; ++k)
-        if ((inside >> corner_sample(k)) & 1u) c |= 1u << k;
-    return c;
-}
-
 int triangulate(std::uint32_t inside, std::uint32_t refine, std::uint8_t* out) {
     const Tables& t = tables();
     std::int8_t next[sub_edge_count];

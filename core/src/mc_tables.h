@@ -49,7 +49,10 @@ struct CaseTable {
 };
 const CaseTable& case_table();
 
-// Corner configuration (8 bits) from a 27-sample mask.
-std::uint32_t corner_config(std::uint32_t inside);
+// Corner configuration (8 bits) from a 27-sample mask (corner samples 0, 2, 6, 8, 18, 20, 24, 26).
+inline std::uint32_t corner_config(std::uint32_t inside) {
+    return (inside & 1u) | ((inside >> 1) & 2u) | ((inside >> 4) & 4u) | ((inside >> 5) & 8u) |
+           ((inside >> 14) & 16u) | ((inside >> 15) & 32u) | ((inside >> 18) & 64u) | ((inside >> 19) & 128u);
+}
 
 }  // namespace lodforge::mc

@@ -131,3 +131,11 @@ TEST(McTables, RefinedFacesCloseToo) {
         if (HasFailure()) return;
     }
 }
+
+TEST(McTables, CornerConfigReadsTheEightCornerSamples) {
+    for (std::uint32_t c = 0; c < 256; ++c) {
+        EXPECT_EQ(corner_config(corners_to_inside(c)), c);
+        // the other samples do not leak into the configuration
+        EXPECT_EQ(corner_config(corners_to_inside(c) | (0x7ffffffu & ~corners_to_inside(255))), c);
+    }
+}

@@ -18,6 +18,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -118,10 +119,18 @@ struct McExtraction {
     std::size_t transition_nodes = 0; // of which have finer neighbours (re-triangulated for the seams)
 };
 
-// Extraction with reusable scratch space (a vertex remap stamped per call), for sliders and benchmarks.
+namespace mc {
+class SeamCache;
+}
+
+// Extraction with reusable scratch space (a vertex remap stamped per call, the seam triangulations met so
+// far), for sliders and benchmarks. The tree must outlive the extractor. Not thread-safe.
 class McOctreeExtractor {
 public:
     explicit McOctreeExtractor(const McOctree& tree);
+    ~McOctreeExtractor();
+    McOctreeExtractor(const McOctreeExtractor&) = delete;
+    McOctreeExtractor& operator=(const McOctreeExtractor&) = delete;
     // Throws Error(argument) when priority > tree.max_priority().
     const McExtraction& extract(std::size_t priority);
     const McExtraction& extract_triangles(std::uint64_t triangles) {
@@ -136,8 +145,10 @@ public:
 private:
     const McOctree* tree_;
     McExtraction result_;
-    std::vector<std::uint32_t> remap_;
-    std::vector<std::uint32_t> stamp_;
+    std::vector<std::uint32_t> remap_;     // per tree vertex: stamp, output index
+    std::vector<std::uint64_t> active_;    // bitmap of the nodes in the cut
+    std::vector<std::uint32_t> priority_;  // dense copy of McNode::priority (cache-friendly seam checks)
+    std::unique_ptr<mc::SeamCache> seams_;
     std::uint32_t generation_ = 0;
 };
 
