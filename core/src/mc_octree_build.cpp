@@ -14,6 +14,7 @@
 #include <nanoflann.hpp>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <cstring>
@@ -45,7 +46,7 @@ using KdTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<
 
 const char* const input_name = "mcoctree input";
 
-PointCloud points_of(const Mesh& mesh) {
+PointCloud points_of(const Mesh& mesh, std::size_t& skipped) {
     if (mesh.positions.empty()) throw_error(Error::Kind::invalid, input_name, "no points");
     for (std::size_t i = 0; i < mesh.positions.size(); ++i)
         if (!is_finite(mesh.positions[i]))
@@ -72,7 +73,10 @@ PointCloud points_of(const Mesh& mesh) {
         if (!is_finite(n))
             throw_error(Error::Kind::invalid, input_name, "normal of point " + std::to_string(i) + " is not finite");
         const float len = length(n);
-        if (!(len > 0)) continue;  // unreferenced vertex or degenerate faces only: no orientation, skip
+        if (!(len > 0)) {  // unreferenced vertex or degenerate faces only: no orientation, skip
+            ++skipped;
+            continue;
+        }
         pc.points.push_back(mesh.positions[i]);
         pc.normals.push_back(n * (1.f / len));
         if (colors) pc.colors.push_back(mesh.colors[i]);
@@ -102,7 +106,9 @@ template <class F> void parallel_for(std::size_t n, unsigned threads, F&& f) {
     for (auto& th : pool) th.join();
 }
 
-// The signed distance field on the leaf lattice, evaluated on demand and kept.
+// The signed distance field on the leaf lattice, evaluated on demand and kept, in a sparse grid of 4x4x4
+// blocks: one hash look-up per block (and a one-entry cache of the last block), so the 8 corners of a cube
+// or the samples of a node mostly cost one look-up together.
 class Field {
 public:
     Field(const PointCloud& pc, const KdTree& tree, Vec3f origin, float h, unsigned threads)
@@ -115,34 +121,67 @@ public:
     }
     // Evaluates every key not known yet (duplicates allowed), in parallel.
     void evaluate(std::vector<std::uint64_t>& keys) {
-        keys.erase(std::remove_if(keys.begin(), keys.end(), [&](std::uint64_t k) { return map_.find(k) != none; }),
-                   keys.end());
         std::sort(keys.begin(), keys.end());
         keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
-        const std::size_t base = dist_.size();
-        dist_.resize(base + keys.size());
-        nearest_.resize(base + keys.size());
+        keys.erase(std::remove_if(keys.begin(), keys.end(), [&](std::uint64_t k) { return known(k); }), keys.end());
+        scratch_d_.resize(keys.size());
+        scratch_n_.resize(keys.size());
         parallel_for(keys.size(), threads_, [&](std::size_t b, std::size_t e) {
-            for (std::size_t i = b; i < e; ++i) query(keys[i], dist_[base + i], nearest_[base + i]);
+            for (std::size_t i = b; i < e; ++i) query(keys[i], scratch_d_[i], scratch_n_[i]);
         });
-        for (std::size_t i = 0; i < keys.size(); ++i) map_.insert(keys[i], static_cast<std::uint32_t>(base + i));
+        for (std::size_t i = 0; i < keys.size(); ++i) store(keys[i], scratch_d_[i], scratch_n_[i]);
+        evaluated_ += keys.size();
     }
+    // Global index of the value at `key` (evaluated now when unknown).
     std::uint32_t index(std::uint64_t key) {
-        std::uint32_t i = map_.find(key);
-        if (i != none) return i;
-        i = static_cast<std::uint32_t>(dist_.size());
-        dist_.emplace_back();
-        nearest_.emplace_back();
-        query(key, dist_.back(), nearest_.back());
-        map_.insert(key, i);
+        const std::uint32_t b = block_of(key, true);
+        const std::uint32_t i = b * 64 + local(key);
+        if (!(valid_[b] & (std::uint64_t(1) << local(key)))) {
+            query(key, dist_[i], nearest_[i]);
+            valid_[b] |= std::uint64_t(1) << local(key);
+            ++evaluated_;
+        }
         return i;
     }
     float dist(std::uint32_t i) const { return dist_[i]; }  // signed: < 0 inside
     std::uint32_t nearest(std::uint32_t i) const { return nearest_[i]; }
     bool inside(std::uint64_t key) { return dist_[index(key)] < 0; }
-    std::size_t size() const { return dist_.size(); }
+    std::size_t size() const { return evaluated_; }
 
 private:
+    static std::uint64_t block_key(std::uint64_t key) {
+        return ((key & mc::max_lattice) >> 2) | (((key >> 17) & mc::max_lattice) >> 2) << 17 |
+               (((key >> 34) & mc::max_lattice) >> 2) << 34;
+    }
+    static std::uint32_t local(std::uint64_t key) {
+        return std::uint32_t((key & 3) | ((key >> 17) & 3) << 2 | ((key >> 34) & 3) << 4);
+    }
+    std::uint32_t block_of(std::uint64_t key, bool create) {
+        const std::uint64_t bk = block_key(key);
+        if (bk == last_key_) return last_block_;
+        std::uint32_t b = blocks_.find(bk);
+        if (b == none) {
+            if (!create) return none;
+            b = static_cast<std::uint32_t>(valid_.size());
+            valid_.push_back(0);
+            dist_.resize(dist_.size() + 64);
+            nearest_.resize(nearest_.size() + 64);
+            blocks_.insert(bk, b);
+        }
+        last_key_ = bk;
+        last_block_ = b;
+        return b;
+    }
+    bool known(std::uint64_t key) {
+        const std::uint32_t b = block_of(key, false);
+        return b != none && (valid_[b] & (std::uint64_t(1) << local(key)));
+    }
+    void store(std::uint64_t key, float d, std::uint32_t nearest) {
+        const std::uint32_t b = block_of(key, true);
+        dist_[b * 64 + local(key)] = d;
+        nearest_[b * 64 + local(key)] = nearest;
+        valid_[b] |= std::uint64_t(1) << local(key);
+    }
     void query(std::uint64_t key, float& d, std::uint32_t& nearest) const {
         const Vec3f v = world(key);
         const float q[3] = {v.x, v.y, v.z};
@@ -162,9 +201,15 @@ private:
     Vec3f origin_;
     float h_;
     unsigned threads_;
-    KeyMap map_{1 << 16};
+    KeyMap blocks_{1 << 12};
+    std::vector<std::uint64_t> valid_;  // per block: which of its 64 values are evaluated
     std::vector<float> dist_;
     std::vector<std::uint32_t> nearest_;
+    std::vector<float> scratch_d_;
+    std::vector<std::uint32_t> scratch_n_;
+    std::uint64_t last_key_ = ~std::uint64_t(0);
+    std::uint32_t last_block_ = 0;
+    std::size_t evaluated_ = 0;
 };
 
 std::uint64_t morton(std::uint32_t x, std::uint32_t y, std::uint32_t z) {
@@ -217,7 +262,8 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
         throw_error(Error::Kind::argument, input_name, "cube size must be a positive number");
     if (params.cube_size == 0 && params.resolution == 0)
         throw_error(Error::Kind::argument, input_name, "resolution must be at least 1");
-    const PointCloud pc = points_of(input);
+    std::size_t skipped = 0;
+    const PointCloud pc = points_of(input, skipped);
     Bounds bounds;
     for (const Vec3f& p : pc.points) bounds.add(p);
     const Vec3f ext = bounds.size();
@@ -261,6 +307,9 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
         tree.warnings.push_back(buf);
     }
 
+    if (skipped > 0)
+        tree.warnings.push_back(std::to_string(skipped) + " of " + std::to_string(input.positions.size()) +
+                                " points have no usable normal (zero, or no face uses them) and were skipped");
     const unsigned threads = thread_count(params.threads);
     Field field(pc, kd, tree.origin, static_cast<float>(h), threads);
     const float cap = params.band > 0 ? static_cast<float>(params.band * h) : INFINITY;
@@ -374,16 +423,55 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
         return pack((n.x << n.level) + std::uint32_t(i) * half, (n.y << n.level) + std::uint32_t(j) * half,
                     (n.z << n.level) + std::uint32_t(k) * half);
     };
-    corner_keys.clear();
-    for (std::size_t ni = 0; ni < offset[0]; ++ni)
-        for (int s = 0; s < 27; ++s)
-            if (s != 13) corner_keys.push_back(sample_key(tree.nodes[ni], s));
-    check_progress(progress, 0.55, "mcoctree: octree");
-    field.evaluate(corner_keys);
-    for (std::size_t ni = 0; ni < offset[0]; ++ni) {
-        McNode& n = tree.nodes[ni];
-        for (int s = 0; s < 27; ++s)
-            if (s != 13 && field.inside(sample_key(n, s))) n.inside |= 1u << s;
+    // Every sample of an internal node is a corner of one of its children (a sample in the middle of an
+    // axis is the upper corner of the lower child and the lower corner of the upper one), so the masks are
+    // assembled bottom-up from the children's corners; only samples no existing child has are evaluated.
+    struct Source {
+        std::uint8_t octant, corner;
+    };
+    std::array<std::vector<Source>, 27> sources;
+    for (int sm = 0; sm < 27; ++sm) {
+        const int c3[3] = {sm % 3, (sm / 3) % 3, sm / 9};
+        for (int o = 0; o < 8; ++o) {
+            int corner = 0;
+            bool ok = true;
+            for (int a = 0; a < 3; ++a) {
+                const int half = (o >> a) & 1, rel = c3[a] - half;  // position inside the child, 0 or 1
+                if (rel < 0 || rel > 1) ok = false;
+                else corner |= rel << a;
+            }
+            if (ok) sources[std::size_t(sm)].push_back({static_cast<std::uint8_t>(o), static_cast<std::uint8_t>(corner)});
+        }
+    }
+    std::array<std::uint8_t, 256> below{};  // popcount of the child-mask bits below an octant
+    for (int m = 0; m < 256; ++m) below[std::size_t(m)] = static_cast<std::uint8_t>(std::popcount(unsigned(m)));
+    std::vector<std::pair<std::uint32_t, int>> missing;
+    for (std::uint32_t l = 1; l <= levels; ++l) {
+        check_progress(progress, 0.55 + 0.1 * double(l) / double(levels), "mcoctree: octree");
+        missing.clear();
+        corner_keys.clear();
+        for (std::size_t i = 0; i < lv[l].size(); ++i) {
+            const auto ni = static_cast<std::uint32_t>(offset[l] + i);
+            McNode& n = tree.nodes[ni];
+            for (int sm = 0; sm < 27; ++sm) {
+                if (sm == 13) continue;
+                bool found = false;
+                for (const Source& src : sources[std::size_t(sm)]) {
+                    if (!(n.child_mask & (1u << src.octant))) continue;
+                    const McNode& ch = tree.nodes[n.first_child + below[n.child_mask & ((1u << src.octant) - 1)]];
+                    if ((ch.inside >> mc::corner_sample(src.corner)) & 1u) n.inside |= 1u << sm;
+                    found = true;
+                    break;
+                }
+                if (!found) {
+                    missing.emplace_back(ni, sm);
+                    corner_keys.push_back(sample_key(n, sm));
+                }
+            }
+        }
+        field.evaluate(corner_keys);
+        for (const auto& [ni, sm] : missing)
+            if (field.inside(sample_key(tree.nodes[ni], sm))) tree.nodes[ni].inside |= 1u << sm;
     }
 
     // Vertices: the crossing of an edge at any level is the crossing of the one leaf edge the recursive
@@ -437,14 +525,22 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
         for (std::uint32_t l = level; l > 0; --l) {
             const std::uint64_t mid = a + (std::uint64_t(1u << (l - 1)) << (17 * axis));
             if (field.inside(mid) == a_inside) a = mid;  // the crossing is in the upper half
+            if (l > 1) {
+                const std::uint32_t known = edge_vertex.find(a | (std::uint64_t(axis) << 51) | (std::uint64_t(l - 1) << 53));
+                if (known != none) {
+                    edge_vertex.insert(top, known);
+                    return known;
+                }
+            }
         }
         const std::uint32_t v = leaf_vertex(a, axis);
         if (level > 0) edge_vertex.insert(top, v);
         return v;
     };
     const auto& subs = mc::sub_edges();
-    for (std::size_t ni = 0; ni < node_count; ++ni) {
-        if ((ni & 0xffff) == 0) check_progress(progress, 0.65 + 0.15 * double(ni) / double(node_count), "mcoctree: vertices");
+    // Leaves first: a coarser edge then descends onto edges whose vertex is already known.
+    for (std::size_t ni = node_count; ni-- > 0;) {
+        if ((ni & 0xffff) == 0) check_progress(progress, 0.65 + 0.15 * double(node_count - ni) / double(node_count), "mcoctree: vertices");
         McNode& n = tree.nodes[ni];
         n.first_vertex = static_cast<std::uint32_t>(tree.vertex_ids.size());
         const int count = n.level == 0 ? mc::full_edges : mc::sub_edge_count;
@@ -455,6 +551,32 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
             const std::uint32_t lev = n.level == 0 ? 0 : (se.length == 2 ? n.level : n.level - 1u);
             tree.vertex_ids.push_back(edge_vertex_of(sample_key(n, se.a), se.axis, lev));
         }
+    }
+
+    // Renumber the vertices in the order the leaves (Morton order) first use them, so an extraction reads
+    // vertex data nearly sequentially; coarser nodes reuse leaf vertices anyway.
+    {
+        std::vector<std::uint32_t> renum(tree.positions.size(), none);
+        std::uint32_t next_id = 0;
+        for (std::size_t pass = 0; pass < 2; ++pass)
+            for (std::size_t ni = pass == 0 ? offset[0] : 0; ni < (pass == 0 ? node_count : offset[0]); ++ni) {
+                const McNode& n = tree.nodes[ni];
+                for (int k = 0; k < std::popcount(n.crossings); ++k) {
+                    std::uint32_t& id = tree.vertex_ids[n.first_vertex + std::uint32_t(k)];
+                    if (renum[id] == none) renum[id] = next_id++;
+                }
+            }
+        for (std::uint32_t& id : tree.vertex_ids) id = renum[id];
+        auto permute = [&](auto& values) {
+            std::remove_reference_t<decltype(values)> out(values.size());
+            for (std::size_t v = 0; v < values.size(); ++v)
+                if (renum[v] != none) out[renum[v]] = values[v];
+            out.resize(next_id);
+            values.swap(out);
+        };
+        permute(tree.positions);
+        permute(tree.normals);
+        if (colors) permute(tree.colors);
     }
 
     // Same-level neighbours (faces and edges) for the seams.

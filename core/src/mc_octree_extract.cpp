@@ -35,6 +35,16 @@ McOctreeExtractor::McOctreeExtractor(const McOctree& tree)
     remap_.assign(2 * tree.positions.size(), 0);  // (stamp, output index) pairs: one cache line per look-up
     priority_.resize(tree.nodes.size());
     for (std::size_t i = 0; i < tree.nodes.size(); ++i) priority_[i] = tree.nodes[i].priority;
+    // The smallest priority among a node's neighbours: below it the node has no seam, which settles most
+    // nodes of a cut without reading their 18 neighbours.
+    first_seam_.assign(tree.nodes.size(), mc::none);
+    for (std::size_t i = 0; i < tree.nodes.size(); ++i) {
+        if (tree.nodes[i].level == 0) continue;
+        for (int s = 0; s < mc::neighbour_slots; ++s) {
+            const std::uint32_t nb = tree.neighbours[i * mc::neighbour_slots + std::size_t(s)];
+            if (nb != mc::none) first_seam_[i] = std::min(first_seam_[i], priority_[nb]);
+        }
+    }
     active_.assign((tree.nodes.size() + 63) / 64, 0);
 }
 
@@ -88,7 +98,8 @@ const McExtraction& McOctreeExtractor::extract(std::size_t priority) {
             const auto node = static_cast<std::uint32_t>(w * 64 + std::size_t(std::countr_zero(bits)));
             const McNode& n = tree.nodes[node];
             ++r.active_nodes;
-            const std::uint32_t refine = n.level == 0 ? 0 : mc::refine_mask(tree, node, priority, priority_of);
+            const std::uint32_t refine =
+                first_seam_[node] > priority ? 0 : mc::refine_mask(tree, node, priority, priority_of);
             const std::uint8_t* edges;
             int count;
             if (refine == 0) {

@@ -125,7 +125,7 @@ CaseTable make_case_table() {
 
 const std::array<SubEdge, sub_edge_count>& sub_edges() { return tables().edges; }
 
-std::array<int, 3> neighbour_offset(int slot) {
+std::array<int, 3> neighbour_offset_of(int slot) {
     std::array<int, 3> o{0, 0, 0};
     if (slot < 6) {
         o[slot / 2] = (slot & 1) ? 1 : -1;

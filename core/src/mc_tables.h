@@ -27,7 +27,15 @@ const std::array<SubEdge, sub_edge_count>& sub_edges();
 // Neighbour slots of a node (McOctree::neighbours): 6 faces (f = 2 * axis + (side is +)), then 12 edges
 // (6 + e: the cube across edge e). Offsets in units of the node size.
 constexpr int neighbour_slots = 18;
-std::array<int, 3> neighbour_offset(int slot);
+std::array<int, 3> neighbour_offset_of(int slot);
+inline const std::array<int, 3>& neighbour_offset(int slot) {
+    static const std::array<std::array<int, 3>, neighbour_slots> table = [] {
+        std::array<std::array<int, 3>, neighbour_slots> t{};
+        for (int s = 0; s < neighbour_slots; ++s) t[std::size_t(s)] = neighbour_offset_of(s);
+        return t;
+    }();
+    return table[std::size_t(slot)];
+}
 
 // Refinement of a node's boundary: bit e (0..11) = edge e is split at its midpoint; bit 12 + f = face f
 // is split into 4 (its edges must be split too). A refined part is shared with a node one level finer.

@@ -1,10 +1,13 @@
 // Building and extracting the marching-cube octree on closed inputs: watertight at every priority.
 #include "lodforge/mc_octree.h"
+#include "lodforge/error.h"
 #include "lodforge/mesh_io.h"
 #include "mc_test_support.h"
 #include "support/test_paths.h"
 
 #include <gtest/gtest.h>
+
+#include <filesystem>
 
 using namespace lodforge;
 using lodforge::test::check_watertight;
@@ -69,4 +72,42 @@ TEST(McOctreeBuild, BunnyPointsAreClosedAtEveryPriorityAndCountsAreMonotone) {
     }
     EXPECT_LE(dips * 100, t.triangle_counts.size());
     EXPECT_GT(t.triangle_counts.back(), 20 * std::max<std::uint64_t>(1, t.triangle_counts[1]));
+}
+
+TEST(McOctreeBuild, CancelStopsTheBuildAndWritesNothing) {
+    struct CancelAfter : Progress {
+        int left;
+        explicit CancelAfter(int n) : left(n) {}
+        void report(double, std::string_view) override { --left; }
+        bool cancelled() const override { return left <= 0; }
+    };
+    const Mesh pts = lodforge::test::sphere_points(5000);
+    McOctreeParams p;
+    p.resolution = 24;
+    for (int after : {1, 3, 6}) {
+        CancelAfter progress(after);
+        try {
+            build_mc_octree(pts, p, &progress);
+            ADD_FAILURE() << "not cancelled after " << after << " reports";
+        } catch (const Error& e) {
+            EXPECT_EQ(e.kind(), Error::Kind::cancelled);
+        }
+    }
+    lodforge::test::ScratchDir dir("mco-cancel");
+    const McOctree t = build_mc_octree(pts, p).tree;
+    CancelAfter now(0);
+    EXPECT_THROW(write_mc_octree(t, dir.file("x.mco"), &now), Error);
+    EXPECT_TRUE(std::filesystem::is_empty(dir.path()));
+}
+
+TEST(McOctreeBuild, SkippedPointsAreReported) {
+    Mesh m = lodforge::test::sphere_points(4000);
+    m.normals[10] = Vec3f{};
+    m.normals[11] = Vec3f{};
+    McOctreeParams p;
+    p.resolution = 16;
+    const auto r = build_mc_octree(m, p);
+    ASSERT_FALSE(r.warnings.empty());
+    EXPECT_NE(r.warnings[0].find("2 of 4000 points have no usable normal"), std::string::npos) << r.warnings[0];
+    EXPECT_EQ(r.tree.input_points, 3998u);
 }

@@ -148,6 +148,7 @@ private:
     std::vector<std::uint32_t> remap_;     // per tree vertex: stamp, output index
     std::vector<std::uint64_t> active_;    // bitmap of the nodes in the cut
     std::vector<std::uint32_t> priority_;  // dense copy of McNode::priority (cache-friendly seam checks)
+    std::vector<std::uint32_t> first_seam_; // smallest neighbour priority (no seam below it)
     std::unique_ptr<mc::SeamCache> seams_;
     std::uint32_t generation_ = 0;
 };
