@@ -27,6 +27,7 @@
 #include <string>
 #include <vector>
 
+#include <malloc.h>
 #include <time.h>
 
 #ifdef LODFORGE_BENCH_HAVE_VTK
@@ -71,6 +72,13 @@ double cpu_seconds(clockid_t clock) {
     timespec ts{};
     clock_gettime(clock, &ts);
     return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+}
+
+// printf into a string (the tables are printed after all resolutions of a model ran).
+template <class... A> void appendf(std::string& out, const char* fmt, A... args) {
+    char buf[512];
+    std::snprintf(buf, sizeof buf, fmt, args...);
+    out += buf;
 }
 
 double median(std::vector<double> v) {
@@ -140,13 +148,23 @@ int main(int argc, char** argv) {
         }
         std::printf("\n### %s: %zu vertices, %zu triangles%s\n\n", it->label.c_str(), input.vertex_count(),
                     input.triangle_count(), it->band > 0 ? " (open scan: band 2.5 cubes)" : "");
-        std::printf("| resolution | build s (wall) | build s (CPU, all threads) | M points/s (wall) | peak MB | leaves | nodes | priorities | triangles (all leaves) | tree MB | warnings |\n");
-        std::printf("|---|---|---|---|---|---|---|---|---|---|---|\n");
-        std::vector<std::pair<std::size_t, McOctree>> trees;
+        std::printf("| resolution | build s (wall) | build s (CPU, all threads) | M points/s (wall) | M points/s (CPU) | peak MB | leaves | nodes | priorities | triangles (all leaves) | tree MB | density warning |\n");
+        std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+        std::string extraction, curve, metro;
+        appendf(extraction, "\nExtraction (output triangles per second; median of 5 timings, wall and thread CPU time):\n\n");
+        appendf(extraction, "| resolution | priority | %% of max | triangles | nodes (seams) | ms (wall) | M tris/s (wall) | ms (CPU) | M tris/s (CPU) |\n|---|---|---|---|---|---|---|---|---|\n");
+        appendf(curve, "\nTriangle curve (fraction of the full count at 20/40/60/80/100 %% of the priorities):\n\n");
+        appendf(curve, "| curve | 20%% | 40%% | 60%% | 80%% | 100%% |\n|---|---|---|---|---|---|\n");
+        appendf(curve, "| 003 ball joint (18,159) | 0.232 | 0.439 | 0.637 | 0.811 | 1 |\n");
+        appendf(curve, "| 003 Venus (28,560) | 0.239 | 0.442 | 0.638 | 0.811 | 1 |\n");
+        appendf(curve, "| 003 woman (107,074) | 0.206 | 0.378 | 0.524 | 0.758 | 1 |\n");
+        std::vector<std::pair<std::size_t, float>> cube_sizes;
+        std::vector<std::uint64_t> full_counts;
         for (std::size_t res : resolutions) {
             McOctreeParams p;
             p.resolution = res;
             p.band = it->band;
+            malloc_trim(0);  // give freed memory back, so the peak below is this build's
             const long before = status_kb("VmRSS:");
             reset_peak();
             const auto t0 = Clock::now();
@@ -159,17 +177,18 @@ int main(int argc, char** argv) {
             const double bytes = double(t.nodes.size()) * 40 + double(t.vertex_ids.size()) * 4 +
                                  double(t.neighbours.size()) * 4 + double(t.positions.size()) * (t.has_colors() ? 40 : 24) +
                                  double(t.order.size()) * 12 + double(t.metric.size()) * 4;
-            std::printf("| %zu | %.2f | %.2f | %.2f | %.0f | %zu | %zu | %zu | %llu | %.1f | %s |\n", res, s, cpu,
-                        double(t.input_points) / s * 1e-6, double(peak - before) / 1024.0, r.leaf_cubes, t.nodes.size(),
-                        t.max_priority(), static_cast<unsigned long long>(t.triangle_counts.back()), bytes / 1e6,
-                        r.warnings.empty() ? "" : "density");
+            std::printf("| %zu | %.2f | %.2f | %.2f | %.2f | %.0f | %zu | %zu | %zu | %llu | %.1f | %s |\n", res, s, cpu,
+                        double(t.input_points) / s * 1e-6, double(t.input_points) / cpu * 1e-6,
+                        double(peak - before) / 1024.0, r.leaf_cubes, t.nodes.size(), t.max_priority(),
+                        static_cast<unsigned long long>(t.triangle_counts.back()), bytes / 1e6,
+                        std::any_of(r.warnings.begin(), r.warnings.end(),
+                                    [](const std::string& w) { return w.find("density") != std::string::npos; })
+                            ? "yes"
+                            : "");
             std::fflush(stdout);
-            trees.emplace_back(res, std::move(r.tree));
-        }
+            cube_sizes.emplace_back(res, t.cube_size);
+            full_counts.push_back(t.triangle_counts.back());
 
-        std::printf("\nExtraction (output triangles per second; median of 5 timings, wall and thread CPU time):\n\n");
-        std::printf("| resolution | priority | %% of max | triangles | nodes (seams) | ms (wall) | M tris/s (wall) | ms (CPU) | M tris/s (CPU) |\n|---|---|---|---|---|---|---|---|---|\n");
-        for (auto& [res, t] : trees) {
             McOctreeExtractor ex(t);
             for (int k = 1; k <= 10; ++k) {
                 const std::size_t i = std::size_t(k) * t.max_priority() / 10;
@@ -177,45 +196,31 @@ int main(int argc, char** argv) {
                 std::size_t tris = 0, nodes = 0, seams = 0;
                 for (int rep = 0; rep < 5; ++rep) {
                     int calls = 0;
-                    const auto t0 = Clock::now();
-                    const double c0 = cpu_seconds(CLOCK_THREAD_CPUTIME_ID);
+                    const auto w0 = Clock::now();
+                    const double e0 = cpu_seconds(CLOCK_THREAD_CPUTIME_ID);
                     do {
                         const McExtraction& e = ex.extract(i);
                         tris = e.mesh.triangle_count(), nodes = e.active_nodes, seams = e.transition_nodes;
                         ++calls;
-                    } while (seconds_since(t0) < 0.05);
-                    times.push_back(seconds_since(t0) / calls);
-                    cpu_times.push_back((cpu_seconds(CLOCK_THREAD_CPUTIME_ID) - c0) / calls);
+                    } while (seconds_since(w0) < 0.05);
+                    times.push_back(seconds_since(w0) / calls);
+                    cpu_times.push_back((cpu_seconds(CLOCK_THREAD_CPUTIME_ID) - e0) / calls);
                 }
-                const double s = median(times), c = median(cpu_times);
-                std::printf("| %zu | %zu | %d | %zu | %zu (%zu) | %.3f | %.1f | %.3f | %.1f |\n", res, i, 10 * k, tris, nodes,
-                            seams, s * 1e3, double(tris) / s * 1e-6, c * 1e3, double(tris) / c * 1e-6);
+                const double w = median(times), c = median(cpu_times);
+                appendf(extraction, "| %zu | %zu | %d | %zu | %zu (%zu) | %.3f | %.1f | %.3f | %.1f |\n", res, i, 10 * k, tris,
+                        nodes, seams, w * 1e3, double(tris) / w * 1e-6, c * 1e3, double(tris) / c * 1e-6);
             }
-            std::fflush(stdout);
-        }
 
-        // Triangle counts per priority percentage against the document's tables (fractions of 100 %).
-        std::printf("\nTriangle curve (fraction of the full count at 20/40/60/80/100 %% of the priorities):\n\n");
-        std::printf("| curve | 20%% | 40%% | 60%% | 80%% | 100%% |\n|---|---|---|---|---|---|\n");
-        std::printf("| 003 ball joint (18,159) | 0.232 | 0.439 | 0.637 | 0.811 | 1 |\n");
-        std::printf("| 003 Venus (28,560) | 0.239 | 0.442 | 0.638 | 0.811 | 1 |\n");
-        std::printf("| 003 woman (107,074) | 0.206 | 0.378 | 0.524 | 0.758 | 1 |\n");
-        for (auto& [res, t] : trees) {
             const double full = double(t.triangle_counts.back());
-            std::printf("| ours, resolution %zu (%llu) |", res, static_cast<unsigned long long>(t.triangle_counts.back()));
+            appendf(curve, "| ours, resolution %zu (%llu) |", res, static_cast<unsigned long long>(t.triangle_counts.back()));
             for (int k = 2; k <= 10; k += 2)
-                std::printf(" %.3f |", double(mc_triangles_at(t, std::size_t(k) * t.max_priority() / 10)) / full);
-            std::printf("\n");
-        }
+                appendf(curve, " %.3f |", double(mc_triangles_at(t, std::size_t(k) * t.max_priority() / 10)) / full);
+            appendf(curve, "\n");
 
-        // Metro error of each level against the input mesh (if it has faces).
-        if (input.triangle_count() > 0) {
-            for (auto& [res, t] : trees) {
-                if (res != metro_resolution) continue;
-                std::printf("\nMetro error against the input (resolution %zu, %zu samples per surface; relative to the input's diagonal):\n\n", res, samples);
-                std::printf("| priority %% | triangles | Hausdorff | mean | RMS |%s\n|---|---|---|---|---|%s\n",
-                            t.has_colors() ? " colour RMS (0-255) |" : "", t.has_colors() ? "---|" : "");
-                McOctreeExtractor ex(t);
+            if (input.triangle_count() > 0 && res == metro_resolution) {
+                appendf(metro, "\nMetro error against the input (resolution %zu, %zu samples per surface; relative to the input's diagonal):\n\n", res, samples);
+                appendf(metro, "| priority %% | triangles | Hausdorff | mean | RMS |%s\n|---|---|---|---|---|%s\n",
+                        t.has_colors() ? " colour RMS (0-255) |" : "", t.has_colors() ? "---|" : "");
                 for (int k = 1; k <= 10; ++k) {
                     const std::size_t i = std::size_t(k) * t.max_priority() / 10;
                     const Mesh& m = ex.extract(i).mesh;
@@ -223,14 +228,15 @@ int main(int argc, char** argv) {
                     dp.samples = samples;
                     dp.vertex_errors = false;
                     const DistanceResult d = compare(input, m, dp);
-                    std::printf("| %d | %zu | %.5f | %.6f | %.6f |", 10 * k, m.triangle_count(), d.hausdorff_relative,
-                                d.mean_relative, d.rms_relative);
-                    if (d.has_color_error) std::printf(" %.2f |", d.color_rms);
-                    std::printf("\n");
-                    std::fflush(stdout);
+                    appendf(metro, "| %d | %zu | %.5f | %.6f | %.6f |", 10 * k, m.triangle_count(), d.hausdorff_relative,
+                            d.mean_relative, d.rms_relative);
+                    if (d.has_color_error) appendf(metro, " %.2f |", d.color_rms);
+                    appendf(metro, "\n");
                 }
             }
         }
+        std::printf("%s%s%s", extraction.c_str(), curve.c_str(), metro.c_str());
+        std::fflush(stdout);
 
 #ifdef LODFORGE_BENCH_HAVE_VTK
         // Reference: one marching cubes over a dense volume of the same signed distance (nearest point,
@@ -255,7 +261,8 @@ int main(int argc, char** argv) {
         Kd kd(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
         kd.buildIndex();
         bool header = false;
-        for (auto& [res, t] : trees) {
+        for (std::size_t r = 0; r < cube_sizes.size(); ++r) {
+            const std::size_t res = cube_sizes[r].first;
             if (res > vtk_max) continue;
             if (!header) {
                 std::printf("\nSingle-resolution reference (dense volume + vtkMarchingCubes, same field, same cube size):\n\n");
@@ -263,7 +270,7 @@ int main(int argc, char** argv) {
                 header = true;
             }
             const Bounds b = input.bounds();
-            const float h = t.cube_size;
+            const float h = cube_sizes[r].second;
             const int nx = int(std::ceil((b.max.x - b.min.x) / h)) + 7, ny = int(std::ceil((b.max.y - b.min.y) / h)) + 7,
                       nz = int(std::ceil((b.max.z - b.min.z) / h)) + 7;
             const Vec3f o = b.min - Vec3f{3, 3, 3} * h;
@@ -300,7 +307,7 @@ int main(int argc, char** argv) {
             std::printf("| %zu | %dx%dx%d | %.2f | %.3f | %.1f | %lld | %llu |\n", res, nx, ny, nz, field_s, mc_s,
                         double(mc->GetOutput()->GetNumberOfPolys()) / mc_s * 1e-6,
                         static_cast<long long>(mc->GetOutput()->GetNumberOfPolys()),
-                        static_cast<unsigned long long>(t.triangle_counts.back()));
+                        static_cast<unsigned long long>(full_counts[r]));
         }
 #endif
     }
