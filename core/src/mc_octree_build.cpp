@@ -111,8 +111,8 @@ template <class F> void parallel_for(std::size_t n, unsigned threads, F&& f) {
 // or the samples of a node mostly cost one look-up together.
 class Field {
 public:
-    Field(const PointCloud& pc, const KdTree& tree, Vec3f origin, float h, unsigned threads)
-        : pc_(pc), tree_(tree), origin_(origin), h_(h), threads_(threads) {}
+    Field(const PointCloud& pc, const KdTree& tree, Vec3f origin, float h, std::uint32_t grid, unsigned threads)
+        : pc_(pc), tree_(tree), origin_(origin), h_(h), grid_(grid), threads_(threads) {}
 
     Vec3f world(std::uint64_t key) const {
         const auto x = float(key & mc::max_lattice), y = float((key >> 17) & mc::max_lattice),
@@ -192,14 +192,20 @@ private:
         tree_.findNeighbors(rs, q, nanoflann::SearchParams());
         const Vec3f diff = v - pc_.points[idx];
         const float dist = std::sqrt(d2);
-        // A corner on the tangent plane counts as outside, so every corner gets exactly one sign.
-        d = dot(diff, pc_.normals[idx]) < 0 ? -dist : dist;
+        // A corner on the tangent plane counts as outside, so every corner gets exactly one sign. So does
+        // every point of the grid's outer boundary: a zero set that would run out of the grid (a bridge
+        // across a scan hole, an open scan without band) closes inside it instead.
+        const auto x = std::uint32_t(key & mc::max_lattice), y = std::uint32_t((key >> 17) & mc::max_lattice),
+                   z = std::uint32_t((key >> 34) & mc::max_lattice);
+        const bool boundary = x == 0 || y == 0 || z == 0 || x >= grid_ || y >= grid_ || z >= grid_;
+        d = !boundary && dot(diff, pc_.normals[idx]) < 0 ? -dist : dist;
         nearest = idx;
     }
     const PointCloud& pc_;
     const KdTree& tree_;
     Vec3f origin_;
     float h_;
+    std::uint32_t grid_;
     unsigned threads_;
     KeyMap blocks_{1 << 12};
     std::vector<std::uint64_t> valid_;  // per block: which of its 64 values are evaluated
@@ -311,7 +317,7 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
         tree.warnings.push_back(std::to_string(skipped) + " of " + std::to_string(input.positions.size()) +
                                 " points have no usable normal (zero, or no face uses them) and were skipped");
     const unsigned threads = thread_count(params.threads);
-    Field field(pc, kd, tree.origin, static_cast<float>(h), threads);
+    Field field(pc, kd, tree.origin, static_cast<float>(h), grid, threads);
     const float cap = params.band > 0 ? static_cast<float>(params.band * h) : INFINITY;
 
     // Leaf cubes: flood along the surface from the cubes holding points, across every face the surface
@@ -331,6 +337,7 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
     std::vector<TmpNode> leaves;
     std::vector<std::uint64_t> corner_keys, next;
     std::size_t round = 0;
+    auto run_flood = [&] {
     while (!frontier.empty()) {
         check_progress(progress, 0.05 + 0.4 * (1.0 - 1.0 / double(++round + 1)), "mcoctree: leaf cubes");
         corner_keys.clear();
@@ -373,26 +380,46 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
         }
         frontier.swap(next);
     }
+    };
+    run_flood();
     if (leaves.empty())
         throw_error(Error::Kind::invalid, input_name, "no surface: the signed distance never changes sign");
+
+    // The octree and its vertices, built until closed: a crossing at a coarse level lies on a leaf edge
+    // (D5 in docs/mcoctree.md) whose four leaf cubes must exist, or the coarse level would have a hole
+    // there. Zero-set pieces the flood did not reach (bubbles near scan holes) are flooded and the tree
+    // rebuilt; on clean input the first pass is the only one.
+    std::vector<std::vector<TmpNode>> lv;
+    std::vector<std::size_t> offset;
+    std::size_t node_count = 0;
+    std::vector<KeyMap> maps;
+    const bool colors = !pc.colors.empty();
+    std::vector<std::uint64_t> vertex_edge;  // leaf edge of each vertex: lattice key | axis << 51
+    for (int pass = 0;; ++pass) {
+    tree.nodes.clear();
+    tree.vertex_ids.clear();
+    tree.positions.clear();
+    tree.normals.clear();
+    tree.colors.clear();
+    vertex_edge.clear();
     result.leaf_cubes = leaves.size();
 
     // Levels bottom-up: each level sorted by Morton code, so a node's children are contiguous.
     check_progress(progress, 0.5, "mcoctree: octree");
-    std::vector<std::vector<TmpNode>> lv(levels + 1);
-    std::sort(leaves.begin(), leaves.end(), [](const TmpNode& a, const TmpNode& b) { return a.code < b.code; });
-    lv[0] = std::move(leaves);
+    lv.assign(levels + 1, {});
+    lv[0] = leaves;
+    std::sort(lv[0].begin(), lv[0].end(), [](const TmpNode& a, const TmpNode& b) { return a.code < b.code; });
     for (std::uint32_t l = 1; l <= levels; ++l) {
         for (const TmpNode& c : lv[l - 1]) {
             const std::uint64_t code = c.code >> 3;
             if (lv[l].empty() || lv[l].back().code != code) lv[l].push_back({code, c.x >> 1, c.y >> 1, c.z >> 1, 0});
         }
     }
-    std::vector<std::size_t> offset(levels + 2, 0);
+    offset.assign(levels + 2, 0);
     for (std::uint32_t l = levels + 1; l-- > 0;) offset[l] = (l == levels ? 0 : offset[l + 1] + lv[l + 1].size());
-    const std::size_t node_count = offset[0] + lv[0].size();
+    node_count = offset[0] + lv[0].size();
     tree.nodes.resize(node_count);
-    std::vector<KeyMap> maps;
+    maps.clear();
     maps.reserve(levels + 1);
     for (std::uint32_t l = 0; l <= levels; ++l) {
         maps.emplace_back(lv[l].size());
@@ -478,7 +505,6 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
     // edge-ratio extension lands on, so all levels share vertices by index.
     check_progress(progress, 0.65, "mcoctree: vertices");
     KeyMap edge_vertex(node_count * 4);
-    const bool colors = !pc.colors.empty();
     auto leaf_vertex = [&](std::uint64_t a_key, int axis) -> std::uint32_t {
         const std::uint64_t ekey = a_key | (std::uint64_t(axis) << 51);
         std::uint32_t v = edge_vertex.find(ekey);
@@ -505,6 +531,7 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
         }
         v = static_cast<std::uint32_t>(tree.positions.size());
         tree.positions.push_back(p);
+        vertex_edge.push_back(ekey);
         tree.normals.push_back(nrm);
         if (colors) {
             const Vec4f ca = pc.colors[pa], cb = pc.colors[pb];
@@ -551,6 +578,25 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
             const std::uint32_t lev = n.level == 0 ? 0 : (se.length == 2 ? n.level : n.level - 1u);
             tree.vertex_ids.push_back(edge_vertex_of(sample_key(n, se.a), se.axis, lev));
         }
+    }
+
+    frontier.clear();
+    for (const std::uint64_t ek : vertex_edge) {
+        const std::uint64_t a = ek & ((std::uint64_t(1) << 51) - 1);
+        const int axis = int(ek >> 51), u = (axis + 1) % 3, v = (axis + 2) % 3;
+        for (int k = 0; k < 4; ++k) {
+            const int du = k & 1, dv = k >> 1;
+            if ((du && ((a >> (17 * u)) & mc::max_lattice) == 0) || (dv && ((a >> (17 * v)) & mc::max_lattice) == 0)) continue;
+            const std::uint64_t cube = a - std::uint64_t(du) * (std::uint64_t(1) << (17 * u)) -
+                                       std::uint64_t(dv) * (std::uint64_t(1) << (17 * v));
+            if (visited.find(cube) == none) {
+                visited.insert(cube, 0);
+                frontier.push_back(cube);
+            }
+        }
+    }
+    if (frontier.empty() || pass >= 32) break;
+    run_flood();
     }
 
     // Renumber the vertices in the order the leaves (Morton order) first use them, so an extraction reads

@@ -111,3 +111,19 @@ TEST(McOctreeBuild, SkippedPointsAreReported) {
     EXPECT_NE(r.warnings[0].find("2 of 4000 points have no usable normal"), std::string::npos) << r.warnings[0];
     EXPECT_EQ(r.tree.input_points, 3998u);
 }
+
+TEST(McOctreeBuild, DragonScanWithHolesIsClosedAtEveryPriority) {
+    // Bridges across the scan's holes reach coarse levels the first flood did not: the build floods them
+    // too (docs/mcoctree.md, D2), or coarse cuts would have holes here.
+    const Mesh dragon = read_mesh(lodforge::test::shared_data("scan-dragon/dragon_vrip_res3.ply"));
+    McOctreeParams p;
+    p.resolution = 64;
+    const McOctree t = build_mc_octree(dragon, p).tree;
+    McOctreeExtractor ex(t);
+    for (std::size_t k = 0; k <= 12; ++k) {
+        const std::size_t i = k * t.max_priority() / 12;
+        const auto w = check_watertight(ex.extract(i).mesh);
+        EXPECT_EQ(w.border_edges, 0u) << "priority " << i;
+        EXPECT_EQ(w.unpaired_directed, 0u) << "priority " << i;
+    }
+}
