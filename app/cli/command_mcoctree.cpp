@@ -30,7 +30,8 @@ void add_mcoctree_command(CLI::App& app, const GlobalOptions& global) {
     };
     auto b = std::make_shared<BuildOptions>();
     CLI::App* build = cmd->add_subcommand("build", "Rebuild a surface from points with normals (or a mesh) into a .mco octree");
-    build->add_option("IN", b->input, "Point cloud PLY with normals (and colours), or a mesh (.ply, .obj, .gltf, .glb)")->required();
+    build->add_option("IN", b->input, "Point cloud PLY with normals (and colours), or a mesh (.ply, .obj, .gltf, .glb)")
+        ->required();
     build->add_option("-o,--output", b->output, "Output octree (.mco)")->required();
     build->add_option("--resolution", b->resolution, "Leaf cubes along the longest axis")->capture_default_str();
     build->add_option("--cube-size", b->cube_size, "Leaf cube edge in model units (overrides --resolution)");
@@ -89,7 +90,8 @@ void add_mcoctree_command(CLI::App& app, const GlobalOptions& global) {
         std::size_t priority = 0;
         if (prio->count()) {
             if (x->priority < 0 || static_cast<unsigned long long>(x->priority) > tree.max_priority())
-                throw Error(Error::Kind::argument, "mcoctree extract: --priority must be in 0.." + std::to_string(tree.max_priority()));
+                throw Error(Error::Kind::argument,
+                            "mcoctree extract: --priority must be in 0.." + std::to_string(tree.max_priority()));
             priority = static_cast<std::size_t>(x->priority);
         } else {
             if (x->triangles < 0) throw Error(Error::Kind::argument, "mcoctree extract: --triangles must be >= 0");

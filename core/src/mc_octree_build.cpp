@@ -338,48 +338,48 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
     std::vector<std::uint64_t> corner_keys, next;
     std::size_t round = 0;
     auto run_flood = [&] {
-    while (!frontier.empty()) {
-        check_progress(progress, 0.05 + 0.4 * (1.0 - 1.0 / double(++round + 1)), "mcoctree: leaf cubes");
-        corner_keys.clear();
-        for (std::uint64_t k : frontier)
-            for (int c = 0; c < 8; ++c)
-                corner_keys.push_back(k + pack(c & 1, (c >> 1) & 1, (c >> 2) & 1));
-        field.evaluate(corner_keys);
-        next.clear();
-        for (std::uint64_t k : frontier) {
-            std::uint32_t inside = 0;
-            float far = 0;
-            for (int c = 0; c < 8; ++c) {
-                const float d = field.dist(field.index(k + pack(c & 1, (c >> 1) & 1, (c >> 2) & 1)));
-                if (d < 0) inside |= 1u << c;
-                far = std::max(far, std::fabs(d));
-            }
-            if (inside == 0 || inside == 255) continue;
-            if (far > cap) {
-                ++result.dropped_far_cubes;
-                continue;
-            }
-            const auto x = std::uint32_t(k & mc::max_lattice), y = std::uint32_t((k >> 17) & mc::max_lattice),
-                       z = std::uint32_t((k >> 34) & mc::max_lattice);
-            leaves.push_back({morton(x, y, z), x, y, z, inside});
-            for (int f = 0; f < 6; ++f) {
-                const int a = f / 2, side = f & 1;
-                std::uint32_t fm = 0, count = 0;
+        while (!frontier.empty()) {
+            check_progress(progress, 0.05 + 0.4 * (1.0 - 1.0 / double(++round + 1)), "mcoctree: leaf cubes");
+            corner_keys.clear();
+            for (std::uint64_t k : frontier)
                 for (int c = 0; c < 8; ++c)
-                    if (((c >> a) & 1) == side) fm |= ((inside >> c) & 1u) << count++;
-                if (fm == 0 || fm == 15) continue;  // the surface does not cross this face
-                std::int64_t n[3] = {x, y, z};
-                n[a] += side ? 1 : -1;
-                if (n[a] < 0 || n[a] >= std::int64_t(grid)) continue;
-                const std::uint64_t nk = pack(std::uint32_t(n[0]), std::uint32_t(n[1]), std::uint32_t(n[2]));
-                if (visited.find(nk) == none) {
-                    visited.insert(nk, 0);
-                    next.push_back(nk);
+                    corner_keys.push_back(k + pack(c & 1, (c >> 1) & 1, (c >> 2) & 1));
+            field.evaluate(corner_keys);
+            next.clear();
+            for (std::uint64_t k : frontier) {
+                std::uint32_t inside = 0;
+                float far = 0;
+                for (int c = 0; c < 8; ++c) {
+                    const float d = field.dist(field.index(k + pack(c & 1, (c >> 1) & 1, (c >> 2) & 1)));
+                    if (d < 0) inside |= 1u << c;
+                    far = std::max(far, std::fabs(d));
+                }
+                if (inside == 0 || inside == 255) continue;
+                if (far > cap) {
+                    ++result.dropped_far_cubes;
+                    continue;
+                }
+                const auto x = std::uint32_t(k & mc::max_lattice), y = std::uint32_t((k >> 17) & mc::max_lattice),
+                           z = std::uint32_t((k >> 34) & mc::max_lattice);
+                leaves.push_back({morton(x, y, z), x, y, z, inside});
+                for (int f = 0; f < 6; ++f) {
+                    const int a = f / 2, side = f & 1;
+                    std::uint32_t fm = 0, count = 0;
+                    for (int c = 0; c < 8; ++c)
+                        if (((c >> a) & 1) == side) fm |= ((inside >> c) & 1u) << count++;
+                    if (fm == 0 || fm == 15) continue;  // the surface does not cross this face
+                    std::int64_t n[3] = {x, y, z};
+                    n[a] += side ? 1 : -1;
+                    if (n[a] < 0 || n[a] >= std::int64_t(grid)) continue;
+                    const std::uint64_t nk = pack(std::uint32_t(n[0]), std::uint32_t(n[1]), std::uint32_t(n[2]));
+                    if (visited.find(nk) == none) {
+                        visited.insert(nk, 0);
+                        next.push_back(nk);
+                    }
                 }
             }
+            frontier.swap(next);
         }
-        frontier.swap(next);
-    }
     };
     run_flood();
     if (leaves.empty())
@@ -396,207 +396,208 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
     const bool colors = !pc.colors.empty();
     std::vector<std::uint64_t> vertex_edge;  // leaf edge of each vertex: lattice key | axis << 51
     for (int pass = 0;; ++pass) {
-    tree.nodes.clear();
-    tree.vertex_ids.clear();
-    tree.positions.clear();
-    tree.normals.clear();
-    tree.colors.clear();
-    vertex_edge.clear();
-    result.leaf_cubes = leaves.size();
+        tree.nodes.clear();
+        tree.vertex_ids.clear();
+        tree.positions.clear();
+        tree.normals.clear();
+        tree.colors.clear();
+        vertex_edge.clear();
+        result.leaf_cubes = leaves.size();
 
-    // Levels bottom-up: each level sorted by Morton code, so a node's children are contiguous.
-    check_progress(progress, 0.5, "mcoctree: octree");
-    lv.assign(levels + 1, {});
-    lv[0] = leaves;
-    std::sort(lv[0].begin(), lv[0].end(), [](const TmpNode& a, const TmpNode& b) { return a.code < b.code; });
-    for (std::uint32_t l = 1; l <= levels; ++l) {
-        for (const TmpNode& c : lv[l - 1]) {
-            const std::uint64_t code = c.code >> 3;
-            if (lv[l].empty() || lv[l].back().code != code) lv[l].push_back({code, c.x >> 1, c.y >> 1, c.z >> 1, 0});
-        }
-    }
-    offset.assign(levels + 2, 0);
-    for (std::uint32_t l = levels + 1; l-- > 0;) offset[l] = (l == levels ? 0 : offset[l + 1] + lv[l + 1].size());
-    node_count = offset[0] + lv[0].size();
-    tree.nodes.resize(node_count);
-    maps.clear();
-    maps.reserve(levels + 1);
-    for (std::uint32_t l = 0; l <= levels; ++l) {
-        maps.emplace_back(lv[l].size());
-        std::size_t child = 0;
-        for (std::size_t i = 0; i < lv[l].size(); ++i) {
-            McNode& n = tree.nodes[offset[l] + i];
-            n.x = lv[l][i].x, n.y = lv[l][i].y, n.z = lv[l][i].z;
-            n.level = static_cast<std::uint8_t>(l);
-            if (l == 0)
-                for (int c = 0; c < 8; ++c)
-                    if (lv[0][i].corners & (1u << c)) n.inside |= 1u << mc::corner_sample(c);
-            maps[l].insert(pack(n.x, n.y, n.z), static_cast<std::uint32_t>(offset[l] + i));
-            if (l == 0) continue;
-            n.first_child = static_cast<std::uint32_t>(offset[l - 1] + child);
-            while (child < lv[l - 1].size() && (lv[l - 1][child].code >> 3) == lv[l][i].code) {
-                n.child_mask = static_cast<std::uint8_t>(n.child_mask | (1u << (lv[l - 1][child].code & 7)));
-                tree.nodes[offset[l - 1] + child].parent = static_cast<std::uint32_t>(offset[l] + i);
-                ++child;
+        // Levels bottom-up: each level sorted by Morton code, so a node's children are contiguous.
+        check_progress(progress, 0.5, "mcoctree: octree");
+        lv.assign(levels + 1, {});
+        lv[0] = leaves;
+        std::sort(lv[0].begin(), lv[0].end(), [](const TmpNode& a, const TmpNode& b) { return a.code < b.code; });
+        for (std::uint32_t l = 1; l <= levels; ++l) {
+            for (const TmpNode& c : lv[l - 1]) {
+                const std::uint64_t code = c.code >> 3;
+                if (lv[l].empty() || lv[l].back().code != code) lv[l].push_back({code, c.x >> 1, c.y >> 1, c.z >> 1, 0});
             }
         }
-    }
-
-    // Samples of every node (corners of leaves; the 3x3x3 lattice of internal nodes, body centre aside).
-    auto sample_key = [&](const McNode& n, int s) {
-        const int i = s % 3, j = (s / 3) % 3, k = s / 9;
-        if (n.level == 0) return pack(n.x + std::uint32_t(i / 2), n.y + std::uint32_t(j / 2), n.z + std::uint32_t(k / 2));
-        const std::uint32_t half = 1u << (n.level - 1);
-        return pack((n.x << n.level) + std::uint32_t(i) * half, (n.y << n.level) + std::uint32_t(j) * half,
-                    (n.z << n.level) + std::uint32_t(k) * half);
-    };
-    // Every sample of an internal node is a corner of one of its children (a sample in the middle of an
-    // axis is the upper corner of the lower child and the lower corner of the upper one), so the masks are
-    // assembled bottom-up from the children's corners; only samples no existing child has are evaluated.
-    struct Source {
-        std::uint8_t octant, corner;
-    };
-    std::array<std::vector<Source>, 27> sources;
-    for (int sm = 0; sm < 27; ++sm) {
-        const int c3[3] = {sm % 3, (sm / 3) % 3, sm / 9};
-        for (int o = 0; o < 8; ++o) {
-            int corner = 0;
-            bool ok = true;
-            for (int a = 0; a < 3; ++a) {
-                const int half = (o >> a) & 1, rel = c3[a] - half;  // position inside the child, 0 or 1
-                if (rel < 0 || rel > 1) ok = false;
-                else corner |= rel << a;
+        offset.assign(levels + 2, 0);
+        for (std::uint32_t l = levels + 1; l-- > 0;) offset[l] = (l == levels ? 0 : offset[l + 1] + lv[l + 1].size());
+        node_count = offset[0] + lv[0].size();
+        tree.nodes.resize(node_count);
+        maps.clear();
+        maps.reserve(levels + 1);
+        for (std::uint32_t l = 0; l <= levels; ++l) {
+            maps.emplace_back(lv[l].size());
+            std::size_t child = 0;
+            for (std::size_t i = 0; i < lv[l].size(); ++i) {
+                McNode& n = tree.nodes[offset[l] + i];
+                n.x = lv[l][i].x, n.y = lv[l][i].y, n.z = lv[l][i].z;
+                n.level = static_cast<std::uint8_t>(l);
+                if (l == 0)
+                    for (int c = 0; c < 8; ++c)
+                        if (lv[0][i].corners & (1u << c)) n.inside |= 1u << mc::corner_sample(c);
+                maps[l].insert(pack(n.x, n.y, n.z), static_cast<std::uint32_t>(offset[l] + i));
+                if (l == 0) continue;
+                n.first_child = static_cast<std::uint32_t>(offset[l - 1] + child);
+                while (child < lv[l - 1].size() && (lv[l - 1][child].code >> 3) == lv[l][i].code) {
+                    n.child_mask = static_cast<std::uint8_t>(n.child_mask | (1u << (lv[l - 1][child].code & 7)));
+                    tree.nodes[offset[l - 1] + child].parent = static_cast<std::uint32_t>(offset[l] + i);
+                    ++child;
+                }
             }
-            if (ok) sources[std::size_t(sm)].push_back({static_cast<std::uint8_t>(o), static_cast<std::uint8_t>(corner)});
         }
-    }
-    std::array<std::uint8_t, 256> below{};  // popcount of the child-mask bits below an octant
-    for (int m = 0; m < 256; ++m) below[std::size_t(m)] = static_cast<std::uint8_t>(std::popcount(unsigned(m)));
-    std::vector<std::pair<std::uint32_t, int>> missing;
-    for (std::uint32_t l = 1; l <= levels; ++l) {
-        check_progress(progress, 0.55 + 0.1 * double(l) / double(levels), "mcoctree: octree");
-        missing.clear();
-        corner_keys.clear();
-        for (std::size_t i = 0; i < lv[l].size(); ++i) {
-            const auto ni = static_cast<std::uint32_t>(offset[l] + i);
+
+        // Samples of every node (corners of leaves; the 3x3x3 lattice of internal nodes, body centre aside).
+        auto sample_key = [&](const McNode& n, int s) {
+            const int i = s % 3, j = (s / 3) % 3, k = s / 9;
+            if (n.level == 0) return pack(n.x + std::uint32_t(i / 2), n.y + std::uint32_t(j / 2), n.z + std::uint32_t(k / 2));
+            const std::uint32_t half = 1u << (n.level - 1);
+            return pack((n.x << n.level) + std::uint32_t(i) * half, (n.y << n.level) + std::uint32_t(j) * half,
+                        (n.z << n.level) + std::uint32_t(k) * half);
+        };
+        // Every sample of an internal node is a corner of one of its children (a sample in the middle of an
+        // axis is the upper corner of the lower child and the lower corner of the upper one), so the masks are
+        // assembled bottom-up from the children's corners; only samples no existing child has are evaluated.
+        struct Source {
+            std::uint8_t octant, corner;
+        };
+        std::array<std::vector<Source>, 27> sources;
+        for (int sm = 0; sm < 27; ++sm) {
+            const int c3[3] = {sm % 3, (sm / 3) % 3, sm / 9};
+            for (int o = 0; o < 8; ++o) {
+                int corner = 0;
+                bool ok = true;
+                for (int a = 0; a < 3; ++a) {
+                    const int half = (o >> a) & 1, rel = c3[a] - half;  // position inside the child, 0 or 1
+                    if (rel < 0 || rel > 1) ok = false;
+                    else corner |= rel << a;
+                }
+                if (ok) sources[std::size_t(sm)].push_back({static_cast<std::uint8_t>(o), static_cast<std::uint8_t>(corner)});
+            }
+        }
+        std::array<std::uint8_t, 256> below{};  // popcount of the child-mask bits below an octant
+        for (int m = 0; m < 256; ++m) below[std::size_t(m)] = static_cast<std::uint8_t>(std::popcount(unsigned(m)));
+        std::vector<std::pair<std::uint32_t, int>> missing;
+        for (std::uint32_t l = 1; l <= levels; ++l) {
+            check_progress(progress, 0.55 + 0.1 * double(l) / double(levels), "mcoctree: octree");
+            missing.clear();
+            corner_keys.clear();
+            for (std::size_t i = 0; i < lv[l].size(); ++i) {
+                const auto ni = static_cast<std::uint32_t>(offset[l] + i);
+                McNode& n = tree.nodes[ni];
+                for (int sm = 0; sm < 27; ++sm) {
+                    if (sm == 13) continue;
+                    bool found = false;
+                    for (const Source& src : sources[std::size_t(sm)]) {
+                        if (!(n.child_mask & (1u << src.octant))) continue;
+                        const McNode& ch = tree.nodes[n.first_child + below[n.child_mask & ((1u << src.octant) - 1)]];
+                        if ((ch.inside >> mc::corner_sample(src.corner)) & 1u) n.inside |= 1u << sm;
+                        found = true;
+                        break;
+                    }
+                    if (!found) {
+                        missing.emplace_back(ni, sm);
+                        corner_keys.push_back(sample_key(n, sm));
+                    }
+                }
+            }
+            field.evaluate(corner_keys);
+            for (const auto& [ni, sm] : missing)
+                if (field.inside(sample_key(tree.nodes[ni], sm))) tree.nodes[ni].inside |= 1u << sm;
+        }
+
+        // Vertices: the crossing of an edge at any level is the crossing of the one leaf edge the recursive
+        // edge-ratio extension lands on, so all levels share vertices by index.
+        check_progress(progress, 0.65, "mcoctree: vertices");
+        KeyMap edge_vertex(node_count * 4);
+        auto leaf_vertex = [&](std::uint64_t a_key, int axis) -> std::uint32_t {
+            const std::uint64_t ekey = a_key | (std::uint64_t(axis) << 51);
+            std::uint32_t v = edge_vertex.find(ekey);
+            if (v != none) return v;
+            const std::uint64_t b_key = a_key + (std::uint64_t(1) << (17 * axis));
+            const std::uint32_t ia = field.index(a_key), ib = field.index(b_key);
+            const float da = std::fabs(field.dist(ia)), db = std::fabs(field.dist(ib));
+            const float t = da + db > 0 ? da / (da + db) : 0.5f;
+            Vec3f p = field.world(a_key);
+            if (axis == 0) p.x += t * float(h);
+            else if (axis == 1) p.y += t * float(h);
+            else p.z += t * float(h);
+            const std::uint32_t pa = field.nearest(ia), pb = field.nearest(ib);
+            Vec3f nrm = pc.normals[pa] * (1 - t) + pc.normals[pb] * t;
+            const float len = length(nrm);
+            if (len > 1e-12f) {
+                nrm = nrm * (1.f / len);
+            } else {  // opposite normals (a thin sheet): point from the inside corner to the outside one
+                nrm = Vec3f{};
+                const float dir = field.dist(ia) < 0 ? 1.f : -1.f;
+                if (axis == 0) nrm.x = dir;
+                else if (axis == 1) nrm.y = dir;
+                else nrm.z = dir;
+            }
+            v = static_cast<std::uint32_t>(tree.positions.size());
+            tree.positions.push_back(p);
+            vertex_edge.push_back(ekey);
+            tree.normals.push_back(nrm);
+            if (colors) {
+                const Vec4f ca = pc.colors[pa], cb = pc.colors[pb];
+                tree.colors.push_back({ca.x + (cb.x - ca.x) * t, ca.y + (cb.y - ca.y) * t, ca.z + (cb.z - ca.z) * t,
+                                       ca.w + (cb.w - ca.w) * t});
+            }
+            edge_vertex.insert(ekey, v);
+            return v;
+        };
+        auto edge_vertex_of = [&](std::uint64_t a_key, int axis, std::uint32_t level) -> std::uint32_t {
+            const std::uint64_t top = a_key | (std::uint64_t(axis) << 51) | (std::uint64_t(level) << 53);
+            if (level > 0) {
+                const std::uint32_t known = edge_vertex.find(top);
+                if (known != none) return known;
+            }
+            std::uint64_t a = a_key;
+            const bool a_inside = field.inside(a);
+            for (std::uint32_t l = level; l > 0; --l) {
+                const std::uint64_t mid = a + (std::uint64_t(1u << (l - 1)) << (17 * axis));
+                if (field.inside(mid) == a_inside) a = mid;  // the crossing is in the upper half
+                if (l > 1) {
+                    const std::uint32_t known = edge_vertex.find(a | (std::uint64_t(axis) << 51) | (std::uint64_t(l - 1) << 53));
+                    if (known != none) {
+                        edge_vertex.insert(top, known);
+                        return known;
+                    }
+                }
+            }
+            const std::uint32_t v = leaf_vertex(a, axis);
+            if (level > 0) edge_vertex.insert(top, v);
+            return v;
+        };
+        const auto& subs = mc::sub_edges();
+        // Leaves first: a coarser edge then descends onto edges whose vertex is already known.
+        for (std::size_t ni = node_count; ni-- > 0;) {
+            if ((ni & 0xffff) == 0)
+                check_progress(progress, 0.65 + 0.15 * double(node_count - ni) / double(node_count), "mcoctree: vertices");
             McNode& n = tree.nodes[ni];
-            for (int sm = 0; sm < 27; ++sm) {
-                if (sm == 13) continue;
-                bool found = false;
-                for (const Source& src : sources[std::size_t(sm)]) {
-                    if (!(n.child_mask & (1u << src.octant))) continue;
-                    const McNode& ch = tree.nodes[n.first_child + below[n.child_mask & ((1u << src.octant) - 1)]];
-                    if ((ch.inside >> mc::corner_sample(src.corner)) & 1u) n.inside |= 1u << sm;
-                    found = true;
-                    break;
-                }
-                if (!found) {
-                    missing.emplace_back(ni, sm);
-                    corner_keys.push_back(sample_key(n, sm));
-                }
+            n.first_vertex = static_cast<std::uint32_t>(tree.vertex_ids.size());
+            const int count = n.level == 0 ? mc::full_edges : mc::sub_edge_count;
+            for (int e = 0; e < count; ++e) {
+                const mc::SubEdge& se = subs[e];
+                if (((n.inside >> se.a) & 1u) == ((n.inside >> se.b) & 1u)) continue;
+                n.crossings |= std::uint64_t(1) << e;
+                const std::uint32_t lev = n.level == 0 ? 0 : (se.length == 2 ? n.level : n.level - 1u);
+                tree.vertex_ids.push_back(edge_vertex_of(sample_key(n, se.a), se.axis, lev));
             }
         }
-        field.evaluate(corner_keys);
-        for (const auto& [ni, sm] : missing)
-            if (field.inside(sample_key(tree.nodes[ni], sm))) tree.nodes[ni].inside |= 1u << sm;
-    }
 
-    // Vertices: the crossing of an edge at any level is the crossing of the one leaf edge the recursive
-    // edge-ratio extension lands on, so all levels share vertices by index.
-    check_progress(progress, 0.65, "mcoctree: vertices");
-    KeyMap edge_vertex(node_count * 4);
-    auto leaf_vertex = [&](std::uint64_t a_key, int axis) -> std::uint32_t {
-        const std::uint64_t ekey = a_key | (std::uint64_t(axis) << 51);
-        std::uint32_t v = edge_vertex.find(ekey);
-        if (v != none) return v;
-        const std::uint64_t b_key = a_key + (std::uint64_t(1) << (17 * axis));
-        const std::uint32_t ia = field.index(a_key), ib = field.index(b_key);
-        const float da = std::fabs(field.dist(ia)), db = std::fabs(field.dist(ib));
-        const float t = da + db > 0 ? da / (da + db) : 0.5f;
-        Vec3f p = field.world(a_key);
-        if (axis == 0) p.x += t * float(h);
-        else if (axis == 1) p.y += t * float(h);
-        else p.z += t * float(h);
-        const std::uint32_t pa = field.nearest(ia), pb = field.nearest(ib);
-        Vec3f nrm = pc.normals[pa] * (1 - t) + pc.normals[pb] * t;
-        const float len = length(nrm);
-        if (len > 1e-12f) {
-            nrm = nrm * (1.f / len);
-        } else {  // opposite normals (a thin sheet): point from the inside corner to the outside one
-            nrm = Vec3f{};
-            const float dir = field.dist(ia) < 0 ? 1.f : -1.f;
-            if (axis == 0) nrm.x = dir;
-            else if (axis == 1) nrm.y = dir;
-            else nrm.z = dir;
-        }
-        v = static_cast<std::uint32_t>(tree.positions.size());
-        tree.positions.push_back(p);
-        vertex_edge.push_back(ekey);
-        tree.normals.push_back(nrm);
-        if (colors) {
-            const Vec4f ca = pc.colors[pa], cb = pc.colors[pb];
-            tree.colors.push_back({ca.x + (cb.x - ca.x) * t, ca.y + (cb.y - ca.y) * t, ca.z + (cb.z - ca.z) * t,
-                                   ca.w + (cb.w - ca.w) * t});
-        }
-        edge_vertex.insert(ekey, v);
-        return v;
-    };
-    auto edge_vertex_of = [&](std::uint64_t a_key, int axis, std::uint32_t level) -> std::uint32_t {
-        const std::uint64_t top = a_key | (std::uint64_t(axis) << 51) | (std::uint64_t(level) << 53);
-        if (level > 0) {
-            const std::uint32_t known = edge_vertex.find(top);
-            if (known != none) return known;
-        }
-        std::uint64_t a = a_key;
-        const bool a_inside = field.inside(a);
-        for (std::uint32_t l = level; l > 0; --l) {
-            const std::uint64_t mid = a + (std::uint64_t(1u << (l - 1)) << (17 * axis));
-            if (field.inside(mid) == a_inside) a = mid;  // the crossing is in the upper half
-            if (l > 1) {
-                const std::uint32_t known = edge_vertex.find(a | (std::uint64_t(axis) << 51) | (std::uint64_t(l - 1) << 53));
-                if (known != none) {
-                    edge_vertex.insert(top, known);
-                    return known;
+        frontier.clear();
+        for (const std::uint64_t ek : vertex_edge) {
+            const std::uint64_t a = ek & ((std::uint64_t(1) << 51) - 1);
+            const int axis = int(ek >> 51), u = (axis + 1) % 3, v = (axis + 2) % 3;
+            for (int k = 0; k < 4; ++k) {
+                const int du = k & 1, dv = k >> 1;
+                if ((du && ((a >> (17 * u)) & mc::max_lattice) == 0) || (dv && ((a >> (17 * v)) & mc::max_lattice) == 0)) continue;
+                const std::uint64_t cube = a - std::uint64_t(du) * (std::uint64_t(1) << (17 * u)) -
+                                           std::uint64_t(dv) * (std::uint64_t(1) << (17 * v));
+                if (visited.find(cube) == none) {
+                    visited.insert(cube, 0);
+                    frontier.push_back(cube);
                 }
             }
         }
-        const std::uint32_t v = leaf_vertex(a, axis);
-        if (level > 0) edge_vertex.insert(top, v);
-        return v;
-    };
-    const auto& subs = mc::sub_edges();
-    // Leaves first: a coarser edge then descends onto edges whose vertex is already known.
-    for (std::size_t ni = node_count; ni-- > 0;) {
-        if ((ni & 0xffff) == 0) check_progress(progress, 0.65 + 0.15 * double(node_count - ni) / double(node_count), "mcoctree: vertices");
-        McNode& n = tree.nodes[ni];
-        n.first_vertex = static_cast<std::uint32_t>(tree.vertex_ids.size());
-        const int count = n.level == 0 ? mc::full_edges : mc::sub_edge_count;
-        for (int e = 0; e < count; ++e) {
-            const mc::SubEdge& se = subs[e];
-            if (((n.inside >> se.a) & 1u) == ((n.inside >> se.b) & 1u)) continue;
-            n.crossings |= std::uint64_t(1) << e;
-            const std::uint32_t lev = n.level == 0 ? 0 : (se.length == 2 ? n.level : n.level - 1u);
-            tree.vertex_ids.push_back(edge_vertex_of(sample_key(n, se.a), se.axis, lev));
-        }
-    }
-
-    frontier.clear();
-    for (const std::uint64_t ek : vertex_edge) {
-        const std::uint64_t a = ek & ((std::uint64_t(1) << 51) - 1);
-        const int axis = int(ek >> 51), u = (axis + 1) % 3, v = (axis + 2) % 3;
-        for (int k = 0; k < 4; ++k) {
-            const int du = k & 1, dv = k >> 1;
-            if ((du && ((a >> (17 * u)) & mc::max_lattice) == 0) || (dv && ((a >> (17 * v)) & mc::max_lattice) == 0)) continue;
-            const std::uint64_t cube = a - std::uint64_t(du) * (std::uint64_t(1) << (17 * u)) -
-                                       std::uint64_t(dv) * (std::uint64_t(1) << (17 * v));
-            if (visited.find(cube) == none) {
-                visited.insert(cube, 0);
-                frontier.push_back(cube);
-            }
-        }
-    }
-    if (frontier.empty() || pass >= 32) break;
-    run_flood();
+        if (frontier.empty() || pass >= 32) break;
+        run_flood();
     }
 
     // Renumber the vertices in the order the leaves (Morton order) first use them, so an extraction reads

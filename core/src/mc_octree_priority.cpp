@@ -73,7 +73,8 @@ void number_mc_octree(McOctree& tree, const std::vector<KeyMap>& maps, Progress*
         McNode& node = tree.nodes[x];
         node.priority = static_cast<std::uint32_t>(++numbered);
         tree.order.push_back(x);
-        if ((numbered & 0x3fff) == 0) check_progress(progress, 0.8 + 0.2 * double(numbered) / double(internal), "mcoctree: priorities");
+        if ((numbered & 0x3fff) == 0)
+            check_progress(progress, 0.8 + 0.2 * double(numbered) / double(internal), "mcoctree: priorities");
 
         // Children become present; each waits for the unexpanded coarse nodes it touches.
         total -= triangles[x];
@@ -114,7 +115,8 @@ void number_mc_octree(McOctree& tree, const std::vector<KeyMap>& maps, Progress*
                     } else if (nb.parent == none || tree.nodes[nb.parent].priority != none) {
                         const bool shares_edge = (dx == 0) + (dy == 0) + (dz == 0) >= 1;
                         if (!shares_edge) continue;
-                        const auto now = static_cast<std::uint32_t>(node_triangle_count(tree, m, refine_mask(tree, m, numbered), seams));
+                        const auto now = static_cast<std::uint32_t>(
+                            node_triangle_count(tree, m, refine_mask(tree, m, numbered), seams));
                         total = total - triangles[m] + now;
                         triangles[m] = now;
                     }
