@@ -66,8 +66,9 @@ const McExtraction& McOctreeExtractor::extract(std::size_t priority) {
     m.positions.clear();
     m.normals.clear();
     m.colors.clear();
-    m.indices.resize(3 * mc_triangles_at(tree, priority));
-    std::uint32_t* out = m.indices.data();
+    // Sized from the triangle table, but grown when needed: the table comes from a file and may lie.
+    m.indices.resize(3 * std::min<std::uint64_t>(mc_triangles_at(tree, priority), 3 * tree.vertex_ids.size()));
+    std::size_t used = 0;
     const bool colors = tree.has_colors();
     const mc::CaseTable& table = mc::case_table();
     const std::uint32_t* prio = priority_.data();
@@ -126,10 +127,14 @@ const McExtraction& McOctreeExtractor::extract(std::size_t priority) {
                 }
                 vid[std::countr_zero(cross)] = slot[1];
             }
-            for (int k = 0; k < 3 * count; ++k) *out++ = vid[edges[k]];
+            if (used + std::size_t(3 * count) > m.indices.size())
+                m.indices.resize(std::max(2 * m.indices.size(), used + std::size_t(3 * count)));
+            std::uint32_t* out = m.indices.data() + used;
+            for (int k = 0; k < 3 * count; ++k) out[k] = vid[edges[k]];
+            used += std::size_t(3 * count);
         }
     }
-    m.indices.resize(static_cast<std::size_t>(out - m.indices.data()));
+    m.indices.resize(used);
     return r;
 }
 

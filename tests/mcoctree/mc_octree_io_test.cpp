@@ -91,3 +91,12 @@ TEST(McOctreeIo, StructuralChecksCatchLyingTables) {
     std::swap(c.order[0], c.order[1]);
     EXPECT_THROW(validate_mc_octree(c, "t"), Error);
 }
+
+TEST(McOctreeIo, ALyingTriangleTableCannotOverflowTheExtraction) {
+    McOctree t = small_tree();
+    const std::size_t i = t.max_priority() / 2;
+    const std::uint64_t truth = t.triangle_counts[i];
+    for (auto& c : t.triangle_counts) c = 1;  // passes validation: the table's length is all it can check
+    EXPECT_NO_THROW(validate_mc_octree(t, "t"));
+    EXPECT_EQ(extract_mc_octree(t, i).mesh.triangle_count(), truth);
+}
