@@ -1,0 +1,167 @@
+// Prioritized marching-cube octree (docs/mcoctree.md): a surface rebuilt from points with normals (or a
+// mesh's vertices) by marching cubes on an octree whose internal nodes are numbered by priority, so that a
+// crack-free mesh at any of thousands of levels is extracted with integer work only.
+//
+//   McOctreeParams p;  p.resolution = 256;
+//   McOctree tree = build_mc_octree(mesh, p).tree;        // or read_mc_octree("x.mco")
+//   McOctreeExtractor ex(tree);
+//   const Mesh& m = ex.extract(ex.priority_for_triangles(50000)).mesh;
+//
+// Priority index i (0 .. tree.max_priority()) means "the first i internal nodes of the priority order are
+// expanded": 0 is the root alone, max_priority() is every leaf. The extracted mesh is closed wherever the
+// leaf surface is (no border edges, no T-junctions: vertices are shared by index between levels).
+#pragma once
+
+#include "lodforge/mesh.h"
+#include "lodforge/progress.h"
+#include "lodforge/types.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace lodforge {
+
+struct McOctreeParams {
+    // Leaf cubes along the longest axis of the input's bounding box (used when cube_size is 0).
+    std::size_t resolution = 128;
+    // Leaf cube edge length in model units; > 0 overrides resolution.
+    double cube_size = 0;
+    // 0: every cube the surface crosses is kept, so the surface is closed (holes in a scan are bridged by
+    // the field's zero set). > 0: a leaf cube is kept only when every corner lies within band * cube size
+    // of an input point, so the surface of an open scan ends near its border (and is open there).
+    double band = 0;
+    // Worker threads for the distance field (0 = hardware concurrency).
+    unsigned threads = 0;
+};
+
+// One octree node. Coordinates are in units of the node's own size: the node covers
+// [origin + (x, y, z) * size, origin + (x + 1, y + 1, z + 1) * size) with size = cube_size * 2^level.
+struct McNode {
+    std::uint32_t x = 0, y = 0, z = 0;
+    std::uint8_t level = 0;        // 0 = leaf
+    std::uint8_t child_mask = 0;   // bit k: child in octant k (bit 0 = +x, bit 1 = +y, bit 2 = +z) exists
+    std::uint32_t first_child = 0; // children are stored contiguously, in octant order
+    std::uint32_t parent = UINT32_MAX;
+    // Bit s set = sample s of the node's 3x3x3 lattice (s = i + 3j + 9k) is inside the surface. Leaves
+    // carry only their 8 corners.
+    std::uint32_t inside = 0;
+    // Bit e set = sub-edge e (12 edges, 24 half edges, 24 face-interior edges; mc_tables.cpp) crosses the
+    // surface; its vertex is vertex_ids[first_vertex + popcount(crossings & ((1 << e) - 1))].
+    std::uint64_t crossings = 0;
+    std::uint32_t first_vertex = 0;
+    // 1-based position in the priority order for internal nodes; UINT32_MAX for leaves.
+    std::uint32_t priority = UINT32_MAX;
+};
+
+// The built octree. Plain data: build_mc_octree fills it, write/read_mc_octree store it.
+struct McOctree {
+    Vec3f origin;             // corner of the root cube
+    float cube_size = 0;      // leaf cube edge
+    std::uint32_t levels = 0; // root level (the root cube is cube_size * 2^levels wide)
+    std::size_t input_points = 0;
+
+    // Surface vertices, one per leaf edge the surface crosses (shared by every level).
+    std::vector<Vec3f> positions;
+    std::vector<Vec3f> normals;
+    std::vector<Vec4f> colors;  // empty when the input had none
+
+    std::vector<McNode> nodes;           // root first, then level by level towards the leaves
+    std::vector<std::uint32_t> vertex_ids;
+    // 18 same-level neighbours per node (6 faces, then 12 edges, mc_tables.h order); UINT32_MAX = none.
+    std::vector<std::uint32_t> neighbours;
+    std::vector<std::uint32_t> order;    // order[k] = node with priority k + 1
+    // triangle_counts[i] = triangles of the mesh extracted at priority i (size order.size() + 1).
+    std::vector<std::uint64_t> triangle_counts;
+    std::vector<float> metric;           // per internal node: area of the children's surface - own area
+
+    std::vector<std::string> warnings;   // e.g. resolution above the data density
+
+    std::size_t max_priority() const { return order.size(); }
+    std::size_t leaf_count() const;
+    bool has_colors() const { return !colors.empty(); }
+};
+
+struct McOctreeBuildResult {
+    McOctree tree;
+    std::size_t leaf_cubes = 0;        // non-null leaf cubes stored
+    std::size_t field_samples = 0;     // distance-field evaluations (kd-tree queries)
+    std::size_t dropped_far_cubes = 0; // crossing cubes dropped by the band rule (surface ends there)
+    double point_spacing = 0;          // median distance of an input point to its nearest neighbour
+    std::vector<std::string> warnings; // same as tree.warnings
+};
+
+// Points are the mesh's positions; normals are the mesh's or, when absent, the area-weighted normals
+// of the adjacent triangles; colours are used when present. Throws Error(invalid) for an empty input,
+// no normals and no faces, non-finite values; Error(argument) for a bad resolution; Error(cancelled).
+McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& params = {},
+                                    Progress* progress = nullptr);
+
+// The triangle count at priority i is exact (tree.triangle_counts[i]).
+std::uint64_t mc_triangles_at(const McOctree& tree, std::size_t priority);
+// The largest priority whose mesh has at most `triangles` triangles (0 when even the root has more).
+std::size_t mc_priority_for_triangles(const McOctree& tree, std::uint64_t triangles);
+
+// A node of the cut drawn at some priority, for overlays (the octree cells of the studio).
+struct McCell {
+    Vec3f min;
+    float size = 0;
+    std::uint8_t level = 0;
+    std::uint32_t node = 0;
+};
+
+struct McExtraction {
+    Mesh mesh;                    // positions, normals (and colours); indices counter-clockwise outside
+    std::size_t priority = 0;
+    std::size_t active_nodes = 0; // nodes of the cut (triangulated)
+    std::size_t transition_nodes = 0; // of which have finer neighbours (re-triangulated for the seams)
+};
+
+namespace mc {
+class SeamCache;
+}
+
+// Extraction with reusable scratch space (a vertex remap stamped per call, the seam triangulations met so
+// far), for sliders and benchmarks. The tree must outlive the extractor. Not thread-safe.
+class McOctreeExtractor {
+public:
+    explicit McOctreeExtractor(const McOctree& tree);
+    ~McOctreeExtractor();
+    McOctreeExtractor(const McOctreeExtractor&) = delete;
+    McOctreeExtractor& operator=(const McOctreeExtractor&) = delete;
+    // Throws Error(argument) when priority > tree.max_priority().
+    const McExtraction& extract(std::size_t priority);
+    const McExtraction& extract_triangles(std::uint64_t triangles) {
+        return extract(mc_priority_for_triangles(*tree_, triangles));
+    }
+    std::size_t priority_for_triangles(std::uint64_t triangles) const {
+        return mc_priority_for_triangles(*tree_, triangles);
+    }
+    // The nodes triangulated at `priority` (cells overlay).
+    std::vector<McCell> cells(std::size_t priority) const;
+
+private:
+    const McOctree* tree_;
+    McExtraction result_;
+    std::vector<std::uint32_t> remap_;     // per tree vertex: stamp, output index
+    std::vector<std::uint64_t> active_;    // bitmap of the nodes in the cut
+    std::vector<std::uint32_t> priority_;  // dense copy of McNode::priority (cache-friendly seam checks)
+    std::vector<std::uint32_t> first_seam_; // smallest neighbour priority (no seam below it)
+    std::unique_ptr<mc::SeamCache> seams_;
+    std::uint32_t generation_ = 0;
+};
+
+// One-shot convenience.
+McExtraction extract_mc_octree(const McOctree& tree, std::size_t priority);
+
+// The .mco file (docs/mcoctree.md). Both throw Error naming the file; the writer goes through AtomicFile.
+void write_mc_octree(const McOctree& tree, const std::string& path, Progress* progress = nullptr);
+McOctree read_mc_octree(const std::string& path, Progress* progress = nullptr);
+
+// Checks the structural invariants a reader or a caller relies on (indices in range, children after
+// parents, counts consistent); throws Error(format) naming `file` on the first violation.
+void validate_mc_octree(const McOctree& tree, const std::string& file);
+
+}  // namespace lodforge

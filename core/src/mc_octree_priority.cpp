@@ -1,0 +1,131 @@
+// Priority numbering of the marching-cube octree and the exact triangle count of every priority.
+//
+// The 003 document (KAIST thesis, 2007, §5.2 and §5.4.3): repeatedly expand the node with the largest
+// area difference among those whose neighbours are all present, so that neighbouring nodes never differ
+// by more than one level (the 2:1 rule). The printed loop rescans a sorted list from its head and never
+// removes the chosen node; here a binary heap holds the expandable nodes and every node counts how many
+// coarser neighbours still stand in its way, so the whole numbering is O(n log n).
+// Decisions (docs/mcoctree.md): the neighbourhood is all 26 cubes (faces, edges, corners); the key is the
+// magnitude of the area difference, a negative difference being as much a change of shape as a positive
+// one; ties go to the node stored first. The triangle count of every priority is simulated here, with the
+// same seam triangulation the extraction uses, so the budget inverse is exact.
+#include "lodforge/error.h"
+#include "mc_octree_internal.h"
+
+#include <cmath>
+#include <queue>
+
+namespace lodforge::mc {
+namespace {
+
+struct Entry {
+    float key;
+    std::uint32_t node;
+    bool operator<(const Entry& o) const { return key < o.key || (key == o.key && node > o.node); }
+};
+
+}  // namespace
+
+void number_mc_octree(McOctree& tree, const std::vector<KeyMap>& maps, Progress* progress) {
+    const std::size_t n = tree.nodes.size();
+    const std::uint32_t grid = 1u << tree.levels;
+    std::vector<std::uint8_t> blockers(n, 0);
+    std::vector<std::uint32_t> triangles(n, 0);
+    std::priority_queue<Entry> heap;
+    tree.order.clear();
+    tree.triangle_counts.clear();
+    for (McNode& node : tree.nodes) node.priority = none;
+
+    // offset (dx, dy, dz) -> neighbour slot for faces and edges; corners (-1) go through the level's map
+    int slot_of[27];
+    for (int& s : slot_of) s = -1;
+    for (int s = 0; s < neighbour_slots; ++s) {
+        const auto o = neighbour_offset(s);
+        slot_of[(o[0] + 1) + 3 * (o[1] + 1) + 9 * (o[2] + 1)] = s;
+    }
+    auto find = [&](std::uint32_t node, int dx, int dy, int dz) -> std::uint32_t {
+        const int s = slot_of[(dx + 1) + 3 * (dy + 1) + 9 * (dz + 1)];
+        if (s >= 0) return tree.neighbours[std::size_t(node) * neighbour_slots + std::size_t(s)];
+        const McNode& a = tree.nodes[node];
+        const std::int64_t size = std::int64_t(grid >> a.level);
+        const std::int64_t x = std::int64_t(a.x) + dx, y = std::int64_t(a.y) + dy, z = std::int64_t(a.z) + dz;
+        if (x < 0 || y < 0 || z < 0 || x >= size || y >= size || z >= size) return none;
+        return maps[a.level].find(pack(std::uint32_t(x), std::uint32_t(y), std::uint32_t(z)));
+    };
+    SeamCache seams;
+    auto push = [&](std::uint32_t node) {
+        if (tree.nodes[node].level > 0) heap.push({std::fabs(tree.metric[node]), node});
+    };
+    auto child = [&](const McNode& p, int octant) -> std::uint32_t {
+        if (!(p.child_mask & (1u << octant))) return none;
+        return p.first_child + static_cast<std::uint32_t>(std::popcount(unsigned(p.child_mask) & ((1u << octant) - 1)));
+    };
+
+    std::uint64_t total = node_triangle_count(tree, 0, 0, seams);
+    triangles[0] = static_cast<std::uint32_t>(total);
+    tree.triangle_counts.push_back(total);
+    push(0);
+    std::size_t numbered = 0, internal = 0;
+    for (const McNode& node : tree.nodes) internal += node.level > 0;
+    while (!heap.empty()) {
+        const std::uint32_t x = heap.top().node;
+        heap.pop();
+        McNode& node = tree.nodes[x];
+        node.priority = static_cast<std::uint32_t>(++numbered);
+        tree.order.push_back(x);
+        if ((numbered & 0x3fff) == 0)
+            check_progress(progress, 0.8 + 0.2 * double(numbered) / double(internal), "mcoctree: priorities");
+
+        // Children become present; each waits for the unexpanded coarse nodes it touches.
+        total -= triangles[x];
+        for (int o = 0; o < 8; ++o) {
+            const std::uint32_t c = child(node, o);
+            if (c == none) continue;
+            std::uint8_t count = 0;
+            for (int d = 1; d < 8; ++d) {
+                const int dx = (d & 1) ? ((o & 1) ? 1 : -1) : 0, dy = (d & 2) ? ((o & 2) ? 1 : -1) : 0,
+                          dz = (d & 4) ? ((o & 4) ? 1 : -1) : 0;
+                const std::uint32_t m = find(x, dx, dy, dz);
+                if (m != none && tree.nodes[m].priority == none) ++count;
+            }
+            blockers[c] = count;
+            triangles[c] = static_cast<std::uint32_t>(node_triangle_count(tree, c, refine_mask(tree, c, numbered), seams));
+            total += triangles[c];
+            if (count == 0) push(c);
+        }
+        // Neighbours: children of expanded ones stop waiting for x; present ones get a seam with x's children.
+        for (int dz = -1; dz <= 1; ++dz)
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    if (dx == 0 && dy == 0 && dz == 0) continue;
+                    const std::uint32_t m = find(x, dx, dy, dz);
+                    if (m == none) continue;
+                    const McNode& nb = tree.nodes[m];
+                    if (nb.priority != none) {
+                        for (int o = 0; o < 8; ++o) {
+                            const std::uint32_t c = child(nb, o);
+                            if (c == none) continue;
+                            // child o of the neighbour touches x when, per axis, it lies on x's side
+                            const int ox = o & 1, oy = (o >> 1) & 1, oz = (o >> 2) & 1;
+                            const bool touches = (dx == 0 || (dx < 0) == (ox == 1)) && (dy == 0 || (dy < 0) == (oy == 1)) &&
+                                                 (dz == 0 || (dz < 0) == (oz == 1));
+                            if (!touches) continue;
+                            if (blockers[c] > 0 && --blockers[c] == 0) push(c);
+                        }
+                    } else if (nb.parent == none || tree.nodes[nb.parent].priority != none) {
+                        const bool shares_edge = (dx == 0) + (dy == 0) + (dz == 0) >= 1;
+                        if (!shares_edge) continue;
+                        const auto now = static_cast<std::uint32_t>(
+                            node_triangle_count(tree, m, refine_mask(tree, m, numbered), seams));
+                        total = total - triangles[m] + now;
+                        triangles[m] = now;
+                    }
+                }
+        tree.triangle_counts.push_back(total);
+    }
+    if (numbered != internal)
+        throw Error(Error::Kind::invalid, "mcoctree: priority numbering stopped early (" + std::to_string(numbered) +
+                                              " of " + std::to_string(internal) + " nodes)");
+}
+
+}  // namespace lodforge::mc

@@ -1,0 +1,157 @@
+// Priorities, budgets, colours and bad input of the marching-cube octree.
+#include "lodforge/error.h"
+#include "lodforge/mc_octree.h"
+#include "lodforge/mesh_io.h"
+#include "mc_test_support.h"
+#include "support/test_paths.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+using namespace lodforge;
+
+namespace {
+
+const McOctree& sphere_tree() {
+    static const McOctree tree = [] {
+        McOctreeParams p;
+        p.resolution = 24;
+        return build_mc_octree(lodforge::test::sphere_points(8000, 1.f, true), p).tree;
+    }();
+    return tree;
+}
+
+}  // namespace
+
+TEST(McOctreePriority, ChildrenAreNumberedAfterTheirParent) {
+    const McOctree& t = sphere_tree();
+    ASSERT_EQ(t.nodes[0].priority, 1u);
+    std::size_t checked = 0;
+    for (const McNode& n : t.nodes) {
+        if (n.level == 0) continue;
+        for (int c = 0; c < std::popcount(unsigned(n.child_mask)); ++c) {
+            const McNode& ch = t.nodes[n.first_child + std::uint32_t(c)];
+            EXPECT_GT(ch.priority, n.priority);  // leaves are UINT32_MAX: never expanded
+            ++checked;
+        }
+    }
+    EXPECT_GT(checked, t.order.size());
+    for (std::size_t k = 0; k < t.order.size(); ++k) EXPECT_EQ(t.nodes[t.order[k]].priority, k + 1);
+}
+
+TEST(McOctreePriority, NeighboursNeverDifferByTwoLevels) {
+    const McOctree& t = sphere_tree();
+    McOctreeExtractor ex(t);
+    for (std::size_t i : {t.max_priority() / 5, t.max_priority() / 2, 4 * t.max_priority() / 5}) {
+        const auto cells = ex.cells(i);
+        ASSERT_FALSE(cells.empty());
+        for (std::size_t a = 0; a < cells.size(); ++a)
+            for (std::size_t b = a + 1; b < cells.size(); ++b) {
+                const McCell &p = cells[a], &q = cells[b];
+                const float eps = 1e-4f * t.cube_size;
+                const bool touch = p.min.x <= q.min.x + q.size + eps && q.min.x <= p.min.x + p.size + eps &&
+                                   p.min.y <= q.min.y + q.size + eps && q.min.y <= p.min.y + p.size + eps &&
+                                   p.min.z <= q.min.z + q.size + eps && q.min.z <= p.min.z + p.size + eps;
+                if (touch) {
+                    EXPECT_LE(std::abs(int(p.level) - int(q.level)), 1) << "priority " << i;
+                }
+            }
+    }
+}
+
+TEST(McOctreeExtract, BudgetInverseStaysWithinTheBudget) {
+    const McOctree& t = sphere_tree();
+    McOctreeExtractor ex(t);
+    const std::uint64_t full = t.triangle_counts.back();
+    for (std::uint64_t budget : {std::uint64_t(0), std::uint64_t(10), full / 7, full / 3, full / 2, full - 1, full, full * 2}) {
+        const std::size_t i = ex.priority_for_triangles(budget);
+        const std::size_t tris = ex.extract(i).mesh.triangle_count();
+        if (i > 0) {
+            EXPECT_LE(tris, budget);
+        }
+        // the next priority would not fit (or there is none)
+        if (i < t.max_priority()) {
+            EXPECT_GT(t.triangle_counts[i + 1], budget);
+        }
+    }
+    EXPECT_EQ(ex.priority_for_triangles(full), t.max_priority());
+    EXPECT_THROW(ex.extract(t.max_priority() + 1), Error);
+}
+
+TEST(McOctreeExtract, ColoursInterpolateTheInput) {
+    const Mesh in = read_mesh(lodforge::test::shared_data("color-open3d-small/color.ply"));
+    ASSERT_TRUE(in.has_colors() && in.has_normals());
+    Mesh pts;  // a point cloud: the PLY's vertices with their normals and colours
+    pts.positions = in.positions;
+    pts.normals = in.normals;
+    pts.colors = in.colors;
+    McOctreeParams p;
+    p.resolution = 40;
+    p.band = 2.5;  // an open scan: end the surface near its border
+    const McOctree t = build_mc_octree(pts, p).tree;
+    ASSERT_TRUE(t.has_colors());
+    Vec4f lo{1, 1, 1, 1}, hi{0, 0, 0, 0};
+    for (const Vec4f& c : in.colors) {
+        lo = {std::fmin(lo.x, c.x), std::fmin(lo.y, c.y), std::fmin(lo.z, c.z), 0};
+        hi = {std::fmax(hi.x, c.x), std::fmax(hi.y, c.y), std::fmax(hi.z, c.z), 0};
+    }
+    for (std::size_t i : {t.max_priority() / 3, t.max_priority()}) {
+        const Mesh& m = extract_mc_octree(t, i).mesh;
+        ASSERT_EQ(m.colors.size(), m.positions.size());
+        double diff = 0;
+        for (std::size_t v = 0; v < m.positions.size(); ++v) {
+            const Vec4f c = m.colors[v];
+            EXPECT_TRUE(c.x >= lo.x - 1e-6f && c.x <= hi.x + 1e-6f && c.y >= lo.y - 1e-6f && c.y <= hi.y + 1e-6f &&
+                        c.z >= lo.z - 1e-6f && c.z <= hi.z + 1e-6f);
+            // the nearest input point's colour
+            float best = std::numeric_limits<float>::max();
+            std::size_t bi = 0;
+            for (std::size_t k = 0; k < in.positions.size(); ++k) {
+                const Vec3f d = in.positions[k] - m.positions[v];
+                if (dot(d, d) < best) best = dot(d, d), bi = k;
+            }
+            const Vec4f ref = in.colors[bi];
+            diff += (std::fabs(c.x - ref.x) + std::fabs(c.y - ref.y) + std::fabs(c.z - ref.z)) / 3;
+        }
+        EXPECT_LT(diff / double(m.positions.size()), 0.06) << "priority " << i;
+    }
+}
+
+TEST(McOctreeBuild, MalformedInputsGiveClearErrors) {
+    auto message = [](const Mesh& m, const McOctreeParams& p = {}) -> std::string {
+        try {
+            build_mc_octree(m, p);
+        } catch (const Error& e) {
+            return e.what();
+        }
+        return "no error";
+    };
+    EXPECT_NE(message(Mesh{}).find("no points"), std::string::npos);
+    Mesh no_normals;
+    no_normals.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    EXPECT_NE(message(no_normals).find("no normals and there are no faces"), std::string::npos);
+    Mesh nan = lodforge::test::sphere_points(100);
+    nan.positions[7].y = std::nanf("");
+    EXPECT_NE(message(nan).find("point 7 is not finite"), std::string::npos);
+    Mesh nan_normal = lodforge::test::sphere_points(100);
+    nan_normal.normals[3].x = INFINITY;
+    EXPECT_NE(message(nan_normal).find("normal of point 3"), std::string::npos);
+    McOctreeParams zero;
+    zero.resolution = 0;
+    EXPECT_NE(message(lodforge::test::sphere_points(100), zero).find("resolution"), std::string::npos);
+    McOctreeParams huge;
+    huge.resolution = 1000000;
+    EXPECT_NE(message(lodforge::test::sphere_points(100), huge).find("resolution too high"), std::string::npos);
+}
+
+TEST(McOctreeBuild, WarnsWhenTheResolutionExceedsTheDensity) {
+    McOctreeParams p;
+    p.resolution = 40;  // 500 points on a unit sphere are ~0.16 apart, cubes 0.05
+    const McOctreeBuildResult r = build_mc_octree(lodforge::test::sphere_points(500), p);
+    ASSERT_EQ(r.warnings.size(), 1u);
+    EXPECT_NE(r.warnings[0].find("exceeds the data density"), std::string::npos);
+    p.resolution = 8;
+    EXPECT_TRUE(build_mc_octree(lodforge::test::sphere_points(500), p).warnings.empty());
+}
