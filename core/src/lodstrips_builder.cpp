@@ -404,9 +404,10 @@ LodStripsDependencies lodstrips_dependencies(const lodstrips::Data& d) {
         for (std::uint32_t o = d.collapse_begin[k]; o < d.collapse_begin[k + 1]; ++o) {
             const std::uint32_t v = d.vertex_of_ordinal(o), t = d.targets[o];
             for (std::uint32_t f : faces_of[v]) {
+                // Faces that already vanished count too: applying a later collapse to a corner of a face
+                // whose vanishing collapse is not applied would give the face a state it never had.
                 std::uint32_t* tri = &faces[3 * f];
-                if (degenerate(tri[0], tri[1], tri[2])) continue;
-                if (last[f] != kNone) deps.parents.push_back(last[f]);
+                if (last[f] != kNone && last[f] != k) deps.parents.push_back(last[f]);
                 last[f] = static_cast<std::uint32_t>(k);
                 for (int i = 0; i < 3; ++i)
                     if (tri[i] == v) tri[i] = t;
