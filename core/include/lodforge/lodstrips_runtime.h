@@ -497,8 +497,16 @@ public:
     }
     void go_to_level(std::size_t target) {
         target = std::min(target, collapse_count());
-        while (level_ < target) collapse(level_++);
-        while (level_ > target) split(--level_);
+        // Collapses are in error order, so each one lands somewhere else in the buffer: fetch the strips
+        // of the collapse after next while this one is applied, so the cache misses overlap.
+        while (level_ < target) {
+            if (level_ + prefetch_distance < target) prefetch(level_ + prefetch_distance);
+            collapse(level_++);
+        }
+        while (level_ > target) {
+            if (level_ > target + prefetch_distance) prefetch(level_ - 1 - prefetch_distance);
+            split(--level_);
+        }
     }
 
     // Element ranges changed since the last clear_changes() (sorted, one per touched strip), for updating
@@ -667,6 +675,22 @@ private:
                 dirty_lo_[s] = std::min(dirty_lo_[s], lo);
             }
         }
+    }
+
+    static constexpr std::size_t prefetch_distance = 4;
+
+    void prefetch(std::size_t k) const {
+#if (defined(__GNUC__) || defined(__clang__)) && !defined(LODSTRIPS_NO_PREFETCH)
+        for (std::uint32_t i = span_begin_[k]; i < span_begin_[k + 1]; ++i) {
+            const std::uint32_t s = spans_[i].first;
+            const std::uint32_t* p = buffer_.data() + data_.strip_offsets[s] + spans_[i].second;
+            const std::uint32_t* end = buffer_.data() + data_.strip_offsets[s + 1];
+            for (; p < end; p += 16) __builtin_prefetch(p, 1);  // a removal moves the rest of the region
+            __builtin_prefetch(&dirty_lo_[s], 1);
+        }
+#else
+        (void)k;
+#endif
     }
 
     void collapse(std::size_t k) {
