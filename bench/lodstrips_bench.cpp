@@ -146,7 +146,7 @@ int main(int argc, char** argv) {
     std::printf("LODStrips, %s joins, coarsest level 1%% of the input, strip pieces <= 256 indices, %d reps\n",
                 degenerate ? "degenerate" : "restart", reps);
     std::printf("%-36s %8s %8s %7s %9s %9s %7s | %8s %8s %10s | %8s %8s | %10s\n", "model", "V", "T", "strips",
-                "LODs", "MB", "ratio", "build s", "simpl s", "linear ns", "jump ns", "jump avg", "rebuild us");
+                "collapses", "MB", "ratio", "build s", "simpl s", "linear ns", "jump ns", "jump avg", "rebuild us");
     try {
         for (const std::string& key : split(models_arg)) {
             const auto it = std::find_if(all.begin(), all.end(), [&](const Model& m) { return m.key == key; });
