@@ -18,5 +18,6 @@ void add_compare_command(CLI::App& app, const GlobalOptions& global);
 void add_pack_command(CLI::App& app, const GlobalOptions& global);
 void add_morph_command(CLI::App& app, const GlobalOptions& global);
 void add_mcoctree_command(CLI::App& app, const GlobalOptions& global);
+void add_strips_command(CLI::App& app, const GlobalOptions& global);
 
 }  // namespace lodforge::cli

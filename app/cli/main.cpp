@@ -25,6 +25,7 @@ int main(int argc, char** argv) {
     add_pack_command(app, global);
     add_morph_command(app, global);
     add_mcoctree_command(app, global);
+    add_strips_command(app, global);
 
     install_interrupt_handler();
     try {
