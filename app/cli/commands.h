@@ -15,5 +15,6 @@ void add_convert_command(CLI::App& app, const GlobalOptions& global);
 void add_simplify_command(CLI::App& app, const GlobalOptions& global);
 void add_lod_command(CLI::App& app, const GlobalOptions& global);
 void add_compare_command(CLI::App& app, const GlobalOptions& global);
+void add_octree_command(CLI::App& app, const GlobalOptions& global);
 
 }  // namespace lodforge::cli

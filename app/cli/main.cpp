@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
     add_simplify_command(app, global);
     add_lod_command(app, global);
     add_compare_command(app, global);
+    add_octree_command(app, global);
 
     install_interrupt_handler();
     try {

@@ -111,6 +111,24 @@ void NodeQuadric::add(const NodeQuadric& other) {
     position_count += other.position_count;
 }
 
+Vec3d clamped_minimizer(const Quadric& q, Vec3d around, const double lo[3], const double hi[3]) {
+    Eigen::Matrix3d A;
+    A << q.a00, q.a01, q.a02, q.a01, q.a11, q.a12, q.a02, q.a12, q.a22;
+    const Eigen::Vector3d b(q.b0, q.b1, q.b2);
+    const Eigen::Vector3d xbar(around.x, around.y, around.z);
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(A);
+    const Eigen::Vector3d ev = eig.eigenvalues();
+    const double largest = std::max(std::fabs(ev(0)), std::fabs(ev(2)));
+    Eigen::Vector3d inv = Eigen::Vector3d::Zero();
+    for (int a = 0; a < 3; ++a)
+        if (largest > 0 && std::fabs(ev(a)) > 1e-3 * largest) inv(a) = 1.0 / ev(a);
+    const Eigen::Matrix3d& V = eig.eigenvectors();
+    Eigen::Vector3d x = xbar + V * inv.asDiagonal() * V.transpose() * (-b - A * xbar);
+    if (!x.allFinite()) x = xbar;
+    for (int a = 0; a < 3; ++a) x(a) = std::clamp(x(a), lo[a], hi[a]);
+    return {x(0), x(1), x(2)};
+}
+
 NodeMesh simplify_node(const NodeMesh& input, const NodeQuadric& quadric, const QuadricFrame& frame,
                        const float cell_min[3], float cell_size, std::uint64_t representative_key,
                        const std::vector<std::uint64_t>* odd_non_manifold_edges, NodeSimplifyStats* stats) {
@@ -232,24 +250,13 @@ NodeMesh simplify_node(const NodeMesh& input, const NodeQuadric& quadric, const 
             }
             if (n) xbar /= static_cast<double>(n);
         }
-        Eigen::Matrix3d A;
-        A << total.a00, total.a01, total.a02, total.a01, total.a11, total.a12, total.a02, total.a12, total.a22;
-        const Eigen::Vector3d b(total.b0, total.b1, total.b2);
-        const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(A);
-        const Eigen::Vector3d ev = eig.eigenvalues();
-        const double largest = std::max(std::fabs(ev(0)), std::fabs(ev(2)));
-        Eigen::Vector3d inv = Eigen::Vector3d::Zero();
-        for (int a = 0; a < 3; ++a)
-            if (largest > 0 && std::fabs(ev(a)) > 1e-3 * largest) inv(a) = 1.0 / ev(a);
-        const Eigen::Matrix3d& V = eig.eigenvectors();
-        Eigen::Vector3d x = xbar + V * inv.asDiagonal() * V.transpose() * (-b - A * xbar);
-        if (!x.allFinite()) x = xbar;
+        double lo[3], hi[3];
         const double o[3] = {frame.origin.x, frame.origin.y, frame.origin.z};
         for (int a = 0; a < 3; ++a) {
-            const double lo = (cell_min[a] - o[a]) / frame.scale, hi = lo + cell_size / frame.scale;
-            x(a) = std::clamp(x(a), lo, hi);
+            lo[a] = (cell_min[a] - o[a]) / frame.scale;
+            hi[a] = lo[a] + cell_size / frame.scale;
         }
-        const Vec3d p{x(0), x(1), x(2)};
+        const Vec3d p = clamped_minimizer(total, {xbar(0), xbar(1), xbar(2)}, lo, hi);
         std::vector<float> rep(f);
         rep[0] = static_cast<float>(p.x * frame.scale + frame.origin.x);
         rep[1] = static_cast<float>(p.y * frame.scale + frame.origin.y);

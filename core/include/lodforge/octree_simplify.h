@@ -72,6 +72,11 @@ struct NodeQuadric {
     void add(const NodeQuadric& other);
 };
 
+// Minimiser of q by pseudo-inverse around `around` (eigenvalues below 1e-3 of the largest are
+// ignored, so flat and straight regions keep the nearest point to `around`), clamped into [lo, hi].
+// Used for node representatives and for OoCS cells (Lindstrom 2000).
+Vec3d clamped_minimizer(const Quadric& q, Vec3d around, const double lo[3], const double hi[3]);
+
 struct NodeSimplifyStats {
     std::size_t boundary_edges = 0;      // kept directed edge uses (= fan triangles)
     std::size_t closed_components = 0;   // components with no boundary edge, kept unchanged
