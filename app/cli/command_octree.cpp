@@ -92,7 +92,7 @@ void add_build(CLI::App& octree, const GlobalOptions& global) {
             std::printf("%s: %llu -> %zu triangles, %zu vertices (OoCS, grid %u x %u x %u, cell %.6g)\n", o->output.c_str(),
                         static_cast<unsigned long long>(r.input_triangles), r.mesh.triangle_count(), r.mesh.vertex_count(),
                         r.grid_dims[0], r.grid_dims[1], r.grid_dims[2], static_cast<double>(r.cell_size));
-            std::printf("time: soup %.2f s, clustering %.2f s\n", r.soup_seconds, r.cluster_seconds);
+            std::printf("time: soup %.3f s, clustering %.3f s\n", r.soup_seconds, r.cluster_seconds);
             return;
         }
         OctreeBuildParams p;
@@ -109,9 +109,9 @@ void add_build(CLI::App& octree, const GlobalOptions& global) {
                     static_cast<int>(s.triangles_per_level.size()));
         std::printf("triangles per level:");
         for (std::uint64_t t : s.triangles_per_level) std::printf(" %llu", static_cast<unsigned long long>(t));
-        std::printf("\nsoup: %s, %d pass%s; time: soup %.2f s, octree + simplification %.2f s\n",
+        std::printf("\nsoup: %s, %d pass%s; time: soup %.3f s, octree %.3f s, simplification %.3f s\n",
                     r.soup.external ? "external sort" : "in memory", r.soup.passes, r.soup.passes == 1 ? "" : "es",
-                    r.soup_seconds, r.build_seconds);
+                    r.soup_seconds, r.build_seconds - r.simplify_seconds, r.simplify_seconds);
         for (const std::string& w : r.warnings) std::printf("warning: %s\n", w.c_str());
     });
 }

@@ -288,3 +288,39 @@ TEST(OctreeBuild, CorruptInputAndAssetStopWithAClearError) {
 
 }  // namespace
 }  // namespace lodforge
+
+namespace lodforge {
+namespace {
+
+TEST(OctreeBuild, OddNonManifoldEdgesKeepEveryUseInEveryCut) {
+    // Three pages of a book share the spine 0-1; pages lie in different octants so they land in
+    // different leaves. A per-node rule would drop or keep the spine unevenly; it must keep 3 uses.
+    ScratchDir dir("octree-book");
+    const std::string ply = dir.file("book.ply");
+    std::ofstream(ply) << "ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\nproperty float y\nproperty float z\n"
+                          "element face 3\nproperty list uchar int vertex_indices\nend_header\n"
+                          "0 0 -1\n0 0 1\n1 0 0\n-0.5 0.9 0\n-0.5 -0.9 0\n3 0 1 2\n3 1 0 3\n3 0 1 4\n";
+    OctreeBuildParams p;
+    p.max_triangles = 1;
+    p.max_depth = 6;
+    const OctreeBuildResult r = build_octree(ply, dir.file("book.lfo"), p);
+    EXPECT_EQ(r.soup.odd_non_manifold_edges.size(), 1u);
+    OctreeStore store(dir.file("book.lfo"));
+    EXPECT_GE(store.stats().leaves, 3u);
+    std::mt19937 rng(11);
+    for (int trial = 0; trial < 12; ++trial) {
+        const Cut cut = trial < store.level_count() ? level_cut(store, trial) : random_cut(store, rng);
+        std::vector<std::uint64_t> keys;
+        const Mesh m = extract_mesh(store, cut, nullptr, &keys);
+        int spine = 0;
+        for (std::size_t t = 0; t < m.triangle_count(); ++t)
+            for (int k = 0; k < 3; ++k) {
+                const std::uint64_t a = keys[m.indices[3 * t + k]], b = keys[m.indices[3 * t + (k + 1) % 3]];
+                spine += (std::min(a, b) == 0 && std::max(a, b) == 1);
+            }
+        EXPECT_EQ(spine, 3) << "trial " << trial;
+    }
+}
+
+}  // namespace
+}  // namespace lodforge

@@ -37,6 +37,7 @@ struct OctreeBuildResult {
     OctreeStats stats;
     double soup_seconds = 0;     // PLY → soup
     double build_seconds = 0;    // soup → octree + every node simplified + asset written
+    double simplify_seconds = 0; // the part of build_seconds spent in the node operator
     std::uint64_t split_passes = 0;       // nodes split by streaming over a temporary file
     std::uint64_t closed_components = 0;  // components kept unchanged (no boundary edge in their node)
     std::uint64_t degenerate_triangles = 0;  // input triangles with a repeated vertex (in no simplified mesh)
