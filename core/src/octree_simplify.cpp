@@ -149,6 +149,7 @@ NodeMesh simplify_node(const NodeMesh& input, const NodeQuadric& quadric, const 
     // would add a→b and b→a, which changes no net use, so dropping it changes no boundary.
     ooc::FlatMap slot_of(tris * 3 / 2 + 16);
     std::vector<std::int32_t> net;
+    std::vector<std::uint32_t> edge_of(3 * tris, ~0u);  // corner k of triangle t → edge t.k..t.k+1
     for (std::size_t t = 0; t < tris; ++t) {
         if (degenerate(t)) {
             ++st.degenerate_dropped;
@@ -160,9 +161,10 @@ NodeMesh simplify_node(const NodeMesh& input, const NodeQuadric& quadric, const 
             const std::uint32_t e = slot_of.find_or_insert(edge_key(a, b), static_cast<std::uint32_t>(net.size()), inserted);
             if (inserted) net.push_back(0);
             net[e] += a < b ? 1 : -1;
+            edge_of[3 * t + k] = e;
         }
     }
-    // Edges of the input used by 3 or more triangles keep every use in every node.
+    // Edges of the input used an odd number ≥ 3 of times keep every use in every node.
     std::vector<std::uint8_t> keep_all(net.size(), 0);
     if (odd_non_manifold_edges && !odd_non_manifold_edges->empty())
         for (std::size_t t = 0; t < tris; ++t) {
@@ -172,19 +174,19 @@ NodeMesh simplify_node(const NodeMesh& input, const NodeQuadric& quadric, const 
                 if ((ka | kb) & kRepresentativeKey) continue;
                 const std::uint64_t key = ka < kb ? (ka << 32 | kb) : (kb << 32 | ka);
                 if (std::binary_search(odd_non_manifold_edges->begin(), odd_non_manifold_edges->end(), key))
-                    keep_all[*slot_of.find(edge_key(idx[3 * t + k], idx[3 * t + (k + 1) % 3]))] = 1;
+                    keep_all[edge_of[3 * t + k]] = 1;
             }
         }
     // Copies of each edge still to emit in its net direction.
     std::vector<std::int32_t> remaining(net.size());
     for (std::size_t e = 0; e < net.size(); ++e) remaining[e] = net[e] < 0 ? -net[e] : net[e];
-    auto boundary = [&](std::uint32_t a, std::uint32_t b) {
-        const std::uint32_t e = *slot_of.find(edge_key(a, b));
+    auto boundary = [&](std::size_t corner) {
+        const std::uint32_t e = edge_of[corner];
         return keep_all[e] || net[e] != 0;
     };
-    // Emits the use a→b when it belongs to the node's kept boundary.
-    auto take = [&](std::uint32_t a, std::uint32_t b) {
-        const std::uint32_t e = *slot_of.find(edge_key(a, b));
+    // Emits the use a→b (corner `corner`) when it belongs to the node's kept boundary.
+    auto take = [&](std::size_t corner, std::uint32_t a, std::uint32_t b) {
+        const std::uint32_t e = edge_of[corner];
         if (keep_all[e]) return true;
         if (remaining[e] == 0 || (net[e] > 0) != (a < b)) return false;
         --remaining[e];
@@ -216,7 +218,7 @@ NodeMesh simplify_node(const NodeMesh& input, const NodeQuadric& quadric, const 
     for (std::size_t t = 0; t < tris; ++t) {
         if (degenerate(t)) continue;
         for (int k = 0; k < 3; ++k)
-            if (boundary(idx[3 * t + k], idx[3 * t + (k + 1) % 3])) {
+            if (boundary(3 * t + k)) {
                 has_boundary[find(idx[3 * t])] = 1;
                 any_boundary = true;
             }
@@ -319,7 +321,7 @@ NodeMesh simplify_node(const NodeMesh& input, const NodeQuadric& quadric, const 
         }
         for (int k = 0; k < 3; ++k) {
             const std::uint32_t a = idx[3 * t + k], b = idx[3 * t + (k + 1) % 3];
-            if (!take(a, b)) continue;
+            if (!take(3 * t + k, a, b)) continue;
             // The edge keeps its direction in its source triangle, so the fan faces the same way.
             out.indices.push_back(use(a));
             out.indices.push_back(use(b));

@@ -63,6 +63,9 @@ OocClusterResult ooc_cluster_soup(const std::string& soup_path, const OocCluster
     std::vector<std::uint32_t> out_tris;
     std::vector<std::byte> buf;
     const std::uint32_t dims[3] = {r.grid_dims[0], r.grid_dims[1], r.grid_dims[2]};
+    constexpr std::size_t kCache = 4096;
+    std::vector<std::uint64_t> cache_code(kCache, ~0ull);
+    std::vector<std::uint32_t> cache_id(kCache, 0);
     std::uint64_t done = 0;
     while (std::size_t n = reader.read(1 << 15, buf)) {
         check_progress(progress, static_cast<double>(done) / std::max<std::uint64_t>(r.input_triangles, 1), "cluster: quadrics");
@@ -78,12 +81,20 @@ OocClusterResult ooc_cluster_soup(const std::string& soup_path, const OocCluster
                     const double c = std::floor((v[k][a] - origin[a]) / h);
                     code = code << 21 | static_cast<std::uint64_t>(std::clamp(c, 0.0, static_cast<double>(dims[a] - 1)));
                 }
-                bool inserted = false;
-                id[k] = cell_of.find_or_insert(code, static_cast<std::uint32_t>(cells.size()), inserted);
-                if (inserted) {
-                    cells.emplace_back();
-                    attr_sum.resize(attr_sum.size() + attrs, 0.0);
-                    attr_weight.push_back(0);
+                // Soup order is spatially coherent: a small direct-mapped cache in front of the table.
+                const std::size_t slot = (code ^ (code >> 21) ^ (code >> 42)) & (kCache - 1);
+                if (cache_code[slot] == code) {
+                    id[k] = cache_id[slot];
+                } else {
+                    bool inserted = false;
+                    id[k] = cell_of.find_or_insert(code, static_cast<std::uint32_t>(cells.size()), inserted);
+                    if (inserted) {
+                        cells.emplace_back();
+                        attr_sum.resize(attr_sum.size() + attrs, 0.0);
+                        attr_weight.push_back(0);
+                    }
+                    cache_code[slot] = code;
+                    cache_id[slot] = id[k];
                 }
                 p[k] = {(v[k][0] - origin[0]) * inv, (v[k][1] - origin[1]) * inv, (v[k][2] - origin[2]) * inv};
             }

@@ -97,36 +97,37 @@ private:
 class SequentialWriter {
 public:
     SequentialWriter(const std::string& path, std::size_t buffer_bytes)
-        : file_(path, O_WRONLY | O_CREAT | O_TRUNC) {
-        buffer_.reserve(buffer_bytes < 4096 ? 4096 : buffer_bytes);
-    }
+        : file_(path, O_WRONLY | O_CREAT | O_TRUNC), buffer_(buffer_bytes < 4096 ? 4096 : buffer_bytes) {}
     void write(const void* data, std::size_t bytes) {
-        if (buffer_.size() + bytes > buffer_.capacity()) flush();
-        if (bytes > buffer_.capacity()) {
-            file_.write_at(data, bytes, written_);
-            written_ += bytes;
-            return;
+        if (used_ + bytes > buffer_.size()) {
+            flush();
+            if (bytes > buffer_.size()) {
+                file_.write_at(data, bytes, written_);
+                written_ += bytes;
+                return;
+            }
         }
-        const char* p = static_cast<const char*>(data);
-        buffer_.insert(buffer_.end(), p, p + bytes);
+        std::memcpy(buffer_.data() + used_, data, bytes);
+        used_ += bytes;
     }
     void flush() {
-        if (buffer_.empty()) return;
-        file_.write_at(buffer_.data(), buffer_.size(), written_);
-        written_ += buffer_.size();
-        buffer_.clear();
+        if (used_ == 0) return;
+        file_.write_at(buffer_.data(), used_, written_);
+        written_ += used_;
+        used_ = 0;
     }
     void close() {
         flush();
         file_.close();
         std::vector<char>().swap(buffer_);
     }
-    std::uint64_t offset() const { return written_ + buffer_.size(); }
+    std::uint64_t offset() const { return written_ + used_; }
     const std::string& path() const { return file_.path(); }
 
 private:
     File file_;
     std::vector<char> buffer_;
+    std::size_t used_ = 0;
     std::uint64_t written_ = 0;
 };
 

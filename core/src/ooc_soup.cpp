@@ -23,6 +23,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <bit>
 #include <filesystem>
 #include <system_error>
 
@@ -55,7 +56,7 @@ public:
     BucketSpill(const std::string& path, std::size_t buckets, std::size_t record_bytes, std::size_t buffer_bytes)
         : file_(path, O_RDWR | O_CREAT | O_TRUNC), record_(record_bytes),
           capacity_(std::max<std::size_t>(1, buffer_bytes / record_bytes) * record_bytes), buffers_(buckets),
-          blocks_(buckets) {}
+          used_(buckets, 0), blocks_(buckets) {}
     ~BucketSpill() {
         file_.close();
         std::error_code ignored;
@@ -63,10 +64,11 @@ public:
     }
     void add(std::size_t bucket, const void* record) {
         std::vector<char>& b = buffers_[bucket];
-        if (b.capacity() == 0) b.reserve(capacity_);
-        const char* p = static_cast<const char*>(record);
-        b.insert(b.end(), p, p + record_);
-        if (b.size() >= capacity_) spill(bucket);
+        if (b.empty()) b.resize(capacity_);
+        std::size_t& used = used_[bucket];
+        std::memcpy(b.data() + used, record, record_);
+        used += record_;
+        if (used >= capacity_) spill(bucket);
     }
     void finish() {
         for (std::size_t i = 0; i < buffers_.size(); ++i) {
@@ -87,17 +89,18 @@ public:
 
 private:
     void spill(std::size_t bucket) {
-        std::vector<char>& b = buffers_[bucket];
-        if (b.empty()) return;
-        file_.write_at(b.data(), b.size(), end_);
-        blocks_[bucket].emplace_back(end_, b.size());
-        end_ += b.size();
-        b.clear();
+        std::size_t& used = used_[bucket];
+        if (used == 0) return;
+        file_.write_at(buffers_[bucket].data(), used, end_);
+        blocks_[bucket].emplace_back(end_, used);
+        end_ += used;
+        used = 0;
     }
     File file_;
     std::size_t record_;
     std::size_t capacity_;
     std::vector<std::vector<char>> buffers_;
+    std::vector<std::size_t> used_;
     std::vector<std::vector<std::pair<std::uint64_t, std::size_t>>> blocks_;
     std::uint64_t end_ = 0;
 };
@@ -153,49 +156,71 @@ private:
 
 // Finds the input's odd non-manifold edges (used by 3, 5, ... non-degenerate triangles; the only edges
 // whose uses the node operator cannot drop in cancelling pairs, docs/octree.md) within the budget:
-// edge keys are distributed by hash into buckets whose count tables fit in memory, then counted per
-// bucket. Only the (usually tiny) result stays resident.
+// edge keys are distributed by hash into buckets that fit in memory twice over, and each bucket is
+// radix-sorted and its runs counted (sequential memory traffic; a hash table of tens of millions of
+// edges is all cache misses). Only the (usually tiny) result stays resident.
 class EdgeCounter {
 public:
-    EdgeCounter(const std::string& path, std::uint64_t expected_edges, std::size_t budget)
-        : buckets_(static_cast<std::size_t>(std::max<std::uint64_t>(
-              1, (expected_edges * 32 + static_cast<std::uint64_t>(0.3 * budget) - 1) / static_cast<std::uint64_t>(0.3 * budget)))),
+    EdgeCounter(const std::string& path, std::uint64_t vertices, std::uint64_t expected_edges, std::size_t budget)
+        : shift_(std::max<int>(1, static_cast<int>(std::bit_width(vertices)))), buckets_(static_cast<std::size_t>(std::max<std::uint64_t>(
+              1, (expected_edges * 16 + static_cast<std::uint64_t>(0.3 * budget) - 1) / static_cast<std::uint64_t>(0.3 * budget)))),
           spill_(path, buckets_, 8,
                  std::clamp<std::size_t>(static_cast<std::size_t>(0.1 * budget) / buckets_, 4096, std::size_t{1} << 20)) {}
     void add_triangle(const std::uint32_t* v) {
         if (v[0] == v[1] || v[1] == v[2] || v[0] == v[2]) return;
         for (int k = 0; k < 3; ++k) {
             const std::uint32_t a = v[k], b = v[(k + 1) % 3];
-            const std::uint64_t key = a < b ? (std::uint64_t{a} << 32 | b) : (std::uint64_t{b} << 32 | a);
+            // Packed to 2 × bit_width(V) bits so the radix sort needs as few passes as possible.
+            const std::uint64_t key = a < b ? (std::uint64_t{a} << shift_ | b) : (std::uint64_t{b} << shift_ | a);
             spill_.add(buckets_ == 1 ? 0 : ooc::mix64(key) % buckets_, &key);
         }
     }
     std::vector<std::uint64_t> odd_non_manifold(Progress* progress, double from, double to) {
         spill_.finish();
-        std::vector<std::uint64_t> out;
+        std::vector<std::uint64_t> out, keys, tmp_keys;
         std::vector<char> tmp;
-        ooc::FlatMap counts;
         for (std::size_t b = 0; b < buckets_; ++b) {
             check_progress(progress, from + (to - from) * static_cast<double>(b) / buckets_, "soup: counting edges");
-            counts.reset(1024);
+            keys.clear();
             spill_.for_each_block(b, tmp, [&](const char* data, std::size_t bytes) {
-                for (std::size_t o = 0; o < bytes; o += 8) {
-                    std::uint64_t key;
-                    std::memcpy(&key, data + o, 8);
-                    bool inserted = false;
-                    ++counts.find_or_insert(key, 0, inserted);
-                }
+                const std::size_t at = keys.size();
+                keys.resize(at + bytes / 8);
+                std::memcpy(&keys[at], data, bytes);
             });
-            counts.for_each([&](std::uint64_t key, std::uint32_t c) {
-                if (c >= 3 && (c & 1u)) out.push_back(key);
-            });
+            radix_sort(keys, tmp_keys);
+            for (std::size_t i = 0; i < keys.size();) {
+                std::size_t j = i + 1;
+                while (j < keys.size() && keys[j] == keys[i]) ++j;
+                const std::size_t c = j - i;
+                if (c >= 3 && (c & 1u)) out.push_back((keys[i] >> shift_) << 32 | (keys[i] & ((std::uint64_t{1} << shift_) - 1)));
+                i = j;
+            }
         }
         std::sort(out.begin(), out.end());
         return out;
     }
-    std::uint64_t bytes() const { return spill_.bytes(); }
 
 private:
+    // LSD radix sort on 16-bit digits, only as many passes as the largest key needs.
+    static void radix_sort(std::vector<std::uint64_t>& a, std::vector<std::uint64_t>& tmp) {
+        std::uint64_t top = 0;
+        for (std::uint64_t k : a) top |= k;
+        tmp.resize(a.size());
+        std::vector<std::size_t> count(65536);
+        for (int shift = 0; shift < 64 && (top >> shift) != 0; shift += 16) {
+            std::fill(count.begin(), count.end(), 0);
+            for (std::uint64_t k : a) ++count[(k >> shift) & 0xffff];
+            std::size_t sum = 0;
+            for (std::size_t& c : count) {
+                const std::size_t n = c;
+                c = sum;
+                sum += n;
+            }
+            for (std::uint64_t k : a) tmp[count[(k >> shift) & 0xffff]++] = k;
+            a.swap(tmp);
+        }
+    }
+    int shift_;
     std::size_t buckets_;
     BucketSpill spill_;
 };
@@ -223,28 +248,40 @@ public:
     void corner(std::uint32_t id, const float* record) {
         out_.write(&id, 4);
         out_.write(record, corner_ - 4);
-        bounds_.add({record[0], record[1], record[2]});
+        grow(record);
     }
     void raw(const char* corners, std::size_t bytes) {
         out_.write(corners, bytes);
         for (std::size_t o = 0; o < bytes; o += corner_) {
             float p[3];
             std::memcpy(p, corners + o + 4, sizeof p);
-            bounds_.add({p[0], p[1], p[2]});
+            grow(p);
         }
     }
     void finish(SoupResult& r) {
         out_.close();
-        r.bounds = bounds_;
+        r.bounds = Bounds{};
+        if (lo_[0] <= hi_[0]) {
+            r.bounds.add({lo_[0], lo_[1], lo_[2]});
+            r.bounds.add({hi_[0], hi_[1], hi_[2]});
+        }
         File f(r.path, O_WRONLY);
         write_header(f, r);
     }
     std::uint64_t bytes() const { return out_.offset(); }
 
 private:
+    // Positions are finite (the reader refuses NaN), so plain min/max suffice.
+    void grow(const float* p) {
+        for (int a = 0; a < 3; ++a) {
+            lo_[a] = std::min(lo_[a], p[a]);
+            hi_[a] = std::max(hi_[a], p[a]);
+        }
+    }
     SequentialWriter out_;
     std::size_t corner_;
-    Bounds bounds_;
+    float lo_[3] = {INFINITY, INFINITY, INFINITY};
+    float hi_[3] = {-INFINITY, -INFINITY, -INFINITY};
 };
 
 std::size_t element_index(const PlyHeader& h, bool faces) {
@@ -330,7 +367,7 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
     if (!r.external) {
         std::vector<float> vertices(static_cast<std::size_t>(r.vertices) * floats);
         SoupWriter out(soup_path, L);
-        EdgeCounter edges(edges_path, expected_edges, budget);
+        EdgeCounter edges(edges_path, r.vertices, expected_edges, budget);
         std::uint64_t loaded = 0;
         try {
             while (reader.current_element()) {
@@ -355,7 +392,7 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
             out.finish(r);
             std::vector<float>().swap(vertices);
             r.odd_non_manifold_edges = edges.odd_non_manifold(progress, 0.9, 1.0);
-            r.temp_bytes_peak = out.bytes() + edges.bytes();
+            r.temp_bytes_peak = out.bytes();
         } catch (...) {
             std::error_code ignored;
             fs::remove(soup_path, ignored);
@@ -391,7 +428,7 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
         {
             SequentialWriter vertex_file(vertex_path, 1 << 20);
             BucketSpill refs(refs_path, ranges, ref_bytes, buffer_for(ranges));
-            EdgeCounter edges(edges_path, expected_edges, budget);
+            EdgeCounter edges(edges_path, r.vertices, expected_edges, budget);
             while (reader.current_element()) {
                 check_progress(progress, 0.5 * static_cast<double>(reader.position()) / file_size, "soup: reading");
                 if (reader.at_vertices()) {
