@@ -187,6 +187,7 @@ OocClusterResult ooc_cluster(const std::string& input_ply, const OocClusterParam
     const Clock::time_point t0 = Clock::now();
     SoupParams sp;
     sp.memory_bytes = params.memory_bytes;
+    sp.count_edges = false;
     SoupResult soup = convert_to_soup(input_ply, scratch.file("soup"), sp, progress);
     const double soup_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
     OocClusterResult r = ooc_cluster_soup(soup.path, params, progress);

@@ -161,13 +161,13 @@ private:
 // edges is all cache misses). Only the (usually tiny) result stays resident.
 class EdgeCounter {
 public:
-    EdgeCounter(const std::string& path, std::uint64_t vertices, std::uint64_t expected_edges, std::size_t budget)
-        : shift_(std::max<int>(1, static_cast<int>(std::bit_width(vertices)))), buckets_(static_cast<std::size_t>(std::max<std::uint64_t>(
+    EdgeCounter(const std::string& path, std::uint64_t vertices, std::uint64_t expected_edges, std::size_t budget, bool enabled)
+        : enabled_(enabled), shift_(std::max<int>(1, static_cast<int>(std::bit_width(vertices)))), buckets_(static_cast<std::size_t>(std::max<std::uint64_t>(
               1, (expected_edges * 16 + static_cast<std::uint64_t>(0.3 * budget) - 1) / static_cast<std::uint64_t>(0.3 * budget)))),
           spill_(path, buckets_, 8,
                  std::clamp<std::size_t>(static_cast<std::size_t>(0.1 * budget) / buckets_, 4096, std::size_t{1} << 20)) {}
     void add_triangle(const std::uint32_t* v) {
-        if (v[0] == v[1] || v[1] == v[2] || v[0] == v[2]) return;
+        if (!enabled_ || v[0] == v[1] || v[1] == v[2] || v[0] == v[2]) return;
         for (int k = 0; k < 3; ++k) {
             const std::uint32_t a = v[k], b = v[(k + 1) % 3];
             // Packed to 2 × bit_width(V) bits so the radix sort needs as few passes as possible.
@@ -178,6 +178,7 @@ public:
     std::vector<std::uint64_t> odd_non_manifold(Progress* progress, double from, double to) {
         spill_.finish();
         std::vector<std::uint64_t> out, keys, tmp_keys;
+        if (!enabled_) return out;
         std::vector<char> tmp;
         for (std::size_t b = 0; b < buckets_; ++b) {
             check_progress(progress, from + (to - from) * static_cast<double>(b) / buckets_, "soup: counting edges");
@@ -220,6 +221,7 @@ private:
             a.swap(tmp);
         }
     }
+    bool enabled_;
     int shift_;
     std::size_t buckets_;
     BucketSpill spill_;
@@ -367,7 +369,7 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
     if (!r.external) {
         std::vector<float> vertices(static_cast<std::size_t>(r.vertices) * floats);
         SoupWriter out(soup_path, L);
-        EdgeCounter edges(edges_path, r.vertices, expected_edges, budget);
+        EdgeCounter edges(edges_path, r.vertices, expected_edges, budget, params.count_edges);
         std::uint64_t loaded = 0;
         try {
             while (reader.current_element()) {
@@ -428,7 +430,7 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
         {
             SequentialWriter vertex_file(vertex_path, 1 << 20);
             BucketSpill refs(refs_path, ranges, ref_bytes, buffer_for(ranges));
-            EdgeCounter edges(edges_path, r.vertices, expected_edges, budget);
+            EdgeCounter edges(edges_path, r.vertices, expected_edges, budget, params.count_edges);
             while (reader.current_element()) {
                 check_progress(progress, 0.5 * static_cast<double>(reader.position()) / file_size, "soup: reading");
                 if (reader.at_vertices()) {

@@ -63,6 +63,9 @@ private:
 
 struct SoupParams {
     std::size_t memory_bytes = std::size_t{256} << 20;  // working memory for the conversion
+    // Find the odd non-manifold edges (SoupResult::odd_non_manifold_edges), which the octree needs
+    // for watertight cuts; OoCS does not and skips the extra pass.
+    bool count_edges = true;
 };
 
 struct SoupResult {
