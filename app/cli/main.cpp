@@ -26,6 +26,7 @@ int main(int argc, char** argv) {
     add_morph_command(app, global);
     add_mcoctree_command(app, global);
     add_strips_command(app, global);
+    add_octree_command(app, global);
 
     install_interrupt_handler();
     try {

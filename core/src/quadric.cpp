@@ -90,6 +90,13 @@ void AttributeQuadrics::accumulate(std::size_t dst, std::size_t src) {
     for (std::size_t i = 0; i < stride(); ++i) a[i] += b[i];
 }
 
+void AttributeQuadrics::add(std::size_t dst, const AttributeQuadrics& other, std::size_t src) {
+    if (m_ == 0 || other.m_ != m_) return;
+    double* a = &data_[dst * stride()];
+    const double* b = &other.data_[src * stride()];
+    for (std::size_t i = 0; i < stride(); ++i) a[i] += b[i];
+}
+
 double AttributeQuadrics::evaluate(std::size_t index, Vec3d p, const double* s) const {
     if (m_ == 0) return 0;
     const double* q = &data_[index * stride()];

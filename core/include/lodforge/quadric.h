@@ -50,6 +50,8 @@ public:
                       const double* s2, double weight);
     // quadric[dst] += quadric[src]
     void accumulate(std::size_t dst, std::size_t src);
+    // quadric[dst] += other's quadric[src] (same dimension; for sums kept in separate sets)
+    void add(std::size_t dst, const AttributeQuadrics& other, std::size_t src);
     // Error of placing the vertex at p with attribute vector s.
     double evaluate(std::size_t index, Vec3d p, const double* s) const;
     // The attribute vector minimising the error at p (s_j = (G_j·p + D_j) / area); false when empty.

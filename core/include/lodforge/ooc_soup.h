@@ -1,0 +1,117 @@
+// Streaming conversion of an indexed PLY of any size into a triangle soup on disk, within a memory
+// budget: the first step of the out-of-core octree pipeline (docs/octree.md, "Triangle soup").
+//
+//     TempDirectory scratch(TempDirectory::beside("out.lfo"));
+//     SoupResult s = convert_to_soup("scan.ply", scratch.file("soup"), {.memory_bytes = 16 << 20});
+//     SoupReader r(s.path);  while (std::size_t n = r.read(65536, buffer)) ...
+//
+// Every soup triangle carries its three full vertex records (input vertex index, position, and the
+// normals / RGBA colours / texcoords the PLY has), so later stages never need the vertex table again.
+// When the vertex table fits in half the budget the conversion is one pass over the PLY; otherwise it
+// is a two-level distribution sort on the dense keys (vertex index, then corner index): 3 passes over
+// the data whatever its size, no comparison sort, no merge phase.
+#pragma once
+
+#include "lodforge/progress.h"
+#include "lodforge/types.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace lodforge {
+
+// Which attributes each vertex record carries, and how many floats that is. Colours are always RGBA.
+struct VertexLayout {
+    bool normals = false;
+    bool colors = false;
+    bool texcoords = false;
+
+    std::size_t floats() const { return 3 + (normals ? 3 : 0) + (colors ? 4 : 0) + (texcoords ? 2 : 0); }
+    std::size_t normal_offset() const { return 3; }
+    std::size_t color_offset() const { return 3 + (normals ? 3 : 0); }
+    std::size_t texcoord_offset() const { return color_offset() + (colors ? 4 : 0); }
+    std::uint32_t flags() const { return (normals ? 1u : 0u) | (colors ? 2u : 0u) | (texcoords ? 4u : 0u); }
+    static VertexLayout from_flags(std::uint32_t f) { return {(f & 1u) != 0, (f & 2u) != 0, (f & 4u) != 0}; }
+    friend bool operator==(const VertexLayout&, const VertexLayout&) = default;
+};
+
+// One soup corner on disk: uint32 input vertex index, then layout.floats() float32 (little endian).
+inline std::size_t soup_corner_bytes(const VertexLayout& layout) { return 4 + 4 * layout.floats(); }
+inline std::size_t soup_triangle_bytes(const VertexLayout& layout) { return 3 * soup_corner_bytes(layout); }
+
+// A directory for temporary files, removed with everything in it when the object dies (success,
+// exception or cancel alike).
+class TempDirectory {
+public:
+    // Creates a fresh uniquely named directory inside `parent` (which must exist).
+    explicit TempDirectory(const std::string& parent);
+    ~TempDirectory();
+    TempDirectory(const TempDirectory&) = delete;
+    TempDirectory& operator=(const TempDirectory&) = delete;
+
+    const std::string& path() const { return path_; }
+    std::string file(const std::string& name) const;
+    // The directory an output file lives in ("." for a bare file name).
+    static std::string beside(const std::string& output_path);
+
+private:
+    std::string path_;
+};
+
+struct SoupParams {
+    std::size_t memory_bytes = std::size_t{256} << 20;  // working memory for the conversion
+    // Find the odd non-manifold edges (SoupResult::odd_non_manifold_edges), which the octree needs
+    // for watertight cuts; OoCS does not and skips the extra pass.
+    bool count_edges = true;
+};
+
+struct SoupResult {
+    std::string path;
+    std::uint64_t triangles = 0;
+    std::uint64_t vertices = 0;  // as stored in the PLY
+    VertexLayout layout;
+    Bounds bounds;                // of the vertices the triangles use
+    bool external = false;        // false: the vertex table fitted in memory (one pass)
+    int passes = 1;               // passes over the data (1, or 3 for the external path)
+    std::uint64_t skipped_faces = 0;    // faces with fewer than 3 corners
+    std::uint64_t temp_bytes_peak = 0;  // largest temporary file set on disk at one time
+    // Edges (min vertex << 32 | max vertex) used by an odd number ≥ 3 of non-degenerate triangles,
+    // sorted: the octree keeps every use of these in every node mesh (docs/octree.md).
+    std::vector<std::uint64_t> odd_non_manifold_edges;
+};
+
+// Throws Error(io / format / invalid) for unreadable, malformed or unusable input (no triangles, no
+// vertices, more than 2^32-2 vertices), Error(argument) for a budget under 4 MB, Error(cancelled).
+// Temporary files go next to `soup_path` and are removed before returning or throwing.
+SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_path, const SoupParams& params = {},
+                           Progress* progress = nullptr);
+
+// Sequential reader of a soup file written by convert_to_soup.
+class SoupReader {
+public:
+    explicit SoupReader(const std::string& path);
+    ~SoupReader();
+    SoupReader(const SoupReader&) = delete;
+    SoupReader& operator=(const SoupReader&) = delete;
+
+    const VertexLayout& layout() const { return layout_; }
+    std::uint64_t triangles() const { return triangles_; }
+    std::uint64_t vertices() const { return vertices_; }
+    const Bounds& bounds() const { return bounds_; }
+    std::uint64_t position() const { return next_; }  // triangles read so far
+    // Reads up to max_triangles records into `out` (resized); returns how many (0 at the end).
+    std::size_t read(std::size_t max_triangles, std::vector<std::byte>& out);
+    void rewind() { next_ = 0; }
+
+private:
+    int fd_ = -1;
+    std::string path_;
+    VertexLayout layout_;
+    std::uint64_t triangles_ = 0, vertices_ = 0, next_ = 0;
+    Bounds bounds_;
+};
+
+}  // namespace lodforge

@@ -1,0 +1,429 @@
+// Adaptive octree construction on disk and bottom-up node simplification.
+//
+// Shaffie (UTM report 2006, §3.4 and §3.5.3, the "000" document): triangles of the soup stream into an
+// adaptive octree, a node splits while it holds more than max_tri triangles and lies above max_depth,
+// each triangle lives in exactly one node (no clipping, no replication); leaves are simplified first and
+// every coarser node from its children's output, up to the root. Differences, argued in docs/octree.md:
+// the root is a cube around the bounding box (the document centres it on the mean vertex, which can
+// leave triangles outside); a node whose triangles fit in the working memory is finished entirely in
+// memory (its whole subtree: split, simplify, write), and only larger nodes are split by streaming over
+// temporary files, so a triangle is rewritten log8(input / budget) times instead of once per level; the
+// node quadric is the sum of the children's (Lindstrom's OoCS accumulation, SIGGRAPH 2000), so coarse
+// representatives see the input triangles, not the already simplified fans.
+#include "lodforge/octree_build.h"
+
+#include "lodforge/atomic_file.h"
+#include "lodforge/error.h"
+
+#include "octree_format.h"
+#include "ooc_internal.h"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <memory>
+#include <system_error>
+
+namespace lodforge {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+// What a finished node hands to its parent.
+struct NodeResult {
+    NodeMesh mesh;        // the node's simplified mesh
+    NodeQuadric quadric;  // of every input triangle under it
+    float error = 0;
+    int height = 0;
+    Bounds bounds;
+    std::uint64_t triangles = 0;
+    explicit NodeResult(std::size_t dimension) : quadric(dimension) {}
+};
+
+// Triangles on disk: a file region of fixed-size records.
+struct TriangleFile {
+    std::string path;
+    std::uint64_t offset = 0;
+    std::uint64_t count = 0;
+    bool owned = true;  // delete when consumed
+};
+
+class Builder {
+public:
+    Builder(const OctreeBuildParams& p, const SoupResult& soup, const std::string& scratch, AtomicFile& asset,
+            Progress* progress)
+        : p_(p), soup_(soup), scratch_(scratch), asset_(asset), progress_(progress), layout_(soup.layout),
+          corner_(soup_corner_bytes(layout_)), tri_bytes_(soup_triangle_bytes(layout_)) {
+        // Root cube: centred on the bounding box, side = longest extent, grown by a relative margin so
+        // that float rounding can never put a vertex (hence a centroid) outside it.
+        const Bounds& b = soup.bounds;
+        const Vec3f c = b.center();
+        const Vec3f s = b.size();
+        double side = std::max({s.x, s.y, s.z});
+        const double mag = std::max({std::fabs(b.min.x), std::fabs(b.min.y), std::fabs(b.min.z), std::fabs(b.max.x),
+                                     std::fabs(b.max.y), std::fabs(b.max.z), 1e-30f});
+        side = side * (1 + 1e-4) + mag * 1e-5;
+        if (!(side > 0)) side = 1;
+        const double cc[3] = {c.x, c.y, c.z};
+        for (int a = 0; a < 3; ++a) root_min_[a] = static_cast<float>(cc[a] - side / 2);
+        root_size_ = static_cast<float>(side);
+        // Enlarge until the float cube really encloses the float bounds.
+        const float lo[3] = {b.min.x, b.min.y, b.min.z}, hi[3] = {b.max.x, b.max.y, b.max.z};
+        for (int iter = 0; iter < 64; ++iter) {
+            bool ok = true;
+            for (int a = 0; a < 3; ++a) {
+                if (root_min_[a] > lo[a]) root_min_[a] = std::nextafter(lo[a], -INFINITY), ok = false;
+                if (root_min_[a] + root_size_ <= hi[a]) root_size_ = std::nextafter(root_size_ * 1.0001f, INFINITY), ok = false;
+            }
+            if (ok) break;
+        }
+        frame_.origin = {root_min_[0], root_min_[1], root_min_[2]};
+        frame_.scale = root_size_;
+        frame_.layout = layout_;
+        frame_.weights = p.weights;
+        in_memory_limit_ = static_cast<std::uint64_t>(0.4 * static_cast<double>(p.memory_bytes)) / (tri_bytes_ + 16);
+    }
+
+    void run(OctreeBuildResult& result) {
+        const char zero[sizeof(ooc::AssetHeader)] = {};
+        write(zero, sizeof zero);
+        nodes_.emplace_back();
+        OctreeNode& root = nodes_[0];
+        root.parent = ~0u;
+        std::copy(root_min_, root_min_ + 3, root.cell_min);
+        root.cell_size = root_size_;
+        NodeResult r = process_file(0, {soup_.path, 64, soup_.triangles, true}, 0);
+        (void)r;
+        // Table, footer, then the header with the final numbers.
+        const std::uint64_t table = offset_;
+        write(nodes_.data(), nodes_.size() * sizeof(OctreeNode));
+        ooc::AssetFooter foot{};
+        foot.table_offset = table;
+        std::memcpy(foot.magic, ooc::kAssetEndMagic, 8);
+        write(&foot, sizeof foot);
+        ooc::AssetHeader h{};
+        std::memcpy(h.magic, ooc::kAssetMagic, 8);
+        h.version = ooc::kAssetVersion;
+        h.layout = layout_.flags();
+        h.input_vertices = soup_.vertices;
+        h.input_triangles = soup_.triangles;
+        h.max_triangles = static_cast<std::uint32_t>(std::min<std::size_t>(p_.max_triangles, 0xffffffffu));
+        h.max_depth = static_cast<std::uint32_t>(p_.max_depth);
+        const Bounds& b = soup_.bounds;
+        const float bb[6] = {b.min.x, b.min.y, b.min.z, b.max.x, b.max.y, b.max.z};
+        std::memcpy(h.bounds, bb, sizeof bb);
+        std::copy(root_min_, root_min_ + 3, h.root_min);
+        h.root_size = root_size_;
+        h.node_count = nodes_.size();
+        h.table_offset = table;
+        h.weights[0] = p_.weights.normal;
+        h.weights[1] = p_.weights.color;
+        h.weights[2] = p_.weights.texcoord_sets.empty() ? p_.weights.texcoord : p_.weights.texcoord_sets[0];
+        asset_.stream().seekp(0);
+        asset_.stream().write(reinterpret_cast<const char*>(&h), sizeof h);
+        asset_.stream().seekp(0, std::ios::end);
+        result.split_passes = split_passes_;
+        result.closed_components = closed_components_;
+        result.degenerate_triangles = degenerate_;
+        result.oversized_leaves = oversized_;
+        result.simplify_seconds = simplify_seconds_;
+    }
+
+private:
+    void write(const void* data, std::size_t bytes) {
+        asset_.stream().write(static_cast<const char*>(data), static_cast<std::streamsize>(bytes));
+        if (!asset_.stream())
+            throw_error(Error::Kind::io, asset_.target_path(), "write failed (disk full or I/O error)");
+        offset_ += bytes;
+    }
+    std::pair<std::uint64_t, std::uint64_t> write_mesh(const NodeMesh& m) {
+        if (m.triangle_count() == 0) return {0, 0};
+        const std::vector<char> bytes = encode_node_mesh(m);
+        const std::uint64_t at = offset_;
+        write(bytes.data(), bytes.size());
+        return {at, bytes.size()};
+    }
+
+    const float* position(const std::byte* tri, int k) const {
+        return reinterpret_cast<const float*>(tri + static_cast<std::size_t>(k) * corner_ + 4);
+    }
+    int octant(const std::byte* tri, const double mid[3]) const {
+        float p[3][3];
+        for (int k = 0; k < 3; ++k) std::memcpy(p[k], position(tri, k), sizeof p[k]);
+        int o = 0;
+        for (int a = 0; a < 3; ++a) {
+            const double c = (static_cast<double>(p[0][a]) + p[1][a] + p[2][a]) / 3.0;
+            if (c >= mid[a]) o |= 1 << a;
+        }
+        return o;
+    }
+    void cell_mid(std::uint32_t id, double mid[3]) const {
+        const OctreeNode& d = nodes_[id];
+        for (int a = 0; a < 3; ++a) mid[a] = static_cast<double>(d.cell_min[a]) + 0.5 * d.cell_size;
+    }
+    // Appends the non-empty octants as contiguous children of `id`; returns child id per octant.
+    std::array<std::uint32_t, 8> add_children(std::uint32_t id, const std::array<std::uint64_t, 8>& counts) {
+        std::array<std::uint32_t, 8> ids{};
+        ids.fill(~0u);
+        const std::uint32_t first = static_cast<std::uint32_t>(nodes_.size());
+        nodes_[id].first_child = first;
+        for (int o = 0; o < 8; ++o) {
+            if (!counts[o]) continue;
+            nodes_[id].child_mask |= static_cast<std::uint8_t>(1u << o);
+            OctreeNode c;
+            const OctreeNode& d = nodes_[id];
+            c.parent = id;
+            c.depth = static_cast<std::uint8_t>(d.depth + 1);
+            c.cell_size = d.cell_size * 0.5f;
+            for (int a = 0; a < 3; ++a) c.cell_min[a] = d.cell_min[a] + ((o >> a) & 1 ? c.cell_size : 0.f);
+            ids[o] = static_cast<std::uint32_t>(nodes_.size());
+            nodes_.push_back(c);
+        }
+        return ids;
+    }
+    bool is_leaf(std::uint64_t count, int depth) const {
+        return count <= p_.max_triangles || depth >= p_.max_depth;
+    }
+
+    NodeResult process_file(std::uint32_t id, TriangleFile in, int depth) {
+        if (is_leaf(in.count, depth) || in.count <= in_memory_limit_) {
+            std::vector<std::byte> data(static_cast<std::size_t>(in.count) * tri_bytes_);
+            {
+                ooc::File f(in.path, O_RDONLY);
+                f.read_at(data.data(), data.size(), in.offset);
+            }
+            if (in.owned) remove_file(in.path);
+            std::vector<std::uint32_t> order(static_cast<std::size_t>(in.count));
+            for (std::uint32_t i = 0; i < order.size(); ++i) order[i] = i;
+            std::vector<std::uint32_t> scratch(order.size());
+            return process_memory(id, data.data(), order.data(), order.size(), scratch.data(), depth);
+        }
+        // Split by streaming: one read of the node's triangles, eight buffered child files.
+        ++split_passes_;
+        double mid[3];
+        cell_mid(id, mid);
+        std::array<std::unique_ptr<ooc::SequentialWriter>, 8> out;
+        std::array<std::uint64_t, 8> counts{};
+        const std::size_t buffer = std::clamp<std::size_t>(p_.memory_bytes / 32, 64 << 10, 8 << 20);
+        const std::uint64_t chunk = std::max<std::uint64_t>(1, (p_.memory_bytes / 8) / tri_bytes_);
+        {
+            ooc::File f(in.path, O_RDONLY);
+            std::vector<std::byte> data;
+            for (std::uint64_t done = 0; done < in.count;) {
+                check_progress(progress_, fraction(), "octree: splitting");
+                const std::uint64_t n = std::min(chunk, in.count - done);
+                data.resize(static_cast<std::size_t>(n) * tri_bytes_);
+                f.read_at(data.data(), data.size(), in.offset + done * tri_bytes_);
+                for (std::size_t t = 0; t < n; ++t) {
+                    const std::byte* tri = data.data() + t * tri_bytes_;
+                    const int o = octant(tri, mid);
+                    if (!out[o])
+                        out[o] = std::make_unique<ooc::SequentialWriter>(
+                            (fs::path(scratch_) / ("node" + std::to_string(id) + "-" + std::to_string(o))).string(), buffer);
+                    out[o]->write(tri, tri_bytes_);
+                    ++counts[o];
+                }
+                done += n;
+            }
+        }
+        std::array<std::string, 8> paths;
+        for (int o = 0; o < 8; ++o)
+            if (out[o]) {
+                paths[o] = out[o]->path();
+                out[o]->close();
+                out[o].reset();
+            }
+        if (in.owned) remove_file(in.path);
+        const std::array<std::uint32_t, 8> ids = add_children(id, counts);
+        std::vector<NodeResult> children;
+        for (int o = 0; o < 8; ++o)
+            if (counts[o]) children.push_back(process_file(ids[o], {paths[o], 0, counts[o], true}, depth + 1));
+        return finish_inner(id, children);
+    }
+
+    NodeResult process_memory(std::uint32_t id, const std::byte* base, std::uint32_t* tris, std::size_t count,
+                              std::uint32_t* scratch, int depth) {
+        if (is_leaf(count, depth)) return finish_leaf(id, base, tris, count);
+        double mid[3];
+        cell_mid(id, mid);
+        std::array<std::uint64_t, 8> counts{};
+        for (std::size_t i = 0; i < count; ++i) {
+            const int o = octant(base + std::size_t{tris[i]} * tri_bytes_, mid);
+            scratch[i] = static_cast<std::uint32_t>(o);
+            ++counts[o];
+        }
+        // Counting sort of the triangle ids by octant (scratch holds the octant, then the sorted ids).
+        std::array<std::size_t, 8> start{};
+        for (int o = 1; o < 8; ++o) start[o] = start[o - 1] + counts[o - 1];
+        std::vector<std::uint32_t> sorted(count);
+        std::array<std::size_t, 8> fill = start;
+        for (std::size_t i = 0; i < count; ++i) sorted[fill[scratch[i]]++] = tris[i];
+        std::copy(sorted.begin(), sorted.end(), tris);
+        sorted.clear();
+        sorted.shrink_to_fit();
+        const std::array<std::uint32_t, 8> ids = add_children(id, counts);
+        std::vector<NodeResult> children;
+        for (int o = 0; o < 8; ++o)
+            if (counts[o])
+                children.push_back(process_memory(ids[o], base, tris + start[o], counts[o], scratch + start[o], depth + 1));
+        return finish_inner(id, children);
+    }
+
+    NodeResult finish_leaf(std::uint32_t id, const std::byte* base, const std::uint32_t* tris, std::size_t count) {
+        check_progress(progress_, fraction(), "octree: simplifying");
+        const std::size_t f = layout_.floats();
+        NodeResult r(frame_.attribute_dimension());
+        NodeMesh raw;
+        raw.layout = layout_;
+        raw.indices.reserve(3 * count);
+        ooc::FlatMap map(count);
+        for (std::size_t i = 0; i < count; ++i) {
+            const std::byte* tri = base + std::size_t{tris[i]} * tri_bytes_;
+            const float* v[3];
+            for (int k = 0; k < 3; ++k) {
+                const std::byte* c = tri + static_cast<std::size_t>(k) * corner_;
+                std::uint32_t vid;
+                std::memcpy(&vid, c, 4);
+                v[k] = reinterpret_cast<const float*>(c + 4);
+                bool inserted = false;
+                std::uint32_t& local = map.find_or_insert(vid, static_cast<std::uint32_t>(raw.keys.size()), inserted);
+                if (inserted) {
+                    raw.keys.push_back(vid);
+                    raw.vertices.insert(raw.vertices.end(), v[k], v[k] + f);
+                    r.bounds.add({v[k][0], v[k][1], v[k][2]});
+                }
+                raw.indices.push_back(local);
+            }
+            r.quadric.add_triangle(frame_, v[0], v[1], v[2]);
+        }
+        r.triangles = count;
+        OctreeNode& d = nodes_[id];
+        const auto [raw_at, raw_bytes] = write_mesh(raw);
+        d.raw_offset = raw_at;
+        d.raw_bytes = raw_bytes;
+        d.raw_triangles = static_cast<std::uint32_t>(count);
+        if (count > p_.max_triangles) ++oversized_;
+        simplify_into(id, raw, r);
+        done_triangles_ += count;
+        return r;
+    }
+
+    NodeResult finish_inner(std::uint32_t id, std::vector<NodeResult>& children) {
+        check_progress(progress_, fraction(), "octree: simplifying");
+        NodeResult r(frame_.attribute_dimension());
+        std::vector<const NodeMesh*> parts;
+        for (NodeResult& c : children) {
+            r.quadric.add(c.quadric);
+            r.error = std::max(r.error, c.error);
+            r.height = std::max(r.height, c.height + 1);
+            if (!c.bounds.empty()) {
+                r.bounds.add(c.bounds.min);
+                r.bounds.add(c.bounds.max);
+            }
+            r.triangles += c.triangles;
+            parts.push_back(&c.mesh);
+        }
+        NodeMesh merged = merge_node_meshes(parts);
+        for (NodeResult& c : children) c.mesh = NodeMesh();  // the parent's input is the merged copy
+        simplify_into(id, merged, r);
+        return r;
+    }
+
+    void simplify_into(std::uint32_t id, const NodeMesh& input, NodeResult& r) {
+        NodeSimplifyStats st;
+        OctreeNode& d = nodes_[id];
+        const Clock::time_point t0 = Clock::now();
+        r.mesh = simplify_node(input, r.quadric, frame_, d.cell_min, d.cell_size, kRepresentativeKey | id,
+                               &soup_.odd_non_manifold_edges, &st);
+        simplify_seconds_ += seconds_since(t0);
+        closed_components_ += st.closed_components;
+        if (d.is_leaf()) degenerate_ += st.degenerate_dropped;
+        r.error = std::max(r.error, static_cast<float>(st.error));
+        const auto [at, bytes] = write_mesh(r.mesh);
+        OctreeNode& e = nodes_[id];  // write_mesh does not touch nodes_, but keep the reference fresh
+        e.mesh_offset = at;
+        e.mesh_bytes = bytes;
+        e.mesh_triangles = static_cast<std::uint32_t>(r.mesh.triangle_count());
+        e.height = static_cast<std::uint8_t>(r.height);
+        e.error = r.error;
+        e.subtree_triangles = r.triangles;
+        e.flags = st.closed_components ? 1 : 0;
+        if (!r.bounds.empty()) {
+            e.bounds_min[0] = r.bounds.min.x;
+            e.bounds_min[1] = r.bounds.min.y;
+            e.bounds_min[2] = r.bounds.min.z;
+            e.bounds_max[0] = r.bounds.max.x;
+            e.bounds_max[1] = r.bounds.max.y;
+            e.bounds_max[2] = r.bounds.max.z;
+        }
+    }
+
+    double fraction() const {
+        return soup_.triangles ? static_cast<double>(done_triangles_) / static_cast<double>(soup_.triangles) : 0.0;
+    }
+    static void remove_file(const std::string& path) {
+        std::error_code ignored;
+        fs::remove(path, ignored);
+    }
+
+    const OctreeBuildParams& p_;
+    const SoupResult& soup_;
+    std::string scratch_;
+    AtomicFile& asset_;
+    Progress* progress_;
+    VertexLayout layout_;
+    std::size_t corner_, tri_bytes_;
+    float root_min_[3] = {0, 0, 0};
+    float root_size_ = 1;
+    QuadricFrame frame_;
+    std::uint64_t in_memory_limit_ = 0;
+    std::vector<OctreeNode> nodes_;
+    std::uint64_t offset_ = 0;
+    std::uint64_t done_triangles_ = 0;
+    std::uint64_t split_passes_ = 0, closed_components_ = 0, degenerate_ = 0;
+    std::size_t oversized_ = 0;
+    double simplify_seconds_ = 0;
+};
+
+}  // namespace
+
+OctreeBuildResult build_octree(const std::string& input_ply, const std::string& asset_path,
+                               const OctreeBuildParams& params, Progress* progress) {
+    if (params.max_triangles < 1) throw Error(Error::Kind::argument, "octree: max triangles per leaf must be at least 1");
+    if (params.max_depth < 0 || params.max_depth > 20)
+        throw Error(Error::Kind::argument, "octree: max depth must be in [0, 20], got " + std::to_string(params.max_depth));
+    if (params.memory_bytes < (std::size_t{4} << 20)) throw Error(Error::Kind::argument, "octree: the memory budget must be at least 4 MB");
+    OctreeBuildResult result;
+    {
+        AtomicFile asset(asset_path);
+        TempDirectory scratch(params.temp_dir.empty() ? TempDirectory::beside(asset_path) : params.temp_dir);
+        const Clock::time_point t0 = Clock::now();
+        SoupParams sp;
+        sp.memory_bytes = params.memory_bytes;
+        result.soup = convert_to_soup(input_ply, scratch.file("soup"), sp, progress);
+        result.soup_seconds = seconds_since(t0);
+        const Clock::time_point t1 = Clock::now();
+        Builder b(params, result.soup, scratch.path(), asset, progress);
+        b.run(result);
+        check_progress(progress, 1.0, "octree: simplifying");
+        asset.commit();
+        result.build_seconds = seconds_since(t1);
+    }
+    OctreeStore store(asset_path, 0);
+    result.stats = store.stats();
+    if (result.closed_components)
+        result.warnings.push_back(std::to_string(result.closed_components) +
+                                  " closed component(s) had no boundary edge in their node and were kept unchanged there");
+    if (result.oversized_leaves)
+        result.warnings.push_back(std::to_string(result.oversized_leaves) +
+                                  " leaf node(s) at the maximum depth hold more than max-triangles");
+    return result;
+}
+
+}  // namespace lodforge

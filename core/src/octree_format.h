@@ -1,0 +1,45 @@
+// Byte layout of the octree asset file, version 1 (specified in docs/octree.md, "Asset file"). Private
+// to the builder and the store; all fields little endian.
+#pragma once
+
+#include <cstdint>
+
+namespace lodforge::ooc {
+
+inline constexpr char kAssetMagic[8] = {'L', 'F', 'O', 'C', 'T', 'R', 'E', 'E'};
+inline constexpr char kAssetEndMagic[8] = {'L', 'F', 'O', 'C', 'T', 'E', 'N', 'D'};
+inline constexpr std::uint32_t kAssetVersion = 1;
+inline constexpr std::uint32_t kNodeChunkMagic = 0x4d4e464c;  // "LFNM"
+
+struct AssetHeader {
+    char magic[8];
+    std::uint32_t version;
+    std::uint32_t layout;  // VertexLayout::flags()
+    std::uint64_t input_vertices;
+    std::uint64_t input_triangles;
+    std::uint32_t max_triangles;
+    std::uint32_t max_depth;
+    float bounds[6];       // min xyz, max xyz
+    float root_min[3];
+    float root_size;
+    std::uint64_t node_count;
+    std::uint64_t table_offset;
+    float weights[3];      // normal, color, texcoord
+    std::uint8_t pad[20];
+};
+static_assert(sizeof(AssetHeader) == 128);
+
+struct AssetFooter {
+    std::uint64_t table_offset;
+    char magic[8];
+};
+static_assert(sizeof(AssetFooter) == 16);
+
+struct NodeChunkHeader {
+    std::uint32_t magic;
+    std::uint32_t vertices;
+    std::uint32_t triangles;
+    std::uint32_t floats;
+};
+
+}  // namespace lodforge::ooc

@@ -1,0 +1,572 @@
+// Indexed PLY → triangle soup within a memory budget.
+//
+// Follows the data-processing stage of Shaffie (UTM report 2006, §3.3 and §4.2, the "000" document):
+// dereference every triangle's corner indices against the vertex file by external sorting, so each
+// soup triangle carries its vertices' full records (Lindstrom, "Out-of-Core Simplification of Large
+// Polygonal Models", SIGGRAPH 2000, and Chiang/Silva's external-memory dereferencing). The document
+// sorts three times, once per corner k. Here the sort keys are dense integers whose range is known
+// from the header (vertex index in [0, V), corner index in [0, 3T)), so each sort is a single
+// distribution pass into buckets sized to fit the budget, with direct placement inside a bucket:
+//   pass 1  read the PLY: vertex records → vertex file, corner refs (vertex, corner) → bucket of its
+//           vertex range;
+//   pass 2  per vertex range: load the range, dereference its refs → bucket of the corner's range;
+//   pass 3  per corner range: place every corner at its slot, write the completed triangles.
+// Every byte is written to temporary files twice and read twice, whatever the input size (a merge sort
+// needs log_k passes per sort, three sorts in the document). When the vertex table fits in half the
+// budget, pass 1 alone does it (vertices kept in memory, faces dereferenced as they stream by).
+#include "lodforge/ooc_soup.h"
+
+#include "lodforge/error.h"
+#include "lodforge/ply.h"
+
+#include "ooc_internal.h"
+
+#include <algorithm>
+#include <atomic>
+#include <bit>
+#include <filesystem>
+#include <system_error>
+
+namespace lodforge {
+namespace fs = std::filesystem;
+using ooc::File;
+using ooc::SequentialWriter;
+
+namespace {
+
+constexpr char kSoupMagic[8] = {'L', 'F', 'S', 'O', 'U', 'P', '0', '1'};
+constexpr std::uint32_t kSoupVersion = 1;
+constexpr std::size_t kSoupHeaderBytes = 64;
+
+struct SoupHeader {
+    char magic[8];
+    std::uint32_t version;
+    std::uint32_t layout;
+    std::uint64_t triangles;
+    std::uint64_t vertices;
+    float bounds[6];
+    std::uint8_t pad[8];
+};
+static_assert(sizeof(SoupHeader) == kSoupHeaderBytes);
+
+// Fixed-size records distributed into buckets; each bucket is a list of blocks in one spill file, so
+// hundreds of buckets cost hundreds of small buffers, not hundreds of open files.
+class BucketSpill {
+public:
+    BucketSpill(const std::string& path, std::size_t buckets, std::size_t record_bytes, std::size_t buffer_bytes)
+        : file_(path, O_RDWR | O_CREAT | O_TRUNC), record_(record_bytes),
+          capacity_(std::max<std::size_t>(1, buffer_bytes / record_bytes) * record_bytes), buffers_(buckets),
+          used_(buckets, 0), blocks_(buckets) {}
+    ~BucketSpill() {
+        file_.close();
+        std::error_code ignored;
+        fs::remove(file_.path(), ignored);
+    }
+    void add(std::size_t bucket, const void* record) {
+        std::vector<char>& b = buffers_[bucket];
+        if (b.empty()) b.resize(capacity_);
+        std::size_t& used = used_[bucket];
+        std::memcpy(b.data() + used, record, record_);
+        used += record_;
+        if (used >= capacity_) spill(bucket);
+    }
+    void finish() {
+        for (std::size_t i = 0; i < buffers_.size(); ++i) {
+            spill(i);
+            std::vector<char>().swap(buffers_[i]);
+        }
+    }
+    std::uint64_t bytes() const { return end_; }
+    // Calls f(data, bytes) for each block of the bucket, in order; `tmp` is the read buffer.
+    template <class F>
+    void for_each_block(std::size_t bucket, std::vector<char>& tmp, F&& f) const {
+        for (const auto& [offset, length] : blocks_[bucket]) {
+            tmp.resize(length);
+            file_.read_at(tmp.data(), length, offset);
+            f(tmp.data(), length);
+        }
+    }
+
+private:
+    void spill(std::size_t bucket) {
+        std::size_t& used = used_[bucket];
+        if (used == 0) return;
+        file_.write_at(buffers_[bucket].data(), used, end_);
+        blocks_[bucket].emplace_back(end_, used);
+        end_ += used;
+        used = 0;
+    }
+    File file_;
+    std::size_t record_;
+    std::size_t capacity_;
+    std::vector<std::vector<char>> buffers_;
+    std::vector<std::size_t> used_;
+    std::vector<std::vector<std::pair<std::uint64_t, std::size_t>>> blocks_;
+    std::uint64_t end_ = 0;
+};
+
+// Reads the vertex element in chunks and hands out packed records (layout.floats() floats each).
+class VertexChunks {
+public:
+    VertexChunks(const VertexLayout& layout, std::size_t chunk) : layout_(layout), p_(chunk) {
+        if (layout.normals) n_.resize(chunk);
+        if (layout.colors) c_.resize(chunk);
+        if (layout.texcoords) t_.resize(chunk);
+        packed_.resize(chunk * layout.floats());
+    }
+    // Reads the next chunk; returns the count (records in packed()).
+    std::size_t next(PlyReader& reader) {
+        const std::size_t n = reader.read_vertices(p_, n_, c_, t_);
+        const std::size_t f = layout_.floats();
+        for (std::size_t i = 0; i < n; ++i) {
+            float* r = &packed_[i * f];
+            r[0] = p_[i].x;
+            r[1] = p_[i].y;
+            r[2] = p_[i].z;
+            std::size_t j = 3;
+            if (layout_.normals) {
+                r[j] = n_[i].x;
+                r[j + 1] = n_[i].y;
+                r[j + 2] = n_[i].z;
+                j += 3;
+            }
+            if (layout_.colors) {
+                r[j] = c_[i].x;
+                r[j + 1] = c_[i].y;
+                r[j + 2] = c_[i].z;
+                r[j + 3] = c_[i].w;
+                j += 4;
+            }
+            if (layout_.texcoords) {
+                r[j] = t_[i].x;
+                r[j + 1] = t_[i].y;
+            }
+        }
+        return n;
+    }
+    const float* packed() const { return packed_.data(); }
+
+private:
+    VertexLayout layout_;
+    std::vector<Vec3f> p_, n_;
+    std::vector<Vec4f> c_;
+    std::vector<Vec2f> t_;
+    std::vector<float> packed_;
+};
+
+// Finds the input's odd non-manifold edges (used by 3, 5, ... non-degenerate triangles; the only edges
+// whose uses the node operator cannot drop in cancelling pairs, docs/octree.md) within the budget:
+// edge keys are distributed by hash into buckets that fit in memory twice over, and each bucket is
+// radix-sorted and its runs counted (sequential memory traffic; a hash table of tens of millions of
+// edges is all cache misses). Only the (usually tiny) result stays resident.
+class EdgeCounter {
+public:
+    EdgeCounter(const std::string& path, std::uint64_t vertices, std::uint64_t expected_edges, std::size_t budget, bool enabled)
+        : enabled_(enabled), shift_(std::max<int>(1, static_cast<int>(std::bit_width(vertices)))), buckets_(static_cast<std::size_t>(std::max<std::uint64_t>(
+              1, (expected_edges * 16 + static_cast<std::uint64_t>(0.3 * budget) - 1) / static_cast<std::uint64_t>(0.3 * budget)))),
+          spill_(path, buckets_, 8,
+                 std::clamp<std::size_t>(static_cast<std::size_t>(0.1 * budget) / buckets_, 4096, std::size_t{1} << 20)) {}
+    void add_triangle(const std::uint32_t* v) {
+        if (!enabled_ || v[0] == v[1] || v[1] == v[2] || v[0] == v[2]) return;
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t a = v[k], b = v[(k + 1) % 3];
+            // Packed to 2 × bit_width(V) bits so the radix sort needs as few passes as possible.
+            const std::uint64_t key = a < b ? (std::uint64_t{a} << shift_ | b) : (std::uint64_t{b} << shift_ | a);
+            spill_.add(buckets_ == 1 ? 0 : ooc::mix64(key) % buckets_, &key);
+        }
+    }
+    std::vector<std::uint64_t> odd_non_manifold(Progress* progress, double from, double to) {
+        spill_.finish();
+        std::vector<std::uint64_t> out, keys, tmp_keys;
+        if (!enabled_) return out;
+        std::vector<char> tmp;
+        for (std::size_t b = 0; b < buckets_; ++b) {
+            check_progress(progress, from + (to - from) * static_cast<double>(b) / buckets_, "soup: counting edges");
+            keys.clear();
+            spill_.for_each_block(b, tmp, [&](const char* data, std::size_t bytes) {
+                const std::size_t at = keys.size();
+                keys.resize(at + bytes / 8);
+                std::memcpy(&keys[at], data, bytes);
+            });
+            radix_sort(keys, tmp_keys);
+            for (std::size_t i = 0; i < keys.size();) {
+                std::size_t j = i + 1;
+                while (j < keys.size() && keys[j] == keys[i]) ++j;
+                const std::size_t c = j - i;
+                if (c >= 3 && (c & 1u)) out.push_back((keys[i] >> shift_) << 32 | (keys[i] & ((std::uint64_t{1} << shift_) - 1)));
+                i = j;
+            }
+        }
+        std::sort(out.begin(), out.end());
+        return out;
+    }
+
+private:
+    // LSD radix sort on 16-bit digits, only as many passes as the largest key needs.
+    static void radix_sort(std::vector<std::uint64_t>& a, std::vector<std::uint64_t>& tmp) {
+        std::uint64_t top = 0;
+        for (std::uint64_t k : a) top |= k;
+        tmp.resize(a.size());
+        std::vector<std::size_t> count(65536);
+        for (int shift = 0; shift < 64 && (top >> shift) != 0; shift += 16) {
+            std::fill(count.begin(), count.end(), 0);
+            for (std::uint64_t k : a) ++count[(k >> shift) & 0xffff];
+            std::size_t sum = 0;
+            for (std::size_t& c : count) {
+                const std::size_t n = c;
+                c = sum;
+                sum += n;
+            }
+            for (std::uint64_t k : a) tmp[count[(k >> shift) & 0xffff]++] = k;
+            a.swap(tmp);
+        }
+    }
+    bool enabled_;
+    int shift_;
+    std::size_t buckets_;
+    BucketSpill spill_;
+};
+
+void write_header(File& f, const SoupResult& r) {
+    SoupHeader h{};
+    std::memcpy(h.magic, kSoupMagic, 8);
+    h.version = kSoupVersion;
+    h.layout = r.layout.flags();
+    h.triangles = r.triangles;
+    h.vertices = r.vertices;
+    const float b[6] = {r.bounds.min.x, r.bounds.min.y, r.bounds.min.z, r.bounds.max.x, r.bounds.max.y, r.bounds.max.z};
+    std::memcpy(h.bounds, b, sizeof b);
+    f.write_at(&h, sizeof h, 0);
+}
+
+class SoupWriter {
+public:
+    SoupWriter(const std::string& path, const VertexLayout& layout)
+        : out_(path, 1 << 20), corner_(soup_corner_bytes(layout)) {
+        const char zero[kSoupHeaderBytes] = {};
+        out_.write(zero, sizeof zero);
+    }
+    // Appends a corner: vertex id + its record; bounds grow by its position.
+    void corner(std::uint32_t id, const float* record) {
+        out_.write(&id, 4);
+        out_.write(record, corner_ - 4);
+        grow(record);
+    }
+    void raw(const char* corners, std::size_t bytes) {
+        out_.write(corners, bytes);
+        for (std::size_t o = 0; o < bytes; o += corner_) {
+            float p[3];
+            std::memcpy(p, corners + o + 4, sizeof p);
+            grow(p);
+        }
+    }
+    void finish(SoupResult& r) {
+        out_.close();
+        r.bounds = Bounds{};
+        if (lo_[0] <= hi_[0]) {
+            r.bounds.add({lo_[0], lo_[1], lo_[2]});
+            r.bounds.add({hi_[0], hi_[1], hi_[2]});
+        }
+        File f(r.path, O_WRONLY);
+        write_header(f, r);
+    }
+    std::uint64_t bytes() const { return out_.offset(); }
+
+private:
+    // Positions are finite (the reader refuses NaN), so plain min/max suffice.
+    void grow(const float* p) {
+        for (int a = 0; a < 3; ++a) {
+            lo_[a] = std::min(lo_[a], p[a]);
+            hi_[a] = std::max(hi_[a], p[a]);
+        }
+    }
+    SequentialWriter out_;
+    std::size_t corner_;
+    float lo_[3] = {INFINITY, INFINITY, INFINITY};
+    float hi_[3] = {-INFINITY, -INFINITY, -INFINITY};
+};
+
+std::size_t element_index(const PlyHeader& h, bool faces) {
+    for (std::size_t i = 0; i < h.elements.size(); ++i) {
+        const std::string& n = h.elements[i].name;
+        if (faces ? (n == "face" || n == "tristrips") : n == "vertex") return i;
+    }
+    return h.elements.size();
+}
+
+void check_triangle_count(const std::string& path, std::uint64_t triangles) {
+    if (triangles >= (std::uint64_t{1} << 61))
+        throw_error(Error::Kind::unsupported, path, "too many triangles for the out-of-core builder");
+}
+
+}  // namespace
+
+// ---- TempDirectory ----------------------------------------------------------------------------------
+
+TempDirectory::TempDirectory(const std::string& parent) {
+    static std::atomic<unsigned> counter{0};
+    const fs::path base = parent.empty() ? fs::path(".") : fs::path(parent);
+    if (!fs::is_directory(base))
+        throw_error(Error::Kind::io, base.string(), "cannot create temporary files: not a directory");
+    for (int attempt = 0; attempt < 100; ++attempt) {
+        const fs::path p = base / (".lodforge-tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
+        std::error_code ec;
+        if (fs::create_directory(p, ec)) {
+            path_ = p.string();
+            return;
+        }
+        if (ec && ec != std::errc::file_exists)
+            throw_error(Error::Kind::io, p.string(), "cannot create temporary directory: " + ec.message());
+    }
+    throw_error(Error::Kind::io, base.string(), "cannot create a temporary directory");
+}
+
+TempDirectory::~TempDirectory() {
+    std::error_code ignored;
+    fs::remove_all(path_, ignored);
+}
+
+std::string TempDirectory::file(const std::string& name) const { return (fs::path(path_) / name).string(); }
+
+std::string TempDirectory::beside(const std::string& output_path) {
+    const fs::path parent = fs::path(output_path).parent_path();
+    return parent.empty() ? std::string(".") : parent.string();
+}
+
+// ---- conversion ---------------------------------------------------------------------------------------
+
+SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_path, const SoupParams& params,
+                           Progress* progress) {
+    if (params.memory_bytes < (std::size_t{4} << 20))
+        throw Error(Error::Kind::argument, "soup: the memory budget must be at least 4 MB");
+    PlyReader reader(ply_path);
+    const PlyHeader& header = reader.header();
+    const PlyVertexAttributes attrs = reader.vertex_attributes();
+    SoupResult r;
+    r.path = soup_path;
+    r.layout = {attrs.normals, attrs.colors, attrs.texcoords};
+    r.vertices = reader.vertex_count();
+    if (r.vertices == 0) throw_error(Error::Kind::invalid, ply_path, "no vertices");
+    if (r.vertices >= 0xffffffffull)
+        throw_error(Error::Kind::unsupported, ply_path, "more than 2^32-2 vertices");
+    const std::size_t face_element = element_index(header, true);
+    if (face_element == header.elements.size()) throw_error(Error::Kind::invalid, ply_path, "no faces (a point cloud)");
+    const VertexLayout& L = r.layout;
+    const std::size_t floats = L.floats();
+    const std::size_t vrec = 4 * floats;
+    const std::size_t corner = soup_corner_bytes(L);
+    const std::size_t budget = params.memory_bytes;
+    const std::uint64_t file_size = std::max<std::uint64_t>(reader.file_size(), 1);
+    const bool vertices_first = element_index(header, false) < face_element;
+    r.external = !(vertices_first && static_cast<double>(r.vertices) * vrec <= 0.5 * static_cast<double>(budget));
+    constexpr std::size_t kVertexChunk = 16384;
+    constexpr std::size_t kFaceChunk = 32768;
+    VertexChunks chunks(L, kVertexChunk);
+    PlyFaceChunk faces;
+
+    const std::uint64_t expected_edges = 3 * std::max<std::uint64_t>(header.elements[face_element].count, 1);
+    const std::string edges_path = (fs::path(soup_path).parent_path() / "edges.tmp").string();
+    if (!r.external) {
+        std::vector<float> vertices(static_cast<std::size_t>(r.vertices) * floats);
+        SoupWriter out(soup_path, L);
+        EdgeCounter edges(edges_path, r.vertices, expected_edges, budget, params.count_edges);
+        std::uint64_t loaded = 0;
+        try {
+            while (reader.current_element()) {
+                check_progress(progress, static_cast<double>(reader.position()) / file_size, "soup: reading");
+                if (reader.at_vertices()) {
+                    const std::size_t n = chunks.next(reader);
+                    std::memcpy(&vertices[loaded * floats], chunks.packed(), n * vrec);
+                    loaded += n;
+                } else if (reader.at_faces()) {
+                    faces.clear();
+                    reader.read_faces(kFaceChunk, faces);
+                    r.skipped_faces += faces.skipped_faces;
+                    for (std::uint32_t id : faces.indices) out.corner(id, &vertices[static_cast<std::size_t>(id) * floats]);
+                    for (std::size_t t = 0; t < faces.triangle_count(); ++t) edges.add_triangle(&faces.indices[3 * t]);
+                    r.triangles += faces.triangle_count();
+                } else {
+                    reader.skip_element();
+                }
+            }
+            check_triangle_count(ply_path, r.triangles);
+            if (r.triangles == 0) throw_error(Error::Kind::invalid, ply_path, "no triangles");
+            out.finish(r);
+            std::vector<float>().swap(vertices);
+            r.odd_non_manifold_edges = edges.odd_non_manifold(progress, 0.9, 1.0);
+            r.temp_bytes_peak = out.bytes();
+        } catch (...) {
+            std::error_code ignored;
+            fs::remove(soup_path, ignored);
+            throw;
+        }
+        check_progress(progress, 1.0, "soup: reading");
+        return r;
+    }
+
+    // External path. Memory: 40% of the budget for the resident range of each pass, 25% for buffers.
+    r.passes = 3;
+    const fs::path dir = fs::path(soup_path).parent_path();
+    const std::string vertex_path = (dir / "vertices.tmp").string();
+    const std::string refs_path = (dir / "refs.tmp").string();
+    const std::string corners_path = (dir / "corners.tmp").string();
+    struct Cleanup {
+        std::vector<std::string> paths;
+        ~Cleanup() {
+            std::error_code ignored;
+            for (const std::string& p : paths) fs::remove(p, ignored);
+        }
+    } cleanup{{vertex_path, refs_path, corners_path, edges_path}};
+    try {
+        const std::uint64_t range = std::max<std::uint64_t>(1024, static_cast<std::uint64_t>(0.4 * budget) / vrec);
+        const std::size_t ranges = static_cast<std::size_t>((r.vertices + range - 1) / range);
+        const std::size_t ref_bytes = 12;
+        auto buffer_for = [&](std::size_t buckets) {
+            return std::clamp<std::size_t>(static_cast<std::size_t>(0.25 * budget) / std::max<std::size_t>(buckets, 1),
+                                           4096, std::size_t{1} << 20);
+        };
+        // Pass 1.
+        std::uint64_t tail = 0;
+        {
+            SequentialWriter vertex_file(vertex_path, 1 << 20);
+            BucketSpill refs(refs_path, ranges, ref_bytes, buffer_for(ranges));
+            EdgeCounter edges(edges_path, r.vertices, expected_edges, budget, params.count_edges);
+            while (reader.current_element()) {
+                check_progress(progress, 0.5 * static_cast<double>(reader.position()) / file_size, "soup: reading");
+                if (reader.at_vertices()) {
+                    const std::size_t n = chunks.next(reader);
+                    vertex_file.write(chunks.packed(), n * vrec);
+                } else if (reader.at_faces()) {
+                    faces.clear();
+                    reader.read_faces(kFaceChunk, faces);
+                    r.skipped_faces += faces.skipped_faces;
+                    char rec[12];
+                    for (std::uint32_t id : faces.indices) {
+                        std::memcpy(rec, &id, 4);
+                        std::memcpy(rec + 4, &tail, 8);
+                        refs.add(id / range, rec);
+                        ++tail;
+                    }
+                    for (std::size_t t = 0; t < faces.triangle_count(); ++t) edges.add_triangle(&faces.indices[3 * t]);
+                } else {
+                    reader.skip_element();
+                }
+            }
+            vertex_file.close();
+            refs.finish();
+            r.triangles = tail / 3;
+            check_triangle_count(ply_path, r.triangles);
+            if (r.triangles == 0) throw_error(Error::Kind::invalid, ply_path, "no triangles");
+            r.odd_non_manifold_edges = edges.odd_non_manifold(progress, 0.5, 0.55);
+
+            // Pass 2.
+            const std::uint64_t chunk_corners =
+                std::max<std::uint64_t>(3, static_cast<std::uint64_t>(0.4 * budget) / corner / 3 * 3);
+            const std::size_t chunks_out = static_cast<std::size_t>((tail + chunk_corners - 1) / chunk_corners);
+            const std::size_t placed_bytes = 8 + corner;
+            BucketSpill placed(corners_path, chunks_out, placed_bytes, buffer_for(chunks_out));
+            {
+                File vertices(vertex_path, O_RDONLY);
+                std::vector<float> resident;
+                std::vector<char> tmp;
+                std::vector<char> rec(placed_bytes);
+                for (std::size_t b = 0; b < ranges; ++b) {
+                    check_progress(progress, 0.5 + 0.3 * static_cast<double>(b) / ranges, "soup: dereferencing");
+                    const std::uint64_t first = b * range;
+                    const std::uint64_t count = std::min<std::uint64_t>(range, r.vertices - first);
+                    resident.resize(static_cast<std::size_t>(count) * floats);
+                    vertices.read_at(resident.data(), resident.size() * 4, first * vrec);
+                    refs.for_each_block(b, tmp, [&](const char* data, std::size_t bytes) {
+                        for (std::size_t o = 0; o < bytes; o += ref_bytes) {
+                            std::uint32_t id;
+                            std::uint64_t c;
+                            std::memcpy(&id, data + o, 4);
+                            std::memcpy(&c, data + o + 4, 8);
+                            std::memcpy(rec.data(), &c, 8);
+                            std::memcpy(rec.data() + 8, &id, 4);
+                            std::memcpy(rec.data() + 12, &resident[static_cast<std::size_t>(id - first) * floats], vrec);
+                            placed.add(static_cast<std::size_t>(c / chunk_corners), rec.data());
+                        }
+                    });
+                }
+            }
+            placed.finish();
+            r.temp_bytes_peak = vertex_file.offset() + refs.bytes() + placed.bytes();
+            {
+                std::error_code ignored;
+                fs::remove(vertex_path, ignored);
+            }
+
+            // Pass 3.
+            SoupWriter out(soup_path, L);
+            std::vector<char> slots;
+            std::vector<char> tmp;
+            for (std::size_t s = 0; s < chunks_out; ++s) {
+                check_progress(progress, 0.8 + 0.2 * static_cast<double>(s) / chunks_out, "soup: assembling");
+                const std::uint64_t first = s * chunk_corners;
+                const std::uint64_t count = std::min<std::uint64_t>(chunk_corners, tail - first);
+                slots.assign(static_cast<std::size_t>(count) * corner, 0);
+                placed.for_each_block(s, tmp, [&](const char* data, std::size_t bytes) {
+                    for (std::size_t o = 0; o < bytes; o += placed_bytes) {
+                        std::uint64_t c;
+                        std::memcpy(&c, data + o, 8);
+                        std::memcpy(&slots[static_cast<std::size_t>(c - first) * corner], data + o + 8, corner);
+                    }
+                });
+                out.raw(slots.data(), slots.size());
+            }
+            out.finish(r);
+            r.temp_bytes_peak = std::max(r.temp_bytes_peak, refs.bytes() + placed.bytes() + out.bytes());
+        }
+    } catch (...) {
+        std::error_code ignored;
+        fs::remove(soup_path, ignored);
+        throw;
+    }
+    check_progress(progress, 1.0, "soup: assembling");
+    return r;
+}
+
+// ---- reader -------------------------------------------------------------------------------------------
+
+SoupReader::SoupReader(const std::string& path) : path_(path) {
+    File f(path, O_RDONLY);
+    SoupHeader h{};
+    if (f.size() < sizeof h) throw_error(Error::Kind::format, path, "not a triangle soup (too short)");
+    f.read_at(&h, sizeof h, 0);
+    if (std::memcmp(h.magic, kSoupMagic, 8) != 0 || h.version != kSoupVersion)
+        throw_error(Error::Kind::format, path, "not a triangle soup of version 1");
+    layout_ = VertexLayout::from_flags(h.layout);
+    triangles_ = h.triangles;
+    vertices_ = h.vertices;
+    bounds_.add({h.bounds[0], h.bounds[1], h.bounds[2]});
+    bounds_.add({h.bounds[3], h.bounds[4], h.bounds[5]});
+    if (f.size() != kSoupHeaderBytes + triangles_ * soup_triangle_bytes(layout_))
+        throw_error(Error::Kind::format, path, "truncated triangle soup");
+    fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd_ < 0) throw_error(Error::Kind::io, path, std::string("cannot open: ") + std::strerror(errno));
+}
+
+SoupReader::~SoupReader() {
+    if (fd_ >= 0) ::close(fd_);
+}
+
+std::size_t SoupReader::read(std::size_t max_triangles, std::vector<std::byte>& out) {
+    const std::uint64_t n = std::min<std::uint64_t>(max_triangles, triangles_ - next_);
+    const std::size_t tb = soup_triangle_bytes(layout_);
+    out.resize(static_cast<std::size_t>(n) * tb);
+    if (n == 0) return 0;
+    std::uint64_t offset = kSoupHeaderBytes + next_ * tb;
+    std::size_t done = 0;
+    while (done < out.size()) {
+        const ssize_t got = ::pread(fd_, out.data() + done, out.size() - done, static_cast<off_t>(offset + done));
+        if (got < 0 && errno == EINTR) continue;
+        if (got < 0) throw_error(Error::Kind::io, path_, std::string("read failed: ") + std::strerror(errno));
+        if (got == 0) throw_error(Error::Kind::format, path_, "truncated triangle soup");
+        done += static_cast<std::size_t>(got);
+    }
+    next_ += n;
+    return static_cast<std::size_t>(n);
+}
+
+}  // namespace lodforge

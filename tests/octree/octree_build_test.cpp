@@ -1,0 +1,382 @@
+#include "lodforge/error.h"
+#include "lodforge/mesh_io.h"
+#include "lodforge/metrics.h"
+#include "lodforge/octree_build.h"
+#include "lodforge/octree_store.h"
+#include "lodforge/ply.h"
+
+#include "octree_test_util.h"
+#include "support/test_paths.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <array>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <map>
+#include <set>
+
+namespace lodforge {
+namespace {
+
+namespace fs = std::filesystem;
+using test::edge_counts;
+using test::ScratchDir;
+using test::shared_data;
+
+std::size_t files_in(const fs::path& dir) {
+    std::size_t n = 0;
+    for (const auto& e : fs::recursive_directory_iterator(dir)) n += !e.is_directory();
+    return n;
+}
+
+// A triangle as its three input vertex ids, rotated so the smallest comes first (winding kept).
+using Tri = std::array<std::uint64_t, 3>;
+Tri canonical(std::uint64_t a, std::uint64_t b, std::uint64_t c) {
+    if (b < a && b <= c) return {b, c, a};
+    if (c < a && c < b) return {c, a, b};
+    return {a, b, c};
+}
+
+// A random cut mixing levels: descend with probability 1/2 per node, leaves raw or simplified.
+Cut random_cut(const OctreeStore& store, std::mt19937& rng) {
+    Cut cut;
+    std::vector<std::uint32_t> stack{0};
+    std::bernoulli_distribution coin(0.5);
+    while (!stack.empty()) {
+        const std::uint32_t i = stack.back();
+        stack.pop_back();
+        const OctreeNode& d = store.node(i);
+        if (d.is_leaf()) cut.push_back({i, coin(rng)});
+        else if (i != 0 && coin(rng)) cut.push_back({i, false});
+        else
+            for (std::uint32_t c : store.children(i)) stack.push_back(c);
+    }
+    return cut;
+}
+
+struct Built {
+    ScratchDir dir;
+    std::string asset;
+    OctreeBuildResult result;
+    Built(const std::string& name, const std::string& input, std::size_t max_tris, int depth, std::size_t memory = 64u << 20)
+        : dir(name), asset(dir.file("out.lfo")) {
+        OctreeBuildParams p;
+        p.max_triangles = max_tris;
+        p.max_depth = depth;
+        p.memory_bytes = memory;
+        result = build_octree(input, asset, p);
+    }
+};
+
+TEST(OctreeBuild, EveryInputTriangleIsInExactlyOneLeaf) {
+    const std::string input = shared_data("scan-dragon/dragon_vrip_res2.ply");
+    Built b("octree-partition", input, 2000, 8, 4u << 20);  // 4 MB: the root is split by streaming
+    EXPECT_GT(b.result.split_passes, 0u);
+    const Mesh m = read_ply(input);
+    std::multiset<Tri> expected;
+    for (std::size_t t = 0; t < m.triangle_count(); ++t)
+        expected.insert(canonical(m.indices[3 * t], m.indices[3 * t + 1], m.indices[3 * t + 2]));
+    OctreeStore store(b.asset);
+    std::multiset<Tri> got;
+    std::uint64_t leaf_sum = 0;
+    for (std::uint32_t i = 0; i < store.nodes().size(); ++i) {
+        const OctreeNode& d = store.node(i);
+        if (!d.is_leaf()) continue;
+        EXPECT_LE(d.raw_triangles, 2000u) << "node " << i;
+        leaf_sum += d.raw_triangles;
+        const auto raw = store.load(i, true);
+        for (std::size_t t = 0; t < raw->triangle_count(); ++t) {
+            const std::uint32_t* x = &raw->indices[3 * t];
+            got.insert(canonical(raw->keys[x[0]], raw->keys[x[1]], raw->keys[x[2]]));
+            // The assignment rule: the centroid lies in the leaf's cell.
+            for (int a = 0; a < 3; ++a) {
+                const float c = (raw->vertex(x[0])[a] + raw->vertex(x[1])[a] + raw->vertex(x[2])[a]) / 3.f;
+                EXPECT_GE(c, d.cell_min[a] - 1e-4f * d.cell_size);
+                EXPECT_LE(c, d.cell_min[a] + d.cell_size * (1 + 1e-4f));
+            }
+        }
+    }
+    EXPECT_EQ(leaf_sum, m.triangle_count());
+    EXPECT_TRUE(got == expected);
+    const OctreeStats s = store.stats();
+    EXPECT_EQ(s.leaves, b.result.stats.leaves);
+    EXPECT_GT(s.leaves, m.triangle_count() / 2000);
+    EXPECT_LE(s.depth_reached, 8);
+    std::uint64_t per_depth = 0;
+    for (std::uint64_t t : s.triangles_per_depth) per_depth += t;
+    EXPECT_EQ(per_depth, m.triangle_count());
+    // The root cube encloses the bounds.
+    const OctreeHeader& h = store.header();
+    EXPECT_LE(h.root_min[0], h.bounds.min.x);
+    EXPECT_GT(h.root_min[2] + h.root_size, h.bounds.max.z);
+}
+
+TEST(OctreeBuild, ClosedInputsStayClosedAtEveryLevelAndAtMixedLevels) {
+    std::mt19937 rng(7);
+    for (const char* name : {"scan-dragon/dragon_vrip_res4.ply", "scan-happy-buddha/happy_vrip_res3.ply"}) {
+        SCOPED_TRACE(name);
+        const std::string input = shared_data(name);
+        const Mesh m = read_ply(input);
+        ASSERT_EQ(edge_counts(m).border, 0u) << "the test needs a closed input";
+        const bool oriented = edge_counts(m).unpaired == 0;
+        EXPECT_TRUE(oriented) << "both inputs are consistently oriented";
+        Built b("octree-closed", input, 300, 10);
+        OctreeStore store(b.asset, 1u << 20);
+        ASSERT_GE(store.level_count(), 4);
+        std::uint64_t previous = ~0ull;
+        for (int level = 0; level < store.level_count(); ++level) {
+            const Cut cut = level_cut(store, level);
+            ASSERT_TRUE(is_valid_cut(store, cut));
+            const Mesh lm = extract_mesh(store, cut);
+            EXPECT_EQ(edge_counts(lm).border, 0u) << "level " << level;
+            // Fans take their edge's direction from its source triangle: orientation survives too.
+            if (oriented) {
+                EXPECT_EQ(edge_counts(lm).unpaired, 0u) << "level " << level;
+            }
+            EXPECT_LE(lm.triangle_count(), previous) << "level " << level;
+            EXPECT_EQ(lm.triangle_count(), store.stats().triangles_per_level[static_cast<std::size_t>(level)]);
+            previous = lm.triangle_count();
+        }
+        EXPECT_EQ(store.stats().triangles_per_level[0], m.triangle_count());
+        EXPECT_LT(store.stats().triangles_per_level[2], m.triangle_count() / 2);
+        for (int trial = 0; trial < 20; ++trial) {
+            const Cut cut = random_cut(store, rng);
+            ASSERT_TRUE(is_valid_cut(store, cut));
+            const Mesh cm = extract_mesh(store, cut);
+            const test::EdgeCounts ec = edge_counts(cm);
+            ASSERT_EQ(ec.border, 0u) << "trial " << trial << ", " << cut.size() << " nodes";
+            if (oriented) {
+                ASSERT_EQ(ec.unpaired, 0u) << "trial " << trial;
+            }
+        }
+        EXPECT_LE(store.cache_bytes(), store.cache_limit());
+    }
+}
+
+TEST(OctreeBuild, OpenScanGainsNoBorderEdgesAtMixedLevels) {
+    // The bunny has real holes: a cut's border edges must all be border edges of the input.
+    const std::string input = shared_data("scan-bunny/bun_zipper.ply");
+    const Mesh m = read_ply(input);
+    std::set<std::pair<std::uint64_t, std::uint64_t>> input_border;
+    {
+        std::map<std::pair<std::uint64_t, std::uint64_t>, int> uses;
+        for (std::size_t t = 0; t < m.triangle_count(); ++t)
+            for (int k = 0; k < 3; ++k) {
+                std::uint64_t a = m.indices[3 * t + k], c = m.indices[3 * t + (k + 1) % 3];
+                if (a != c) ++uses[{std::min(a, c), std::max(a, c)}];
+            }
+        for (const auto& [e, n] : uses)
+            if (n == 1) input_border.insert(e);
+    }
+    ASSERT_GT(input_border.size(), 0u);
+    Built b("octree-open", input, 500, 10);
+    OctreeStore store(b.asset);
+    std::mt19937 rng(3);
+    for (int trial = 0; trial < 12; ++trial) {
+        const Cut cut = trial < store.level_count() ? level_cut(store, trial) : random_cut(store, rng);
+        std::vector<std::uint64_t> keys;
+        const Mesh cm = extract_mesh(store, cut, nullptr, &keys);
+        std::map<std::pair<std::uint64_t, std::uint64_t>, int> uses;
+        for (std::size_t t = 0; t < cm.triangle_count(); ++t)
+            for (int k = 0; k < 3; ++k) {
+                std::uint64_t a = keys[cm.indices[3 * t + k]], c = keys[cm.indices[3 * t + (k + 1) % 3]];
+                ++uses[{std::min(a, c), std::max(a, c)}];
+            }
+        std::size_t new_border = 0;
+        for (const auto& [e, n] : uses)
+            if (n == 1 && !input_border.count(e)) ++new_border;
+        EXPECT_EQ(new_border, 0u) << "trial " << trial;
+    }
+}
+
+TEST(OctreeBuild, ColoursAndNormalsOfAColouredScanSurviveAtEveryLevel) {
+    for (const char* name : {"color-open3d-frag115/frag_115.ply", "color-open3d-small/color.ply"}) {
+        SCOPED_TRACE(name);
+        const std::string input = shared_data(name);
+        const Mesh m = read_ply(input);
+        Built b("octree-colour", input, m.triangle_count() / 60, 10);
+        OctreeStore store(b.asset);
+        ASSERT_TRUE(store.header().layout.colors && store.header().layout.normals);
+        ASSERT_GE(store.level_count(), 3);
+        double baseline = 0;  // RMS distance of the input's colours from their mean, 0-255
+        {
+            double mean[3] = {0, 0, 0};
+            for (const Vec4f& c : m.colors) {
+                mean[0] += c.x;
+                mean[1] += c.y;
+                mean[2] += c.z;
+            }
+            for (double& x : mean) x /= static_cast<double>(m.colors.size());
+            for (const Vec4f& c : m.colors)
+                baseline += (c.x - mean[0]) * (c.x - mean[0]) + (c.y - mean[1]) * (c.y - mean[1]) + (c.z - mean[2]) * (c.z - mean[2]);
+            baseline = 255.0 * std::sqrt(baseline / (3.0 * static_cast<double>(m.colors.size())));
+        }
+        DistanceParams dp;
+        dp.samples = 5000;
+        dp.vertex_errors = false;
+        for (int level = 1; level < store.level_count(); ++level) {
+            std::vector<std::uint64_t> keys;
+            const Mesh lm = extract_mesh(store, level_cut(store, level), nullptr, &keys);
+            ASSERT_EQ(lm.colors.size(), lm.positions.size());
+            ASSERT_EQ(lm.normals.size(), lm.positions.size());
+            // Representatives get renormalised normals; kept input vertices keep theirs (color.ply's
+            // normals are not unit length).
+            for (std::size_t v = 0; v < keys.size(); ++v) {
+                if (keys[v] & kRepresentativeKey) {
+                    ASSERT_NEAR(length(lm.normals[v]), 1.f, 1e-3f);
+                } else {
+                    ASSERT_EQ(lm.normals[v], m.normals[keys[v]]);
+                    ASSERT_EQ(lm.colors[v], m.colors[keys[v]]);
+                }
+            }
+            for (const Vec4f& c : lm.colors) ASSERT_TRUE(c.x >= 0 && c.x <= 1 && c.w >= 0 && c.w <= 1);
+            const DistanceResult d = compare(m, lm, dp);
+            ASSERT_TRUE(d.has_color_error);
+            // RMS over R, G, B on the 0-255 scale, at samples of the level mesh against the input.
+            // Leaves keep colours close; every level stays well below the error of painting the model
+            // its mean colour (the input's colour spread, `baseline`).
+            if (level == 1) {
+                EXPECT_LT(d.color_rms, 15.0);
+            }
+            EXPECT_LT(d.color_rms, 0.9 * baseline) << "level " << level;
+            // Geometric error grows with the level but stays a fraction of the model.
+            EXPECT_LT(d.mean_relative, 0.05) << "level " << level;
+        }
+    }
+}
+
+TEST(OctreeBuild, TexcoordsSurvive) {
+    // Spot as a PLY with per-vertex u v (the PLY writer stores wedges as vertices).
+    ScratchDir dir("octree-uv");
+    const Mesh spot = read_mesh(shared_data("tex-spot/spot_triangulated.obj"));
+    write_ply(spot, dir.file("spot.ply"));
+    OctreeBuildParams p;
+    p.max_triangles = 200;
+    build_octree(dir.file("spot.ply"), dir.file("spot.lfo"), p);
+    OctreeStore store(dir.file("spot.lfo"));
+    ASSERT_TRUE(store.header().layout.texcoords);
+    const Mesh lm = extract_mesh(store, level_cut(store, 1));
+    ASSERT_EQ(lm.texcoords.size(), 1u);
+    ASSERT_EQ(lm.texcoords[0].size(), lm.positions.size());
+    DistanceParams dp;
+    dp.samples = 5000;
+    const DistanceResult d = compare(read_ply(dir.file("spot.ply")), lm, dp);
+    ASSERT_TRUE(d.has_texcoord_error);
+    // Seams tear (docs/octree.md), so the UV error is real, but most of the surface keeps its mapping.
+    EXPECT_LT(d.texcoord_rms, 0.2);
+}
+
+class CancelAfter : public Progress {
+public:
+    explicit CancelAfter(int n) : n_(n) {}
+    void report(double, std::string_view stage) override {
+        if (stage.find("octree") != std::string_view::npos) --n_;
+    }
+    bool cancelled() const override { return n_ <= 0; }
+
+private:
+    int n_;
+};
+
+TEST(OctreeBuild, CancelMidBuildLeavesNoFiles) {
+    ScratchDir dir("octree-cancel");
+    OctreeBuildParams p;
+    p.max_triangles = 200;
+    p.memory_bytes = 4u << 20;
+    CancelAfter cancel(30);
+    try {
+        build_octree(shared_data("scan-dragon/dragon_vrip_res2.ply"), dir.file("out.lfo"), p, &cancel);
+        FAIL() << "not cancelled";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.kind(), Error::Kind::cancelled);
+    }
+    EXPECT_EQ(files_in(dir.path()), 0u);
+    EXPECT_EQ(std::distance(fs::directory_iterator(dir.path()), fs::directory_iterator()), 0);
+}
+
+TEST(OctreeBuild, CorruptInputAndAssetStopWithAClearError) {
+    ScratchDir dir("octree-corrupt");
+    const std::string bad = dir.file("nan.ply");
+    std::ofstream(bad) << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                          "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+                          "0 0 0\nnan 0 0\n0 1 0\n3 0 1 2\n";
+    try {
+        build_octree(bad, dir.file("out.lfo"));
+        FAIL() << "NaN accepted";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("nan.ply"), std::string::npos) << e.what();
+    }
+    EXPECT_FALSE(fs::exists(dir.file("out.lfo")));
+    EXPECT_EQ(files_in(dir.path()), 1u);  // only the input
+
+    // A valid asset, then damaged copies of it.
+    OctreeBuildParams p;
+    p.max_triangles = 500;
+    build_octree(shared_data("scan-dragon/dragon_vrip_res4.ply"), dir.file("good.lfo"), p);
+    std::ifstream in(dir.file("good.lfo"), std::ios::binary);
+    const std::vector<char> bytes((std::istreambuf_iterator<char>(in)), {});
+    const std::string cut = dir.file("cut.lfo");
+    std::ofstream(cut, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size() - 100));
+    EXPECT_THROW(OctreeStore{cut}, Error);
+    std::vector<char> flipped = bytes;
+    flipped[128 + 8] ^= 0x7f;  // the first node chunk's triangle count
+    const std::string damaged = dir.file("damaged.lfo");
+    std::ofstream(damaged, std::ios::binary).write(flipped.data(), static_cast<std::streamsize>(flipped.size()));
+    OctreeStore store(damaged);
+    bool thrown = false;
+    try {
+        for (std::uint32_t i = 0; i < store.nodes().size(); ++i) {
+            store.load(i, false);
+            if (store.node(i).is_leaf()) store.load(i, true);
+        }
+    } catch (const Error& e) {
+        thrown = true;
+        EXPECT_EQ(e.kind(), Error::Kind::format);
+        EXPECT_NE(std::string(e.what()).find("damaged.lfo"), std::string::npos) << e.what();
+    }
+    EXPECT_TRUE(thrown);
+    EXPECT_THROW(level_cut(store, store.level_count()), Error);
+}
+
+}  // namespace
+}  // namespace lodforge
+
+namespace lodforge {
+namespace {
+
+TEST(OctreeBuild, OddNonManifoldEdgesKeepEveryUseInEveryCut) {
+    // Three pages of a book share the spine 0-1; pages lie in different octants so they land in
+    // different leaves. A per-node rule would drop or keep the spine unevenly; it must keep 3 uses.
+    ScratchDir dir("octree-book");
+    const std::string ply = dir.file("book.ply");
+    std::ofstream(ply) << "ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\nproperty float y\nproperty float z\n"
+                          "element face 3\nproperty list uchar int vertex_indices\nend_header\n"
+                          "0 0 -1\n0 0 1\n1 0 0\n-0.5 0.9 0\n-0.5 -0.9 0\n3 0 1 2\n3 1 0 3\n3 0 1 4\n";
+    OctreeBuildParams p;
+    p.max_triangles = 1;
+    p.max_depth = 6;
+    const OctreeBuildResult r = build_octree(ply, dir.file("book.lfo"), p);
+    EXPECT_EQ(r.soup.odd_non_manifold_edges.size(), 1u);
+    OctreeStore store(dir.file("book.lfo"));
+    EXPECT_GE(store.stats().leaves, 3u);
+    std::mt19937 rng(11);
+    for (int trial = 0; trial < 12; ++trial) {
+        const Cut cut = trial < store.level_count() ? level_cut(store, trial) : random_cut(store, rng);
+        std::vector<std::uint64_t> keys;
+        const Mesh m = extract_mesh(store, cut, nullptr, &keys);
+        int spine = 0;
+        for (std::size_t t = 0; t < m.triangle_count(); ++t)
+            for (int k = 0; k < 3; ++k) {
+                const std::uint64_t a = keys[m.indices[3 * t + k]], b = keys[m.indices[3 * t + (k + 1) % 3]];
+                spine += (std::min(a, b) == 0 && std::max(a, b) == 1);
+            }
+        EXPECT_EQ(spine, 3) << "trial " << trial;
+    }
+}
+
+}  // namespace
+}  // namespace lodforge

@@ -1,0 +1,138 @@
+#include "lodforge/error.h"
+#include "lodforge/ooc_soup.h"
+#include "lodforge/ply.h"
+
+#include "support/test_paths.h"
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+
+namespace lodforge {
+namespace {
+
+namespace fs = std::filesystem;
+using test::ScratchDir;
+using test::shared_data;
+
+// Every soup triangle must carry exactly the records of the PLY's triangle at the same position.
+void expect_soup_matches(const std::string& ply, const SoupResult& r) {
+    const Mesh m = read_ply(ply);
+    ASSERT_EQ(r.triangles, m.triangle_count());
+    SoupReader reader(r.path);
+    EXPECT_EQ(reader.triangles(), m.triangle_count());
+    EXPECT_EQ(reader.layout(), r.layout);
+    const VertexLayout& L = r.layout;
+    EXPECT_EQ(L.normals, m.has_normals());
+    EXPECT_EQ(L.colors, m.has_colors());
+    const std::size_t cb = soup_corner_bytes(L);
+    std::vector<std::byte> buf;
+    std::size_t t = 0, mismatches = 0;
+    while (std::size_t n = reader.read(10000, buf)) {
+        for (std::size_t i = 0; i < n; ++i, ++t)
+            for (int k = 0; k < 3; ++k) {
+                const std::byte* c = buf.data() + (i * 3 + static_cast<std::size_t>(k)) * cb;
+                std::uint32_t id;
+                float f[12];
+                std::memcpy(&id, c, 4);
+                std::memcpy(f, c + 4, 4 * L.floats());
+                const std::uint32_t v = m.indices[3 * t + static_cast<std::size_t>(k)];
+                const Vec3f p = m.positions[v];
+                bool ok = id == v && f[0] == p.x && f[1] == p.y && f[2] == p.z;
+                if (L.normals) ok = ok && f[L.normal_offset()] == m.normals[v].x && f[L.normal_offset() + 2] == m.normals[v].z;
+                if (L.colors) ok = ok && f[L.color_offset()] == m.colors[v].x && f[L.color_offset() + 3] == m.colors[v].w;
+                if (!ok) ++mismatches;
+            }
+    }
+    EXPECT_EQ(t, m.triangle_count());
+    EXPECT_EQ(mismatches, 0u);
+    const Bounds b = m.bounds();
+    EXPECT_EQ(reader.bounds().min, b.min);
+    EXPECT_EQ(reader.bounds().max, b.max);
+}
+
+TEST(OocSoup, InCoreAsciiMatchesTheMesh) {
+    ScratchDir dir("soup-ascii");
+    const std::string ply = shared_data("scan-dragon/dragon_vrip_res3.ply");
+    SoupParams p;
+    p.memory_bytes = 16u << 20;
+    const SoupResult r = convert_to_soup(ply, dir.file("soup"), p);
+    EXPECT_FALSE(r.external);
+    EXPECT_EQ(r.passes, 1);
+    expect_soup_matches(ply, r);
+}
+
+TEST(OocSoup, ExternalSortOfAColouredBinaryScanMatchesTheMesh) {
+    // 64K vertices × 40 bytes do not fit in half of 4 MB: the three-pass distribution sort runs.
+    ScratchDir dir("soup-external");
+    const std::string ply = shared_data("color-open3d-frag115/frag_115.ply");
+    SoupParams p;
+    p.memory_bytes = 4u << 20;
+    const SoupResult r = convert_to_soup(ply, dir.file("soup"), p);
+    EXPECT_TRUE(r.external);
+    EXPECT_EQ(r.passes, 3);
+    EXPECT_TRUE(r.layout.normals && r.layout.colors);
+    expect_soup_matches(ply, r);
+    // Only the soup is left: the sort's temporary files are gone.
+    std::size_t files = 0;
+    for (const auto& e : fs::directory_iterator(dir.path())) files += e.is_regular_file();
+    EXPECT_EQ(files, 1u);
+}
+
+TEST(OocSoup, FacesBeforeVerticesTakeTheExternalPath) {
+    ScratchDir dir("soup-order");
+    const std::string ply = dir.file("faces_first.ply");
+    {
+        std::ofstream f(ply);
+        f << "ply\nformat ascii 1.0\nelement face 2\nproperty list uchar int vertex_indices\n"
+             "element vertex 4\nproperty float x\nproperty float y\nproperty float z\nend_header\n"
+             "3 0 1 2\n4 0 2 3 1\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n";
+    }
+    const SoupResult r = convert_to_soup(ply, dir.file("soup"));
+    EXPECT_TRUE(r.external);
+    EXPECT_EQ(r.triangles, 3u);  // the quad is fanned
+    expect_soup_matches(ply, r);
+}
+
+TEST(OocSoup, TruncatedAndLyingInputsStopWithTheFileName) {
+    ScratchDir dir("soup-bad");
+    const std::string src = shared_data("scan-lucy100k/Lucy100k.ply");
+    const std::string cut = dir.file("truncated.ply");
+    {
+        std::ifstream in(src, std::ios::binary);
+        std::vector<char> bytes((std::istreambuf_iterator<char>(in)), {});
+        bytes.resize(bytes.size() * 2 / 3);
+        std::ofstream(cut, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    }
+    for (std::size_t budget : {std::size_t{4} << 20, std::size_t{64} << 20}) {
+        SoupParams p;
+        p.memory_bytes = budget;
+        try {
+            convert_to_soup(cut, dir.file("soup"), p);
+            FAIL() << "a truncated file was accepted";
+        } catch (const Error& e) {
+            EXPECT_EQ(e.kind(), Error::Kind::format);
+            EXPECT_NE(std::string(e.what()).find("truncated.ply"), std::string::npos) << e.what();
+        }
+        EXPECT_FALSE(fs::exists(dir.file("soup")));
+    }
+    const std::string bad_index = dir.file("bad_index.ply");
+    std::ofstream(bad_index) << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                                "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+                                "0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n";
+    EXPECT_THROW(convert_to_soup(bad_index, dir.file("soup")), Error);
+    const std::string no_faces = dir.file("points.ply");
+    std::ofstream(no_faces) << "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+                               "property float z\nend_header\n0 0 0\n";
+    EXPECT_THROW(convert_to_soup(no_faces, dir.file("soup")), Error);
+    EXPECT_THROW(convert_to_soup(dir.file("missing.ply"), dir.file("soup")), Error);
+    std::size_t leftovers = 0;
+    for (const auto& e : fs::directory_iterator(dir.path()))
+        leftovers += e.path().filename().string().find(".ply") == std::string::npos;
+    EXPECT_EQ(leftovers, 0u);
+}
+
+}  // namespace
+}  // namespace lodforge
