@@ -144,8 +144,10 @@ TEST(LodStripsFormat, EveryTruncatedPrefixIsRejected) {
     const std::vector<std::uint8_t> bytes = encode_lodstrips(built("dragon_res4", StripJoin::degenerate).build.data);
     ASSERT_TRUE(accepted(bytes));
     for (std::size_t n = 0; n < bytes.size(); ++n) {
-        const std::vector<std::uint8_t> prefix(bytes.begin(), bytes.begin() + static_cast<std::ptrdiff_t>(n));
-        ASSERT_FALSE(accepted(prefix)) << "prefix of " << n << " bytes";
+        lodstrips::LodStrips rt;
+        std::string why;
+        ASSERT_FALSE(rt.load_memory(bytes.data(), n, &why)) << "prefix of " << n << " bytes";
+        ASSERT_FALSE(why.empty());
     }
     // A prefix whose header is patched to announce its own size still fails (sections cut short).
     for (std::size_t n : {std::size_t(40), bytes.size() / 2, bytes.size() - 1}) {
