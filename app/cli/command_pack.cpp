@@ -37,6 +37,7 @@ void add_pack_command(CLI::App& app, const GlobalOptions& global) {
         const Mesh mesh = read_mesh(o.input, {}, &progress);
         const PackResult r = write_lod_pack(mesh, params, &progress);
         progress.finish();
+        for (const std::string& note : r.notes) std::fprintf(stderr, "lodforge: note: %s\n", note.c_str());
 
         if (o.json) {
             nlohmann::ordered_json j;
@@ -51,6 +52,7 @@ void add_pack_command(CLI::App& app, const GlobalOptions& global) {
                                   {"files", l.files}});
             j["levels"] = levels;
             j["files"] = r.files;
+            j["notes"] = r.notes;
             std::printf("%s\n", j.dump(2).c_str());
             return;
         }

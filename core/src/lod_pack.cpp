@@ -17,6 +17,7 @@
 #include "lodforge/file_hash.h"
 #include "lodforge/gltf_writer.h"
 #include "lodforge/lod_chain.h"
+#include "lodforge/lod_methods.h"
 #include "lodforge/mesh_io.h"
 #include "lodforge/simplify_cluster.h"
 
@@ -55,6 +56,8 @@ struct BuiltLevels {
     std::vector<Mesh> own;                  // levels 1.. when not from a chain
     std::vector<const Mesh*> meshes;        // every level, level 0 = the input
     std::vector<DistanceResult> distance;   // per level (level 0: zero)
+    std::vector<std::uint8_t> lodstrips_file;  // the encoded .lodstrips (lodstrips method)
+    std::vector<std::string> notes;         // what a method could not meet (shown, and kept in pack.json)
 };
 
 DistanceParams measurement(const PackParams& params) {
@@ -88,6 +91,16 @@ BuiltLevels collapse_levels(const Mesh& mesh, const PackParams& params, Progress
     return built;
 }
 
+// Levels 1.. held in `built.own`: the input becomes level 0 and every level is measured against it.
+void measure_own_levels(const Mesh& mesh, const PackParams& params, BuiltLevels& built, Progress* progress) {
+    built.meshes.push_back(&mesh);
+    built.distance.emplace_back();
+    for (const Mesh& level : built.own) {
+        built.meshes.push_back(&level);
+        built.distance.push_back(compare(mesh, level, measurement(params), progress));
+    }
+}
+
 BuiltLevels cluster_levels(const Mesh& mesh, const PackParams& params, Progress* progress) {
     const Preset& preset = params.preset;
     BuiltLevels built;
@@ -104,17 +117,22 @@ BuiltLevels cluster_levels(const Mesh& mesh, const PackParams& params, Progress*
                         "not error targets");
         built.own.push_back(simplify_cluster(mesh, p, progress).mesh);
     }
-    built.meshes.push_back(&mesh);
-    built.distance.emplace_back();
-    for (const Mesh& level : built.own) {
-        built.meshes.push_back(&level);
-        built.distance.push_back(compare(mesh, level, measurement(params), progress));
-    }
+    measure_own_levels(mesh, params, built, progress);
     return built;
 }
 
-// The one place a LOD method becomes levels. octree, lodstrips and mcoctree are wired in here when
-// they land.
+// LODStrips, the MC octree and the out-of-core octree: cuts of one structure (lod_methods.h).
+BuiltLevels method_levels(const Mesh& mesh, const PackParams& params, Progress* progress) {
+    MethodLevels m = build_method_levels(mesh, params.preset, params.source_path, progress);
+    BuiltLevels built;
+    built.own = std::move(m.levels);
+    built.lodstrips_file = std::move(m.lodstrips_file);
+    built.notes = std::move(m.notes);
+    measure_own_levels(mesh, params, built, progress);
+    return built;
+}
+
+// The one place a LOD method becomes levels.
 BuiltLevels make_levels(const Mesh& mesh, const PackParams& params, Progress* progress) {
     switch (params.preset.method) {
     case LodMethod::collapse: return collapse_levels(mesh, params, progress);
@@ -123,16 +141,21 @@ BuiltLevels make_levels(const Mesh& mesh, const PackParams& params, Progress* pr
     case LodMethod::lodstrips:
     case LodMethod::mcoctree: break;
     }
-    throw_error(Error::Kind::unsupported, params.source_path,
-                "packing with the '" + std::string(to_string(params.preset.method)) +
-                    "' method is not available in this build yet (available: collapse, cluster)");
+    return method_levels(mesh, params, progress);
 }
 
 // Files a method adds beyond the levels (the .lodstrips file of the lodstrips method).
-void write_method_files(const BuiltLevels&, const PackParams& params, const fs::path&) {
-    if (params.preset.exports.lodstrips)
-        throw_error(Error::Kind::unsupported, params.source_path,
-                    "the .lodstrips export is not available in this build yet");
+void write_method_files(const BuiltLevels& built, const PackParams& params, const fs::path& dir,
+                        const std::string& stem) {
+    if (!params.preset.exports.lodstrips) return;
+    if (built.lodstrips_file.empty())
+        throw_error(Error::Kind::argument, params.source_path,
+                    "the .lodstrips export needs the lodstrips method (the preset's method is '" +
+                        std::string(to_string(params.preset.method)) + "')");
+    AtomicFile file((dir / (stem + ".lodstrips")).string(), true);
+    file.stream().write(reinterpret_cast<const char*>(built.lodstrips_file.data()),
+                        static_cast<std::streamsize>(built.lodstrips_file.size()));
+    file.commit();
 }
 
 // A directory beside the target that becomes the target (or whose files move into an existing one).
@@ -275,6 +298,7 @@ std::string manifest(const Mesh& mesh, const PackParams& params, const BuiltLeve
         levels.push_back(l);
     }
     j["levels"] = levels;
+    j["notes"] = built.notes;
     std::vector<std::string> files = r.files;
     files.push_back("pack.json");
     j["files"] = files;
@@ -299,6 +323,7 @@ PackResult write_lod_pack(const Mesh& mesh, const PackParams& params, Progress* 
     // Before the long part, so an unwritable output fails at once.
     Staging staging(params.output_dir);
     const BuiltLevels built = make_levels(mesh, params, progress);
+    result.notes = built.notes;
     const std::size_t n = built.meshes.size();
 
     // Level k is shown down to the coverage at which level k+1's error is one pixel; the coarsest
@@ -349,7 +374,7 @@ PackResult write_lod_pack(const Mesh& mesh, const PackParams& params, Progress* 
         result.levels[k].files = staging.new_files();
         for (const std::string& f : result.levels[k].files) result.files.push_back(f);
     }
-    write_method_files(built, params, staging.dir());
+    write_method_files(built, params, staging.dir(), stem);
     for (const std::string& f : staging.new_files()) result.files.push_back(f);
 
     check_progress(progress, 0.0, "writing pack.json");

@@ -76,7 +76,7 @@ private slots:
     void appearanceTogglesAndSplitCompare();
     void parameterChangesUndoAndRedo();
     void presetSavesAndReloads();
-    void methodWithoutEngineSaysSo();
+    void structureMethodsBuildLevels();
     void clusterMethodBuildsLevels();
     void reportExportsHtmlAndPdf();
     void exportedPackMatchesTheCli();
@@ -449,21 +449,36 @@ void LodStudioTest::presetSavesAndReloads() {
     QCOMPARE(window_->preset(), preset);
 }
 
-void LodStudioTest::methodWithoutEngineSaysSo() {
+// LODStrips, the MC octree and the out-of-core octree build their levels in the studio like the chain
+// methods; a target they cannot take is refused with the reason in the log.
+void LodStudioTest::structureMethodsBuildLevels() {
     QVERIFY(load(spotPath));
     auto* method = window_->parametersPanel()->findChild<QComboBox*>(QStringLiteral("method"));
     auto* note = window_->parametersPanel()->findChild<QLabel*>(QStringLiteral("methodNote"));
     QVERIFY(method && note);
-    method->setCurrentIndex(method->findData(QStringLiteral("mcoctree")));
-    QCOMPARE(window_->preset().method, lodforge::LodMethod::mcoctree);
-    QVERIFY(method->currentText().contains(QStringLiteral("no engine")));
-    QVERIFY2(note->isVisible() && note->text().contains(QStringLiteral("no engine")), qPrintable(note->text()));
+    for (const char* name : {"lodstrips", "mcoctree", "octree"}) {
+        method->setCurrentIndex(method->findData(QString::fromLatin1(name)));
+        QCOMPARE(QString::fromLatin1(lodforge::to_string(window_->preset().method)), QString::fromLatin1(name));
+        QVERIFY(!note->isVisible());
+        lodforge::Preset preset = window_->preset();
+        preset.levels = {{lodforge::LodTarget::Kind::ratio, 0.5}, {lodforge::LodTarget::Kind::ratio, 0.2}};
+        preset.octree.max_triangles_per_node = 300;
+        preset.mcoctree.resolution = 48;
+        window_->setPreset(preset);
+        QString message;
+        QVERIFY2(runJob(false, &message), qPrintable(QString::fromLatin1(name) + QStringLiteral(": ") + message));
+        const auto& levels = window_->levelViews()->levels();
+        QCOMPARE(int(levels.size()), 3);
+        QVERIFY2(levels[1].triangles < 5856 && levels[2].triangles < levels[1].triangles, name);
+        QVERIFY2(levels[2].errorRelative > 0, name);
+    }
+    lodforge::Preset preset = window_->preset();
+    preset.levels = {{lodforge::LodTarget::Kind::error, 0.01}};
+    window_->setPreset(preset);
     QString message;
     QVERIFY(!runJob(false, &message));
-    qInfo("refused: %s", qPrintable(message));
-    QVERIFY2(message.contains(QStringLiteral("no engine")), qPrintable(message));
-    QVERIFY(window_->logView()->toPlainText().contains(QStringLiteral("no engine")));
-    QCOMPARE(window_->levelViews()->levelCount(), 1);
+    QVERIFY2(message.contains(QStringLiteral("error targets")), qPrintable(message));
+    QVERIFY(window_->logView()->toPlainText().contains(QStringLiteral("error targets")));
     QVERIFY(!window_->isBusy());
 }
 
@@ -567,8 +582,9 @@ void LodStudioTest::exportedPackMatchesTheCli() {
         QVERIFY2(a.readAll() == b.readAll(), qPrintable(f + QStringLiteral(" differs between the studio and the CLI")));
     }
 
-    // A method without an engine is refused with a message saying so, and writes nothing.
+    // A preset the method cannot run is refused with a message saying so, and writes nothing.
     preset.method = lodforge::LodMethod::octree;
+    preset.levels = {{lodforge::LodTarget::Kind::error, 0.01}};
     window_->setPreset(preset);
     finished.clear();
     const QString refused = dir.filePath(QStringLiteral("refused_pack"));
@@ -576,7 +592,7 @@ void LodStudioTest::exportedPackMatchesTheCli() {
     QVERIFY(finished.wait(60000));
     QVERIFY(!finished.at(0).at(1).toBool());
     qInfo("refused: %s", qPrintable(finished.at(0).at(2).toString()));
-    QVERIFY(finished.at(0).at(2).toString().contains(QStringLiteral("not available in this build")));
+    QVERIFY(finished.at(0).at(2).toString().contains(QStringLiteral("error targets")));
     QVERIFY(!QFile::exists(refused));
 }
 
@@ -658,14 +674,15 @@ void LodStudioTest::shortcutsSettingsAndErrorDialogs() {
     // Interactive: a failed job opens an error dialog naming the job and the reason.
     QVERIFY(load(spotPath));
     lodforge::Preset preset = window_->preset();
-    preset.method = lodforge::LodMethod::lodstrips;
+    preset.method = lodforge::LodMethod::cluster;
+    preset.levels = {{lodforge::LodTarget::Kind::error, 0.01}};
     window_->setPreset(preset);
     window_->buildLodChain();
     QMessageBox* box = nullptr;
     QTRY_VERIFY_WITH_TIMEOUT((box = qobject_cast<QMessageBox*>(QApplication::activeModalWidget())) != nullptr, 5000);
     QCOMPARE(box->icon(), QMessageBox::Critical);
     QVERIFY2(box->text().contains(MainWindow::lodChainJobName()), qPrintable(box->text()));
-    QVERIFY2(box->informativeText().contains(QStringLiteral("no engine")), qPrintable(box->informativeText()));
+    QVERIFY2(box->informativeText().contains(QStringLiteral("error targets")), qPrintable(box->informativeText()));
     box->close();
     QTRY_VERIFY_WITH_TIMEOUT(QApplication::activeModalWidget() == nullptr, 5000);
 }

@@ -438,13 +438,16 @@ void WidgetsTest::lodLevelsRefuseWhatTheyCannotBuild() {
     original.triangles = 2;
     Preset preset;
     preset.method = LodMethod::octree;
-    QVERIFY(!methodHasEngine(preset.method) && methodHasEngine(LodMethod::collapse) && methodHasEngine(LodMethod::cluster));
+    preset.levels = {{LodTarget::Kind::error, 0.01}};
+    for (LodMethod m : {LodMethod::collapse, LodMethod::cluster, LodMethod::octree, LodMethod::lodstrips,
+                        LodMethod::mcoctree})
+        QVERIFY(methodHasEngine(m));
     try {
         buildLodLevels(original, preset, {});
-        QFAIL("a method without an engine must be refused");
+        QFAIL("an error target must be refused by the octree method");
     } catch (const Error& e) {
         QCOMPARE(e.kind(), Error::Kind::argument);
-        QVERIFY2(QString::fromUtf8(e.what()).contains(QStringLiteral("no engine")), e.what());
+        QVERIFY2(QString::fromUtf8(e.what()).contains(QStringLiteral("error targets")), e.what());
     }
     preset.method = LodMethod::cluster;
     preset.levels = {{LodTarget::Kind::error, 0.01}};

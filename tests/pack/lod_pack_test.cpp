@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -205,16 +206,66 @@ Error::Kind pack_error(const Mesh& mesh, const PackParams& p, std::string* messa
     return Error::Kind::io;
 }
 
-TEST(LodPack, MethodsNotYetAvailableAreReportedAndLeaveNothing) {
+// LODStrips, the MC octree and the out-of-core octree pack like the chain methods: levels at or below
+// their triangle targets, coarser each time, a glb that validates, and pack.json agreeing with the result.
+TEST(LodPack, StructureMethodsPackValidLevels) {
+    ScratchDir dir("pack-structures");
+    const Mesh mesh = read_mesh(shared_data("tex-spot/spot_triangulated.obj"));
+    for (LodMethod m : {LodMethod::lodstrips, LodMethod::mcoctree, LodMethod::octree}) {
+        SCOPED_TRACE(to_string(m));
+        PackParams p = spot_params(dir, "pack-" + std::string(to_string(m)));
+        p.preset.method = m;
+        p.preset.exports = {.glb = true, .ply = false, .obj = false, .lodstrips = m == LodMethod::lodstrips};
+        p.preset.octree.max_triangles_per_node = 300;  // Spot's 5,856 triangles in a few dozen leaves
+        p.preset.mcoctree.resolution = 48;
+        const PackResult r = write_lod_pack(mesh, p);
+        ASSERT_EQ(r.levels.size(), 4u);
+        EXPECT_EQ(r.levels[0].triangles, mesh.triangle_count());
+        for (std::size_t k = 1; k < r.levels.size(); ++k) {
+            EXPECT_GT(r.levels[k].triangles, 0u) << k;
+            EXPECT_LT(r.levels[k].triangles, r.levels[k - 1].triangles) << k;
+            EXPECT_GT(r.levels[k].error_relative, 0.0) << k;
+            EXPECT_LT(r.levels[k].error_relative, 0.25) << k;  // still the cow, not a blob
+        }
+        const test::Validation v = test::validate_gltf(fs::path(p.output_dir) / r.glb);
+        EXPECT_EQ(v.exit_code, 0) << v.raw;
+        EXPECT_TRUE(test::unexplained_warnings(v).empty()) << v.raw;
+        const auto manifest = nlohmann::json::parse(r.manifest);
+        EXPECT_EQ(manifest["method"], to_string(m));
+        EXPECT_EQ(manifest["levels"].size(), 4u);
+        EXPECT_EQ(manifest["notes"].size(), r.notes.size());
+        if (m == LodMethod::lodstrips) {
+            const fs::path strips = fs::path(p.output_dir) / "spot_triangulated.lodstrips";
+            ASSERT_TRUE(fs::exists(strips));
+            EXPECT_NE(std::find(r.files.begin(), r.files.end(), "spot_triangulated.lodstrips"), r.files.end());
+            // LODStrips levels are exact targets (one collapse at a time) down to the coarsest stored.
+            for (std::size_t k = 1; k < r.levels.size(); ++k)
+                EXPECT_LE(r.levels[k].triangles, static_cast<std::size_t>(std::floor(
+                                                      p.preset.levels[k - 1].value * double(mesh.triangle_count()))));
+        }
+    }
+}
+
+TEST(LodPack, StructureMethodsRefuseWhatTheyCannotDoAndLeaveNothing) {
     ScratchDir dir("pack-methods");
     const Mesh mesh = read_mesh(shared_data("tex-spot/spot_triangulated.obj"));
     for (LodMethod m : {LodMethod::octree, LodMethod::lodstrips, LodMethod::mcoctree}) {
         PackParams p = spot_params(dir, "deep/er/pack");
         p.preset.method = m;
+        p.preset.levels = {{LodTarget::Kind::ratio, 0.5}, {LodTarget::Kind::error, 0.01}};
         std::string message;
-        EXPECT_EQ(pack_error(mesh, p, &message), Error::Kind::unsupported);
+        EXPECT_EQ(pack_error(mesh, p, &message), Error::Kind::argument);
         EXPECT_NE(message.find(std::string(to_string(m))), std::string::npos) << message;
+        EXPECT_NE(message.find("levels[1]"), std::string::npos) << message;
         EXPECT_TRUE(fs::is_empty(dir.path())) << listing(dir.path()).front();
+    }
+    {
+        PackParams p = spot_params(dir, "strips-without-lodstrips");
+        p.preset.exports.lodstrips = true;  // the collapse method makes no .lodstrips file
+        std::string message;
+        EXPECT_EQ(pack_error(mesh, p, &message), Error::Kind::argument);
+        EXPECT_NE(message.find("lodstrips method"), std::string::npos) << message;
+        EXPECT_TRUE(fs::is_empty(dir.path()));
     }
     PackParams p = spot_params(dir);
     p.preset.method = LodMethod::cluster;

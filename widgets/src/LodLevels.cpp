@@ -2,6 +2,7 @@
 
 #include "lodforge/error.h"
 #include "lodforge/lod_chain.h"
+#include "lodforge/lod_methods.h"
 #include "lodforge/metrics.h"
 #include "lodforge/progress_range.h"
 #include "lodforge/simplify_cluster.h"
@@ -152,9 +153,38 @@ std::vector<LevelData> buildClusterLevels(const LevelData& original, const Prese
     return levels;
 }
 
+// LODStrips, MC octree and out-of-core octree: the core builds the levels (as the pack does), the
+// studio measures them and prepares the views.
+std::vector<LevelData> buildStructureLevels(const LevelData& original, const Preset& preset,
+                                            const std::vector<std::shared_ptr<const Image>>& images,
+                                            Progress* progress) {
+    QElapsedTimer timer;
+    timer.start();
+    ProgressRange buildProgress(progress, 0.0, 0.6);
+    MethodLevels built = build_method_levels(*original.mesh, preset, std::string(), &buildProgress);
+    const double buildMs = static_cast<double>(timer.nsecsElapsed()) / 1e6 / double(built.levels.size());
+    std::vector<LevelData> levels{original};
+    const auto n = static_cast<double>(built.levels.size());
+    for (std::size_t k = 0; k < built.levels.size(); ++k) {
+        ProgressRange measureProgress(progress, 0.6 + 0.4 * double(k) / n, 0.6 + 0.4 * double(k + 1) / n);
+        DistanceParams distance;
+        distance.vertex_errors = false;
+        const DistanceResult d = compare(*original.mesh, built.levels[k], distance, &measureProgress);
+        LevelData level = makeLevel(int(k + 1), std::move(built.levels[k]), &d, images);
+        level.buildMs = buildMs;
+        level.stopReason = level.triangles <= built.target_triangles[k] ? QStringLiteral("target reached")
+                                                                        : QStringLiteral("closest level");
+        // LODStrips levels are vertex subsets of the original (half-edge collapses); the others are new
+        // surfaces that carry their own error field.
+        level.verticesOnOriginal = preset.method == LodMethod::lodstrips;
+        levels.push_back(std::move(level));
+    }
+    return levels;
+}
+
 }  // namespace
 
-bool methodHasEngine(LodMethod method) { return method == LodMethod::collapse || method == LodMethod::cluster; }
+bool methodHasEngine(LodMethod) { return true; }
 
 QString methodDisplayName(LodMethod method) {
     switch (method) {
@@ -179,8 +209,7 @@ std::vector<LevelData> buildLodLevels(const LevelData& original, const Preset& p
     case LodMethod::lodstrips:
     case LodMethod::mcoctree: break;
     }
-    throw Error(Error::Kind::argument, "method '" + std::string(to_string(preset.method)) +
-                                           "' has no engine in this build yet (available: collapse, cluster)");
+    return buildStructureLevels(original, preset, images, progress);
 }
 
 HeatmapData computeHeatmaps(const std::vector<LevelData>& levels, Progress* progress) {

@@ -51,10 +51,12 @@ struct PackResult {
     std::string glb;                        // the .glb's name in `files`, empty when not exported
     std::string source_sha256;              // as in pack.json
     std::string manifest;                   // the text of pack.json
+    std::vector<std::string> notes;         // targets a method could not meet, ... (also in pack.json)
 };
 
 // Throws Error(argument) for a bad preset or parameters (empty source_path or output_dir, an error
-// target with the cluster method), Error(unsupported) for a method this build cannot run yet,
+// target with the cluster, lodstrips, octree or mcoctree method, a .lodstrips export without the lodstrips
+// method),
 // Error(io) naming the file for an unreadable source or texture or an unwritable output, and
 // Error(cancelled); in every case nothing is left in or beside output_dir.
 PackResult write_lod_pack(const Mesh& mesh, const PackParams& params, Progress* progress = nullptr);
