@@ -19,6 +19,11 @@ struct Case {
     StripJoin join;
 };
 
+void PrintTo(const Case& c, std::ostream* os) {
+    *os << c.mesh << ' ';
+    PrintTo(c.join, os);
+}
+
 std::string case_name(const ::testing::TestParamInfo<Case>& info) {
     return info.param.mesh + (info.param.join == StripJoin::restart ? "_restart" : "_degenerate");
 }

@@ -9,8 +9,14 @@
 #include <array>
 #include <map>
 #include <memory>
+#include <ostream>
 #include <string>
 #include <vector>
+
+namespace lodforge {
+// Readable test names in ctest (gtest prints parameters otherwise as raw bytes).
+inline void PrintTo(StripJoin join, std::ostream* os) { *os << (join == StripJoin::restart ? "restart" : "degenerate"); }
+}  // namespace lodforge
 
 namespace lodforge::test {
 

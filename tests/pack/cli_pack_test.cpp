@@ -86,7 +86,7 @@ TEST(CliPack, BadPresetMissingInputAndUnwritableOutputFailCleanly) {
     const std::string input = quoted(sample("spot/spot_triangulated.obj"));
     write_text(dir.file("typo.json"), R"({"levels": [{"ratio": 0.5}], "max_dept": 3})");
     write_text(dir.file("good.json"), R"({"levels": [{"ratio": 0.5}]})");
-    write_text(dir.file("octree.json"), R"({"method": "octree"})");
+    write_text(dir.file("octree.json"), R"({"method": "octree", "levels": [{"ratio": 0.5}, {"error": 0.01}]})");
     write_text(dir.file("a_file"), "x");
     const fs::path out = dir.path() / "out";
 
@@ -110,8 +110,9 @@ TEST(CliPack, BadPresetMissingInputAndUnwritableOutputFailCleanly) {
     EXPECT_NE(r.out.find("a_file"), std::string::npos) << r.out;
 
     r = run_cli("pack " + input + " --preset " + quoted(dir.file("octree.json")) + " -o " + quoted(out.string()));
-    EXPECT_EQ(r.exit_code, 1) << r.out;
+    EXPECT_EQ(r.exit_code, 1) << r.out;  // the octree's levels are chosen by triangle count
     EXPECT_NE(r.out.find("octree"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("levels[1]"), std::string::npos) << r.out;
 
     r = run_cli("pack " + input + " -o " + quoted(out.string()));  // --preset is required
     EXPECT_NE(r.exit_code, 0);
