@@ -6,6 +6,7 @@
 //   lodforge_bench_lodstrips [--models bunny,dragon2,dragon,frag] [--reps N] [--degenerate]
 //   lodforge_bench_lodstrips --load FILE.lodstrips     (the runtime alone, three rounds)
 
+#include "bench_util.h"
 #include "lodforge/error.h"
 #include "lodforge/lodstrips.h"
 #include "lodforge/mesh_io.h"
@@ -41,18 +42,9 @@ struct Model {
     std::string key, label, path;
 };
 
-std::vector<std::string> split(const std::string& s) {
-    std::vector<std::string> out;
-    std::stringstream ss(s);
-    std::string item;
-    while (std::getline(ss, item, ',')) out.push_back(item);
-    return out;
-}
+using lodforge::bench::split;
 
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    return v[v.size() / 2];
-}
+using lodforge::bench::median;
 
 // ns per collapse over `reps` runs of: 0 -> K in 1,000 equal steps and back (2,000 LOD changes).
 double linear_test(lodstrips::LodStrips& rt, int reps, std::size_t& per_change) {

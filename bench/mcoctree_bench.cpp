@@ -11,6 +11,7 @@
 // before each build through /proc/self/clear_refs) minus the resident set before it. Extraction is timed
 // over repeated calls to McOctreeExtractor::extract (median of 5 timings, each >= 50 ms of calls).
 
+#include "bench_util.h"
 #include "lodforge/error.h"
 #include "lodforge/mc_octree.h"
 #include "lodforge/mesh_io.h"
@@ -44,13 +45,7 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
-std::vector<std::string> split(const std::string& s) {
-    std::vector<std::string> out;
-    std::stringstream ss(s);
-    std::string item;
-    while (std::getline(ss, item, ',')) out.push_back(item);
-    return out;
-}
+using lodforge::bench::split;
 
 long status_kb(const char* key) {
     std::ifstream f("/proc/self/status");
@@ -81,10 +76,7 @@ template <class... A> void appendf(std::string& out, const char* fmt, A... args)
     out += buf;
 }
 
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    return v[v.size() / 2];
-}
+using lodforge::bench::median;
 
 struct Model {
     std::string key, label, path;

@@ -12,6 +12,7 @@
 //   lodforge_bench_morph [--models horse,sphere,cube] [--samples N] [--frame-stride S] [--reps N]
 //                        [--frame-cost max|sum] [--cost-frames N] [--orders single,per-frame,naive]
 
+#include "bench_util.h"
 #include "lodforge/error.h"
 #include "lodforge/morph.h"
 #include "lodforge/morph_file.h"
@@ -34,13 +35,7 @@ using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-std::vector<std::string> split(const std::string& s) {
-    std::vector<std::string> out;
-    std::stringstream ss(s);
-    std::string item;
-    while (std::getline(ss, item, ',')) out.push_back(item);
-    return out;
-}
+using lodforge::bench::split;
 
 struct Model {
     std::string key, label, path;

@@ -9,6 +9,7 @@
 //
 //   lodforge_bench_pack [--models dragon,dragon2,frag] [--reps N]
 
+#include "bench_util.h"
 #include "lodforge/file_hash.h"
 #include "lodforge/gltf_writer.h"
 #include "lodforge/lod_chain.h"
@@ -48,13 +49,7 @@ double median_seconds(int reps, const std::function<void()>& f) {
     return t[t.size() / 2];
 }
 
-std::vector<std::string> split(const std::string& s) {
-    std::vector<std::string> out;
-    std::stringstream ss(s);
-    std::string item;
-    while (std::getline(ss, item, ',')) out.push_back(item);
-    return out;
-}
+using lodforge::bench::split;
 
 int add_view(tinygltf::Model& m, const void* data, std::size_t bytes, int target, int stride) {
     auto& buffer = m.buffers[0].data;

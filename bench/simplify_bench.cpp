@@ -14,6 +14,7 @@
 // (it takes ~20 s per level) unless --openmesh-dragon-all. With --reps N > 1 the time is the median of N
 // runs of each method (errors are measured on the last run).
 
+#include "bench_util.h"
 #include "lodforge/error.h"
 #include "lodforge/mesh_io.h"
 #include "lodforge/metrics.h"
@@ -60,13 +61,7 @@ struct Outcome {
     double seconds = 0;
 };
 
-std::vector<std::string> split(const std::string& s) {
-    std::vector<std::string> out;
-    std::stringstream ss(s);
-    std::string item;
-    while (std::getline(ss, item, ',')) out.push_back(item);
-    return out;
-}
+using lodforge::bench::split;
 
 // The input's faces on a vertex subset (methods that keep input vertices: meshopt, OpenMesh).
 Mesh with_indices(const Mesh& in, std::vector<std::uint32_t> indices) {
@@ -211,10 +206,7 @@ Outcome run_vtk(const Mesh& in, float ratio, bool attributes) {
 }
 #endif
 
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    return v[v.size() / 2];
-}
+using lodforge::bench::median;
 
 }  // namespace
 

@@ -10,6 +10,7 @@
 //
 //   lodforge_bench_stripify [--models bunny,dragon2,dragon,frag] [--reps N] [--window N] [--no-vtk]
 
+#include "bench_util.h"
 #include "lodforge/error.h"
 #include "lodforge/mesh_io.h"
 #include "lodforge/stripify.h"
@@ -46,18 +47,9 @@ struct Model {
     std::string key, label, path;
 };
 
-std::vector<std::string> split(const std::string& s) {
-    std::vector<std::string> out;
-    std::stringstream ss(s);
-    std::string item;
-    while (std::getline(ss, item, ',')) out.push_back(item);
-    return out;
-}
+using lodforge::bench::split;
 
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    return v[v.size() / 2];
-}
+using lodforge::bench::median;
 
 // What one method produced: a buffer of the given primitive and its strip count.
 struct Output {

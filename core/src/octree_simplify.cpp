@@ -7,6 +7,7 @@
 // IEEE Visualization 1998; stored in Hoppe's 1999 form, quadric.h), solved with a pseudo-inverse around
 // the mean vertex as in Lindstrom's OoCS (SIGGRAPH 2000) and clamped into the node cell. Boundary edges
 // are found with a hash map of edge use counts (the document's list search is its §5.4 bottleneck).
+#include "union_find.h"
 #include "lodforge/octree_simplify.h"
 
 #include "ooc_internal.h"
@@ -194,24 +195,11 @@ NodeMesh simplify_node(const NodeMesh& input, const NodeQuadric& quadric, const 
     };
 
     // Components (union-find over the triangles' vertices) and whether each has a boundary edge.
-    std::vector<std::uint32_t> parent(n);
-    std::iota(parent.begin(), parent.end(), 0u);
-    auto find = [&](std::uint32_t x) {
-        while (parent[x] != x) {
-            parent[x] = parent[parent[x]];
-            x = parent[x];
-        }
-        return x;
-    };
-    auto unite = [&](std::uint32_t a, std::uint32_t b) {
-        a = find(a);
-        b = find(b);
-        if (a != b) parent[std::max(a, b)] = std::min(a, b);
-    };
+    detail::UnionFind sets(n);
     for (std::size_t t = 0; t < tris; ++t) {
         if (degenerate(t)) continue;
-        unite(idx[3 * t], idx[3 * t + 1]);
-        unite(idx[3 * t], idx[3 * t + 2]);
+        sets.unite(idx[3 * t], idx[3 * t + 1]);
+        sets.unite(idx[3 * t], idx[3 * t + 2]);
     }
     std::vector<std::uint8_t> has_boundary(n, 0);
     bool any_boundary = false;
@@ -219,7 +207,7 @@ NodeMesh simplify_node(const NodeMesh& input, const NodeQuadric& quadric, const 
         if (degenerate(t)) continue;
         for (int k = 0; k < 3; ++k)
             if (boundary(3 * t + k)) {
-                has_boundary[find(idx[3 * t])] = 1;
+                has_boundary[sets.find(idx[3 * t])] = 1;
                 any_boundary = true;
             }
     }
@@ -310,7 +298,7 @@ NodeMesh simplify_node(const NodeMesh& input, const NodeQuadric& quadric, const 
     std::vector<std::uint8_t> counted(n, 0);
     for (std::size_t t = 0; t < tris; ++t) {
         if (degenerate(t)) continue;
-        const std::uint32_t root = find(idx[3 * t]);
+        const std::uint32_t root = sets.find(idx[3 * t]);
         if (!has_boundary[root]) {
             if (!counted[root]) {
                 counted[root] = 1;

@@ -8,6 +8,7 @@
 // (IEEE Visualization 1999, quadric.h), eliminated into the position solve and evaluated at the
 // representative for the output attributes. The cell size comes from a secant search in log space
 // (triangle count ~ size^-2) bracketed like regula falsi.
+#include "union_find.h"
 #include "lodforge/simplify_cluster.h"
 
 #include "lodforge/error.h"
@@ -225,20 +226,7 @@ void Clusterer::build(const Grid& g, ClusterResult& out) {
     // seam vertices (a position shared by several vertices) are one class; elsewhere classes without
     // a seam vertex join the cell's largest class.
     const bool attributes = m.has_normals() || m.has_colors() || m.has_texcoords();
-    std::vector<std::uint32_t> parent(n);
-    std::iota(parent.begin(), parent.end(), 0u);
-    auto find = [&](std::uint32_t x) {
-        while (parent[x] != x) {
-            parent[x] = parent[parent[x]];
-            x = parent[x];
-        }
-        return x;
-    };
-    auto unite = [&](std::uint32_t a, std::uint32_t b) {
-        a = find(a);
-        b = find(b);
-        if (a != b) parent[std::max(a, b)] = std::min(a, b);
-    };
+    detail::UnionFind sets(n);
     std::vector<std::uint8_t> seam(n, 0);
     std::vector<std::uint8_t> cell_has_seam(cells, 0);
     if (params_.preserve_seams && attributes) {
@@ -264,38 +252,38 @@ void Clusterer::build(const Grid& g, ClusterResult& out) {
             const std::uint32_t c = g.cell_of[v];
             if (cell_has_seam[c]) continue;
             if (first[c] == kNone) first[c] = v;
-            else unite(first[c], v);
+            else sets.unite(first[c], v);
         }
         for (std::size_t f = 0; f < m.triangle_count(); ++f)
             for (int k = 0; k < 3; ++k) {
                 const std::uint32_t a = m.indices[3 * f + k], b = m.indices[3 * f + (k + 1) % 3];
-                if (g.cell_of[a] == g.cell_of[b] && cell_has_seam[g.cell_of[a]]) unite(a, b);
+                if (g.cell_of[a] == g.cell_of[b] && cell_has_seam[g.cell_of[a]]) sets.unite(a, b);
             }
         // Classes without a seam vertex join the cell's largest class.
         std::vector<std::uint32_t> size(n, 0);
         std::vector<std::uint8_t> class_has_seam(n, 0);
         for (std::uint32_t v = 0; v < n; ++v)
             if (used_[v] && cell_has_seam[g.cell_of[v]]) {
-                ++size[find(v)];
-                if (seam[v]) class_has_seam[find(v)] = 1;
+                ++size[sets.find(v)];
+                if (seam[v]) class_has_seam[sets.find(v)] = 1;
             }
         std::vector<std::uint32_t> largest(cells, kNone);
         for (std::uint32_t v = 0; v < n; ++v) {
-            if (!used_[v] || !cell_has_seam[g.cell_of[v]] || find(v) != v) continue;
+            if (!used_[v] || !cell_has_seam[g.cell_of[v]] || sets.find(v) != v) continue;
             std::uint32_t& l = largest[g.cell_of[v]];
             if (l == kNone || size[v] > size[l]) l = v;
         }
         for (std::uint32_t v = 0; v < n; ++v) {
             if (!used_[v] || !cell_has_seam[g.cell_of[v]]) continue;
-            const std::uint32_t r = find(v);
-            if (!class_has_seam[r]) unite(largest[g.cell_of[v]], v);
+            const std::uint32_t r = sets.find(v);
+            if (!class_has_seam[r]) sets.unite(largest[g.cell_of[v]], v);
         }
     }
     std::vector<std::uint32_t> class_of(n, kNone);
     std::vector<std::uint32_t> class_cell;
     for (std::uint32_t v = 0; v < n; ++v) {
         if (!used_[v]) continue;
-        const std::uint32_t r = find(v);
+        const std::uint32_t r = sets.find(v);
         if (class_of[r] == kNone) {
             class_of[r] = static_cast<std::uint32_t>(class_cell.size());
             class_cell.push_back(g.cell_of[v]);
