@@ -140,6 +140,15 @@ MethodLevels build_mcoctree_levels(const Mesh& mesh, const Preset& preset, const
                             std::to_string(out.target_triangles[i]) + " triangles (its root has " +
                             std::to_string(mc_triangles_at(built.tree, 0)) + ")");
         out.levels.push_back(e.mesh);
+        if (i == 0)
+            for (const McCell& c : extractor.cells(e.priority)) {
+                StructureCell cell;
+                for (int k = 0; k < 3; ++k) cell.min[k] = c.min[k];
+                cell.size = c.size;
+                cell.depth = static_cast<int>(built.tree.levels) - c.level;  // McCell counts levels from the leaves
+                cell.leaf = c.level == 0;
+                out.cells.push_back(cell);
+            }
     }
     if (mesh.has_texcoords())
         out.notes.push_back("the marching-cube surface is rebuilt from points: texture coordinates and materials "
@@ -169,6 +178,9 @@ MethodLevels build_octree_levels(const Mesh& mesh, const Preset& preset, const s
     for (const std::string& w : built.warnings) out.notes.push_back(w);
 
     OctreeStore store(asset);
+    out.octree_stats = store.stats();
+    for (const OctreeCell& c : store.cells())
+        out.cells.push_back({{c.min[0], c.min[1], c.min[2]}, c.size, c.depth, c.leaf, c.triangles});
     const std::vector<std::uint64_t>& per_level = built.stats.triangles_per_level;
     for (std::size_t i = 0; i < out.target_triangles.size(); ++i) {
         check_progress(progress, 0.8 + 0.2 * double(i) / double(out.target_triangles.size()), "Octree levels");

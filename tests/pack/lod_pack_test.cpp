@@ -6,6 +6,7 @@
 
 #include "lodforge/error.h"
 #include "lodforge/file_hash.h"
+#include "lodforge/lod_methods.h"
 #include "lodforge/lod_pack.h"
 #include "lodforge/mesh_io.h"
 
@@ -361,3 +362,59 @@ TEST(LodPack, ExistingOutputDirectoryKeepsOtherFilesAndSurvivesAFailure) {
 }
 
 }  // namespace
+
+// The structure methods hand back their cells for the studio's overlay: every octree node with the
+// octree's statistics, the MC octree's finest cut, nothing for LODStrips.
+TEST(LodPack, StructureMethodsReturnTheirCells) {
+    const Mesh mesh = read_mesh(shared_data("tex-spot/spot_triangulated.obj"));
+    Preset preset;
+    preset.levels = {{LodTarget::Kind::ratio, 0.5}, {LodTarget::Kind::ratio, 0.2}};
+    preset.octree.max_triangles_per_node = 300;
+    preset.mcoctree.resolution = 48;
+    const auto inside = [&](const StructureCell& c) {
+        for (const Vec3f& p : mesh.positions)
+            for (int k = 0; k < 3; ++k)
+                if (p[k] < c.min[k] - 1e-4f || p[k] > c.min[k] + c.size + 1e-4f) return false;
+        return true;
+    };
+
+    preset.method = LodMethod::octree;
+    const MethodLevels octree = build_method_levels(mesh, preset, "spot.obj");
+    const OctreeStats& s = octree.octree_stats;
+    ASSERT_EQ(octree.cells.size(), s.nodes);
+    ASSERT_GT(s.leaves, 1u);
+    std::size_t leaves = 0;
+    std::uint64_t leafTriangles = 0;
+    int deepest = 0;
+    for (const StructureCell& c : octree.cells) {
+        EXPECT_GT(c.size, 0.f);
+        deepest = std::max(deepest, c.depth);
+        if (c.leaf) {
+            ++leaves;
+            leafTriangles += c.triangles;
+        }
+    }
+    EXPECT_EQ(leaves, s.leaves);
+    EXPECT_EQ(deepest, s.depth_reached);
+    EXPECT_GE(s.depth_reached, 2);
+    const auto root = std::find_if(octree.cells.begin(), octree.cells.end(), [](const StructureCell& c) { return c.depth == 0; });
+    ASSERT_NE(root, octree.cells.end());
+    EXPECT_TRUE(inside(*root));
+    EXPECT_EQ(root->triangles, leafTriangles);
+    EXPECT_EQ(s.triangles_per_level.front(), mesh.triangle_count());
+
+    preset.method = LodMethod::mcoctree;
+    const MethodLevels mc = build_method_levels(mesh, preset, "spot.obj");
+    EXPECT_EQ(mc.octree_stats.nodes, 0u);
+    ASSERT_GT(mc.cells.size(), 8u);
+    std::set<int> depths;
+    for (const StructureCell& c : mc.cells) {
+        EXPECT_GT(c.size, 0.f);
+        EXPECT_GE(c.depth, 0);
+        depths.insert(c.depth);
+    }
+    EXPECT_GE(depths.size(), 1u);
+
+    preset.method = LodMethod::lodstrips;
+    EXPECT_TRUE(build_method_levels(mesh, preset, "spot.obj").cells.empty());
+}

@@ -10,6 +10,7 @@
 #pragma once
 
 #include "lodforge/mesh.h"
+#include "lodforge/octree_store.h"
 #include "lodforge/preset.h"
 #include "lodforge/progress.h"
 
@@ -20,11 +21,24 @@
 
 namespace lodforge {
 
+// A cube of the method's structure, for overlays (the studio's octree cells).
+struct StructureCell {
+    float min[3] = {0, 0, 0};
+    float size = 0;
+    int depth = 0;                // root 0
+    bool leaf = false;
+    std::uint64_t triangles = 0;  // input triangles under the cell (octree); 0 where not known (MC octree)
+};
+
 struct MethodLevels {
     std::vector<Mesh> levels;                   // one per preset level, fine to coarse
     std::vector<std::size_t> target_triangles;  // what each level asked for
     std::vector<std::string> notes;             // for the user: targets a method could not meet, ...
     std::vector<std::uint8_t> lodstrips_file;   // the encoded .lodstrips (lodstrips method only)
+    // The structure's cells: every node of the out-of-core octree; the cut of the finest level of the
+    // MC octree; none for LODStrips.
+    std::vector<StructureCell> cells;
+    OctreeStats octree_stats;                   // octree method only (nodes == 0 otherwise)
 };
 
 // Triangle target of a preset level for a mesh of `input_triangles`; Error(argument) for error targets
