@@ -257,6 +257,14 @@ void MainWindow::createActions() {
                                      tr("Colour each point by its shading normal"));
     uvCheckerAction_ = viewToggle(tr("&UV checker"), QStringLiteral("actionUvChecker"), QKeySequence(Qt::Key_U),
                                   defaults.uvChecker, tr("A checker texture on the texture coordinates"));
+    cellsAction_ = viewToggle(tr("&Octree cells"), QStringLiteral("actionCells"), QKeySequence(Qt::Key_O),
+                              defaults.cells,
+                              tr("The cells of the octree the levels were cut from, as wireframe boxes"));
+    cellsByTrianglesAction_ = viewToggle(tr("Cells coloured by triangle &count"),
+                                         QStringLiteral("actionCellsByTriangles"),
+                                         QKeySequence(Qt::SHIFT | Qt::Key_O), defaults.cellsByTriangles,
+                                         tr("Colour the cells by the input triangles under them instead of "
+                                            "their depth"));
 
     using widgets::ViewOptions;
     viewToggles_ = {{wireframeAction_, &ViewOptions::wireframe, QStringLiteral("wireframe")},
@@ -265,7 +273,9 @@ void MainWindow::createActions() {
                     {vertexColorsAction_, &ViewOptions::vertexColors, QStringLiteral("vertexColors")},
                     {edgesAction_, &ViewOptions::edges, QStringLiteral("edges")},
                     {normalColorsAction_, &ViewOptions::normalColors, QStringLiteral("normalColors")},
-                    {uvCheckerAction_, &ViewOptions::uvChecker, QStringLiteral("uvChecker")}};
+                    {uvCheckerAction_, &ViewOptions::uvChecker, QStringLiteral("uvChecker")},
+                    {cellsAction_, &ViewOptions::cells, QStringLiteral("cells")},
+                    {cellsByTrianglesAction_, &ViewOptions::cellsByTriangles, QStringLiteral("cellsByTriangles")}};
 
     resetViewAction_ = action(tr("&Reset view"), QStringLiteral("actionResetView"), QKeySequence(Qt::Key_R),
                               tr("Frame the mesh from the default viewpoint"));
@@ -309,6 +319,9 @@ void MainWindow::createMenus() {
     for (QAction* a : {wireframeAction_, edgesAction_, flatShadingAction_, texturesAction_, uvCheckerAction_,
                        vertexColorsAction_, normalColorsAction_})
         viewMenu->addAction(a);
+    viewMenu->addSeparator();
+    viewMenu->addAction(cellsAction_);
+    viewMenu->addAction(cellsByTrianglesAction_);
     viewMenu->addSeparator();
     viewMenu->addAction(resetViewAction_);
     viewMenu->addSeparator();
@@ -646,6 +659,9 @@ void MainWindow::buildLodChain() {
                           .arg(l.buildMs, 0, 'f', 1)
                           .arg(l.stopReason));
         }
+        if (!out->levels.empty() && !out->levels.front().structureSummary.isEmpty())
+            appendLog(QStringLiteral("  ") + out->levels.front().structureSummary);
+        explainMissingCells();
     });
 }
 
@@ -868,6 +884,14 @@ void MainWindow::applyViewActions() {
     widgets::ViewOptions options;
     for (const ViewToggle& t : viewToggles_) options.*t.option = t.action->isChecked();
     levels_->setViewOptions(options);
+    explainMissingCells();
+}
+
+void MainWindow::explainMissingCells() {
+    if (!cellsAction_->isChecked() || levels_->hasCells()) return;
+    statusBar()->showMessage(tr("Octree cells: these levels were not cut from an octree; build with the "
+                                "Out-of-core octree or Marching-cube octree method to see its cells"),
+                             10000);
 }
 
 QImage MainWindow::grabWindowImage() {

@@ -140,6 +140,8 @@ private:
     void addRecentFile(const QString& path);
     void updateRecentMenu();
     void applyViewActions();
+    // The cells overlay is on but the levels shown carry no cells: say why in the status bar.
+    void explainMissingCells();
     void setBusyUi(bool busy, const QString& format = {});
     void updateActions();
     void appendLog(const QString& text);
@@ -186,6 +188,8 @@ private:
     QAction* edgesAction_ = nullptr;
     QAction* normalColorsAction_ = nullptr;
     QAction* uvCheckerAction_ = nullptr;
+    QAction* cellsAction_ = nullptr;
+    QAction* cellsByTrianglesAction_ = nullptr;
     QAction* resetViewAction_ = nullptr;
     QMenu* recentMenu_ = nullptr;
     // Each View toggle with the option it sets and its settings key.

@@ -1,5 +1,5 @@
 // lodforge-studio [FILE] [--screenshot OUT.png [--size WxH]] [--wireframe] [--flat] [--no-texture]
-//                 [--no-colors] [--edges] [--normals] [--uv-checker]
+//                 [--no-colors] [--edges] [--normals] [--uv-checker] [--cells [--cells-by-triangles]]
 //                 [--preset P.json] [--lod-chain R1,R2,..] [--heatmap] [--side-by-side] [--level N] [--compare]
 #include "MainWindow.h"
 
@@ -132,6 +132,10 @@ struct CommandLine {
     QCommandLineOption edges{QStringLiteral("edges"), QStringLiteral("Start with edges drawn over the shading.")};
     QCommandLineOption normals{QStringLiteral("normals"), QStringLiteral("Start with normals shown as colours.")};
     QCommandLineOption uvChecker{QStringLiteral("uv-checker"), QStringLiteral("Start with the UV checker texture.")};
+    QCommandLineOption cells{QStringLiteral("cells"),
+                             QStringLiteral("Start with the octree cells drawn over the levels (octree methods).")};
+    QCommandLineOption cellsByTriangles{QStringLiteral("cells-by-triangles"),
+                                        QStringLiteral("Colour the octree cells by triangle count, not depth.")};
     QCommandLineOption preset{QStringLiteral("preset"),
                               QStringLiteral("Load the parameters from a preset JSON file and build its LOD chain."),
                               QStringLiteral("P.json")};
@@ -156,8 +160,8 @@ struct CommandLine {
         parser.addVersionOption();
         parser.addPositionalArgument(QStringLiteral("file"),
                                      QStringLiteral("Mesh to open (PLY, OBJ, glTF, GLB)."), QStringLiteral("[FILE]"));
-        parser.addOptions({screenshot, size, wireframe, flat, noTexture, noColors, edges, normals, uvChecker, preset,
-                           lodChain, heatmap, sideBySide, level, compare});
+        parser.addOptions({screenshot, size, wireframe, flat, noTexture, noColors, edges, normals, uvChecker, cells,
+                           cellsByTriangles, preset, lodChain, heatmap, sideBySide, level, compare});
     }
 };
 
@@ -226,6 +230,8 @@ int main(int argc, char* argv[]) {
     options.edges = parser.isSet(commandLine.edges);
     options.normalColors = parser.isSet(commandLine.normals);
     options.uvChecker = parser.isSet(commandLine.uvChecker);
+    options.cells = parser.isSet(commandLine.cells);
+    options.cellsByTriangles = parser.isSet(commandLine.cellsByTriangles);
     const bool viewFlags = options != lodforge::widgets::ViewOptions{};
 
     StartupPlan plan;

@@ -117,6 +117,11 @@ std::shared_ptr<const MeshScene> LevelViews::sceneOf(int level) const {
 void LevelViews::showLevelIn(VtkView* view, int level) {
     std::shared_ptr<const MeshScene> scene = sceneOf(level);
     if (view->scene() != scene) view->setScene(std::move(scene), false);
+    view->setOverlayScene(level >= 0 && level < levelCount() ? levels_[std::size_t(level)].cells : nullptr);
+}
+
+bool LevelViews::hasCells() const {
+    return std::any_of(levels_.begin(), levels_.end(), [](const LevelData& l) { return l.cells != nullptr; });
 }
 
 void LevelViews::setLevels(std::vector<LevelData> levels, bool resetCamera) {

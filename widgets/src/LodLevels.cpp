@@ -9,6 +9,7 @@
 #include "lodforge/widgets/MeshScene.h"
 
 #include <QElapsedTimer>
+#include <QStringList>
 
 #include <algorithm>
 #include <cmath>
@@ -164,6 +165,13 @@ std::vector<LevelData> buildStructureLevels(const LevelData& original, const Pre
     MethodLevels built = build_method_levels(*original.mesh, preset, std::string(), &buildProgress);
     const double buildMs = static_cast<double>(timer.nsecsElapsed()) / 1e6 / double(built.levels.size());
     std::vector<LevelData> levels{original};
+    levels.front().cells = buildCellsScene(built.cells);
+    if (preset.method == LodMethod::octree) {
+        levels.front().structureSummary = octreeSummary(built.octree_stats);
+    } else if (!built.cells.empty()) {
+        levels.front().structureSummary =
+            QStringLiteral("Marching-cube octree: %L1 cells in the finest level's cut").arg(built.cells.size());
+    }
     const auto n = static_cast<double>(built.levels.size());
     for (std::size_t k = 0; k < built.levels.size(); ++k) {
         ProgressRange measureProgress(progress, 0.6 + 0.4 * double(k) / n, 0.6 + 0.4 * double(k + 1) / n);
@@ -177,12 +185,25 @@ std::vector<LevelData> buildStructureLevels(const LevelData& original, const Pre
         // LODStrips levels are vertex subsets of the original (half-edge collapses); the others are new
         // surfaces that carry their own error field.
         level.verticesOnOriginal = preset.method == LodMethod::lodstrips;
+        level.cells = levels.front().cells;
+        level.structureSummary = levels.front().structureSummary;
         levels.push_back(std::move(level));
     }
     return levels;
 }
 
 }  // namespace
+
+QString octreeSummary(const OctreeStats& stats) {
+    if (stats.nodes == 0) return {};
+    QStringList perLevel;
+    for (std::uint64_t t : stats.triangles_per_level) perLevel << QStringLiteral("%L1").arg(t);
+    return QStringLiteral("Octree: %L1 nodes, %L2 leaves, depth %3 reached; triangles per level %4")
+        .arg(stats.nodes)
+        .arg(stats.leaves)
+        .arg(stats.depth_reached)
+        .arg(perLevel.join(QStringLiteral(" · ")));
+}
 
 bool methodHasEngine(LodMethod) { return true; }
 

@@ -35,9 +35,13 @@ public:
     // Heat map scenes: a float point array named scalarArrayName() on the single part.
     bool hasScalars = false;
     double scalarMax = 0;
+    // Cells overlay scenes: one part of lines with the cell data colour arrays named below.
+    bool isCells = false;
 };
 
 inline const char* scalarArrayName() { return "Scalars"; }
+inline const char* cellDepthColorsName() { return "DepthColors"; }
+inline const char* cellTriangleColorsName() { return "TriangleColors"; }
 
 // Per-vertex normals: the mesh's own when present, else area-weighted face normals summed per surface
 // point (position_ids), so all wedges of a point share one normal. Points without area get +Z.

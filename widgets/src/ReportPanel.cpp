@@ -58,6 +58,11 @@ ReportPanel::ReportPanel(QWidget* parent) : QWidget(parent) {
     title_->setObjectName(QStringLiteral("reportTitle"));
     title_->setWordWrap(true);
     layout->addWidget(title_);
+    structureLabel_ = new QLabel(this);
+    structureLabel_->setObjectName(QStringLiteral("reportStructure"));
+    structureLabel_->setWordWrap(true);
+    structureLabel_->hide();
+    layout->addWidget(structureLabel_);
     auto* splitter = new QSplitter(Qt::Vertical, this);
     table_ = new QTableWidget(0, int(columnTitles.size()), splitter);
     table_->setObjectName(QStringLiteral("reportTable"));
@@ -77,6 +82,8 @@ void ReportPanel::clear() {
     rows_.clear();
     table_->setRowCount(0);
     title_->setText(tr("Build a LOD chain to see its report."));
+    structure_.clear();
+    structureLabel_->hide();
     updateChart();
 }
 
@@ -99,6 +106,9 @@ void ReportPanel::setReport(const QString& meshName, const QString& presetName, 
     }
     title_->setText(tr("%1 — preset “%2”, %3, %n level(s) besides the original", "", int(rows_.size()) - 1)
                         .arg(meshName_, presetName_, method_));
+    structure_ = levels.empty() ? QString() : levels.front().structureSummary;
+    structureLabel_->setText(structure_);
+    structureLabel_->setVisible(!structure_.isEmpty());
     updateChart();
 }
 
@@ -163,6 +173,7 @@ QString ReportPanel::html(const QList<QImage>& thumbnails, bool embedImages) con
     out += QStringLiteral("<p>Preset “%1”, method %2. Generated %3 by LodForge Studio.</p>\n")
                .arg(presetName_.toHtmlEscaped(), method_.toHtmlEscaped(),
                     QDateTime::currentDateTime().toString(Qt::ISODate));
+    if (!structure_.isEmpty()) out += QStringLiteral("<p>%1</p>\n").arg(structure_.toHtmlEscaped());
     out += QStringLiteral("<table border=\"1\" cellpadding=\"4\" cellspacing=\"0\">\n<tr>");
     for (const QString& title : columnTitles) out += QStringLiteral("<th>%1</th>").arg(title.toHtmlEscaped());
     if (!thumbnails.isEmpty()) out += QStringLiteral("<th>View</th>");

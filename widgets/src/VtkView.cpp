@@ -171,6 +171,11 @@ struct VtkView::Private {
     vtkNew<vtkPlane> keepRight;  // the scene's half
     vtkNew<vtkPlane> keepLeft;   // the compare scene's half
 
+    std::shared_ptr<const MeshScene> overlayScene;
+    vtkSmartPointer<vtkActor> overlayActor;
+    vtkSmartPointer<vtkPolyDataMapper> overlayMapper;
+    void applyOverlayOptions();
+
     vtkSmartPointer<vtkCamera> ownCamera;
     vtkSmartPointer<vtkTexture> checker;
     vtkNew<vtkLookupTable> lut;
@@ -503,7 +508,43 @@ void VtkView::setViewOptions(const ViewOptions& options) {
 
 const ViewOptions& VtkView::viewOptions() const { return d->options; }
 
+void VtkView::setOverlayScene(std::shared_ptr<const MeshScene> overlay) {
+    if (overlay == d->overlayScene) return;
+    if (d->overlayActor) d->renderer->RemoveActor(d->overlayActor);
+    d->overlayActor = nullptr;
+    d->overlayMapper = nullptr;
+    d->overlayScene = std::move(overlay);
+    if (d->overlayScene && !d->overlayScene->parts.empty()) {
+        d->overlayMapper = vtkSmartPointer<vtkPolyDataMapper>::New();
+        d->overlayMapper->SetInputData(d->overlayScene->parts.front().polyData);
+        d->overlayActor = vtkSmartPointer<vtkActor>::New();
+        d->overlayActor->SetMapper(d->overlayMapper);
+        d->overlayActor->PickableOff();
+        vtkProperty* property = d->overlayActor->GetProperty();
+        property->SetLighting(false);  // the line colour is the cell's colour, whatever the light
+        property->SetLineWidth(1.5f);
+        d->renderer->AddActor(d->overlayActor);
+    }
+    d->applyOverlayOptions();
+    update();
+}
+
+const std::shared_ptr<const MeshScene>& VtkView::overlayScene() const { return d->overlayScene; }
+
+bool VtkView::overlayVisible() const { return d->overlayActor && d->options.cells; }
+
+void VtkView::Private::applyOverlayOptions() {
+    if (!overlayActor) return;
+    overlayActor->SetVisibility(options.cells);
+    overlayMapper->SetScalarModeToUseCellFieldData();
+    overlayMapper->SelectColorArray(options.cellsByTriangles ? cellTriangleColorsName() : cellDepthColorsName());
+    overlayMapper->SetColorModeToDirectScalars();
+    overlayMapper->ScalarVisibilityOn();
+    if (options.cells) renderer->ResetCameraClippingRange();  // the root cube may reach past the mesh
+}
+
 void VtkView::applyViewOptions() {
+    d->applyOverlayOptions();
     const bool split = !d->compareActors.empty();
     d->applyOptions(d->actors, split ? d->keepRight.Get() : nullptr);
     d->applyOptions(d->compareActors, d->keepLeft);
@@ -593,7 +634,11 @@ void VtkView::resetView() {
     camera->Azimuth(215.0);
     camera->Elevation(15.0);
     camera->OrthogonalizeViewUp();
+    // Frame the mesh, not the overlay's root cube; but keep the cubes inside the clipping range.
+    const bool overlay = d->overlayActor && d->overlayActor->GetVisibility();
+    if (overlay) d->overlayActor->VisibilityOff();
     d->renderer->ResetCamera();
+    if (overlay) d->overlayActor->VisibilityOn();
     d->renderer->ResetCameraClippingRange();
     update();
     emit cameraChanged();

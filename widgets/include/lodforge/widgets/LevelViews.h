@@ -45,6 +45,8 @@ public:
     // Heat maps of the current levels (computeHeatmaps); shown while heatmapVisible.
     void setHeatmaps(HeatmapData heatmaps);
     bool hasHeatmaps() const { return !heatmaps_.scenes.empty(); }
+    // Whether some level carries a structure's cells (LevelData::cells) for the cells overlay.
+    bool hasCells() const;
     const HeatmapData& heatmaps() const { return heatmaps_; }
     void setHeatmapVisible(bool visible);
     bool heatmapVisible() const { return heatmapVisible_; }

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "lodforge/image_decode.h"
+#include "lodforge/lod_methods.h"
 #include "lodforge/mesh.h"
 #include "lodforge/preset.h"
 #include "lodforge/progress.h"
@@ -30,7 +31,15 @@ struct LevelData {
     bool verticesOnOriginal = true;
     std::shared_ptr<const lodforge::Mesh> mesh;
     std::shared_ptr<const MeshScene> scene;
+    // Levels cut from a structure (octree, MC octree; also their level 0): the structure's cells as an
+    // overlay scene (buildCellsScene), and a summary of it for the report; null / empty otherwise.
+    std::shared_ptr<const MeshScene> cells;
+    QString structureSummary;
 };
+
+// "Octree: 85 nodes, 64 leaves, depth 3 reached; triangles per level 5,856 · 2,900 · 1,210"; empty when
+// `stats` describes no tree.
+QString octreeSummary(const lodforge::OctreeStats& stats);
 
 // Whether the method has an engine in this build (collapse and cluster today).
 bool methodHasEngine(lodforge::LodMethod method);

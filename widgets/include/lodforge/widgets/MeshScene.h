@@ -5,6 +5,7 @@
 #pragma once
 
 #include "lodforge/image_decode.h"
+#include "lodforge/lod_methods.h"
 #include "lodforge/mesh.h"
 
 #include <cstddef>
@@ -34,6 +35,11 @@ std::shared_ptr<const MeshScene> buildMeshScene(
 // Throws lodforge::Error(argument) when the sizes differ.
 std::shared_ptr<const MeshScene> buildScalarScene(const lodforge::Mesh& mesh, const std::vector<float>& values);
 
+// A cells overlay scene: every cell's cube as its 12 edges (line segments), with two per-line colour
+// arrays, by depth and by triangle count (cellDepthColor, cellTriangleColor); the view shows the one its
+// options ask for. Empty `cells`: nullptr.
+std::shared_ptr<const MeshScene> buildCellsScene(const std::vector<lodforge::StructureCell>& cells);
+
 struct MeshScenePartInfo {
     std::string material;        // material name, empty when the mesh has no materials
     std::size_t points = 0;      // render vertices of this part
@@ -48,6 +54,8 @@ struct MeshSceneInfo {
     bool hasColors = false;       // per-vertex RGBA colours
     bool computedNormals = false; // the mesh had no normals; smooth ones were computed
     bool hasScalars = false;      // a heat map scene (buildScalarScene)
+    bool isCells = false;         // a cells overlay scene (buildCellsScene)
+    std::size_t lines = 0;        // its line segments
     double scalarMax = 0;         // its largest value
 };
 

@@ -40,6 +40,9 @@ public:
     bool isEmpty() const { return rows_.empty(); }
     const std::vector<ReportRow>& rows() const { return rows_; }
     QTableWidget* table() const { return table_; }
+    // The structure's summary (LevelData::structureSummary of the original; octree statistics), shown
+    // under the title; empty for the methods without one.
+    const QString& structureSummary() const { return structure_; }
 
     // The chart as an image (for the exported report).
     QImage chartImage(QSize size) const;
@@ -55,6 +58,8 @@ private:
     void updateChart();
 
     QLabel* title_ = nullptr;
+    QLabel* structureLabel_ = nullptr;
+    QString structure_;
     QTableWidget* table_ = nullptr;
     QChartView* chart_ = nullptr;
     QString meshName_, presetName_, method_;

@@ -14,6 +14,8 @@ struct ViewOptions {
     bool edges = false;         // triangle edges drawn over the shaded surface
     bool normalColors = false;  // colour = normal (x, y, z -> r, g, b), unlit: shows the shading normals
     bool uvChecker = false;     // a checker texture on the texture coordinates instead of the mesh's texture
+    bool cells = false;         // the structure's cells (octree, MC octree) as wireframe boxes over the mesh
+    bool cellsByTriangles = false;  // colour the cells by their triangle count instead of their depth
 
     friend bool operator==(const ViewOptions&, const ViewOptions&) = default;
 };
@@ -21,5 +23,10 @@ struct ViewOptions {
 // The view's solid background. Tests and the screenshot checker use it to tell the model's pixels from
 // the background, so it is one constant rather than a setting.
 inline QColor viewBackgroundColor() { return QColor(46, 52, 64); }
+
+// The cells overlay's line colours (docs/studio.md): one saturated hue per depth (cycling after eight);
+// by triangle count, viridis over log(1 + triangles) / log(1 + the largest count of the scene).
+QColor cellDepthColor(int depth);
+QColor cellTriangleColor(double triangles, double maxTriangles);
 
 }  // namespace lodforge::widgets

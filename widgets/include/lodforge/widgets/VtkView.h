@@ -8,7 +8,8 @@
 // Besides meshes it shows heat map scenes (buildScalarScene): scalars colour-mapped with viridis over
 // [0, scalarRange()], a scalar bar, and the value under the cursor (scalarHovered). A compare scene
 // splits the view: the compare scene left of the split position, the scene right of it, both in the
-// same camera (a swipe between the original and a level).
+// same camera (a swipe between the original and a level). An overlay scene (the structure's cells) is
+// drawn as coloured lines over whatever is shown.
 #pragma once
 
 #include "lodforge/widgets/ViewOptions.h"
@@ -61,6 +62,14 @@ public:
     const std::shared_ptr<const MeshScene>& compareScene() const;
     void setSplitPosition(double fraction);  // 0 = left edge, 1 = right edge
     double splitPosition() const;
+
+    // A cells overlay (buildCellsScene; nullptr: none) drawn as lines over the scene while the view
+    // options ask for cells, coloured by depth or triangle count as they say. Not picked, not framed by
+    // resetView.
+    void setOverlayScene(std::shared_ptr<const MeshScene> overlay);
+    const std::shared_ptr<const MeshScene>& overlayScene() const;
+    // Whether an overlay is drawn now (a scene is set and the options show cells).
+    bool overlayVisible() const;
 
     // Frames rendered since construction; tests and screenshots wait for it to move.
     quint64 frameCount() const;
