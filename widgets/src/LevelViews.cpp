@@ -1,8 +1,11 @@
 #include "lodforge/widgets/LevelViews.h"
 
+#include "lodforge/lodstrips.h"
+#include "lodforge/lodstrips_runtime.h"
 #include "lodforge/widgets/MeshScene.h"
 #include "lodforge/widgets/VtkView.h"
 
+#include <QCheckBox>
 #include <QGridLayout>
 #include <QHBoxLayout>
 #include <QLabel>
@@ -31,7 +34,52 @@ QLabel* makeLabel(QWidget* parent, const QString& name) {
 
 QString formatDistance(double value) { return QString::number(value, 'g', 3); }
 
+constexpr int continuousSteps = 1000;
+
+// The runtime's current triangles with every strip in its own colour: each strip gets its own copies of
+// the vertices it uses (a vertex shared by two strips would blend their colours), as wedges of the
+// original points so the computed normals stay smooth. Materials and texture coordinates are dropped so
+// the view shows the colours.
+Mesh stripColouredMesh(const lodstrips::LodStrips& runtime, const Mesh& current) {
+    Mesh out;
+    std::vector<std::uint32_t> triangles;
+    std::vector<std::uint32_t> local(current.vertex_count(), UINT32_MAX);
+    for (std::size_t s = 0; s < runtime.strip_count(); ++s) {
+        triangles.clear();
+        runtime.append_strip_triangles(s, triangles);
+        if (triangles.empty()) continue;
+        const QColor c = stripColor(s);
+        const Vec4f colour{float(c.redF()), float(c.greenF()), float(c.blueF()), 1.f};
+        const std::size_t first = out.positions.size();
+        for (std::uint32_t v : triangles) {
+            if (local[v] == UINT32_MAX || local[v] < first) {
+                local[v] = std::uint32_t(out.positions.size());
+                out.positions.push_back(current.positions[v]);
+                if (current.has_normals()) out.normals.push_back(current.normals[v]);
+                out.colors.push_back(colour);
+                out.position_ids.push_back(current.position_ids.empty() ? v : current.position_ids[v]);
+            }
+            out.indices.push_back(local[v]);
+        }
+    }
+    // position_ids must be dense: renumber the point ids in order of first use.
+    std::vector<std::uint32_t> dense(current.vertex_count(), UINT32_MAX);
+    std::uint32_t next = 0;
+    for (std::uint32_t& id : out.position_ids) {
+        if (id >= dense.size()) dense.resize(std::size_t(id) + 1, UINT32_MAX);
+        if (dense[id] == UINT32_MAX) dense[id] = next++;
+        id = dense[id];
+    }
+    return out;
+}
+
 }  // namespace
+
+QColor stripColor(std::size_t strip) {
+    // Golden-ratio steps around the hue circle: consecutive strips land far apart.
+    const double hue = std::fmod(double(strip) * 0.6180339887498949, 1.0);
+    return QColor::fromHsvF(float(hue), 0.8f, 0.95f);
+}
 
 LevelViews::LevelViews(QWidget* parent) : QWidget(parent) {
     auto* outer = new QVBoxLayout(this);
@@ -61,6 +109,8 @@ LevelViews::LevelViews(QWidget* parent) : QWidget(parent) {
     singleLayout->addWidget(singleLabel_);
     singleLayout->addWidget(single_, 1);
     singleLayout->addLayout(sliderRow);
+    setupContinuous();
+    singleLayout->addWidget(continuousRow_);
     stack_->addWidget(singlePage_);
     connect(slider_, &QSlider::valueChanged, this, &LevelViews::setCurrentLevel);
     connectView(single_, -1);
@@ -75,6 +125,74 @@ LevelViews::LevelViews(QWidget* parent) : QWidget(parent) {
 }
 
 LevelViews::~LevelViews() = default;
+
+void LevelViews::setupContinuous() {
+    continuousRow_ = new QWidget(singlePage_);
+    continuousRow_->setObjectName(QStringLiteral("continuousRow"));
+    auto* row = new QHBoxLayout(continuousRow_);
+    row->setContentsMargins(6, 0, 6, 2);
+    auto* caption = new QLabel(tr("Continuous LOD"), continuousRow_);
+    continuousSlider_ = new QSlider(Qt::Horizontal, continuousRow_);
+    continuousSlider_->setObjectName(QStringLiteral("continuousSlider"));
+    continuousSlider_->setRange(0, continuousSteps);
+    continuousSlider_->setValue(continuousSteps);
+    continuousSlider_->setPageStep(50);
+    continuousSlider_->setToolTip(tr("LODStrips runtime: 0 = the coarsest stored level, 1 = full detail"));
+    continuousLabel_ = new QLabel(continuousRow_);
+    continuousLabel_->setObjectName(QStringLiteral("continuousLabel"));
+    continuousLabel_->setMinimumWidth(170);
+    stripColors_ = new QCheckBox(tr("Colour strips"), continuousRow_);
+    stripColors_->setObjectName(QStringLiteral("stripColors"));
+    stripColors_->setToolTip(tr("Every triangle strip in its own colour"));
+    row->addWidget(caption);
+    row->addWidget(continuousSlider_, 1);
+    row->addWidget(continuousLabel_);
+    row->addWidget(stripColors_);
+    continuousRow_->setVisible(false);
+    connect(continuousSlider_, &QSlider::valueChanged, this,
+            [this](int value) { setContinuousFactor(double(value) / continuousSteps); });
+    connect(stripColors_, &QCheckBox::toggled, this, &LevelViews::setStripColors);
+}
+
+void LevelViews::setContinuousFactor(double factor) {
+    if (!runtime_) return;
+    factor = std::clamp(std::isfinite(factor) ? factor : 1.0, 0.0, 1.0);
+    {
+        const QSignalBlocker block(continuousSlider_);
+        continuousSlider_->setValue(int(std::lround(factor * continuousSteps)));
+    }
+    runtime_->go_to_lod(factor);
+    runtime_->clear_changes();
+    continuousActive_ = true;
+    showContinuous();
+}
+
+double LevelViews::continuousFactor() const { return double(continuousSlider_->value()) / continuousSteps; }
+
+std::size_t LevelViews::continuousTriangles() const { return runtime_ ? runtime_->triangle_count() : 0; }
+
+void LevelViews::setStripColors(bool on) {
+    {
+        const QSignalBlocker block(stripColors_);
+        stripColors_->setChecked(on);
+    }
+    if (!runtime_) return;
+    // Colouring shows the strips of the runtime: switching it on enters the continuous view.
+    continuousActive_ = continuousActive_ || on;
+    if (continuousActive_) showContinuous();
+}
+
+bool LevelViews::stripColors() const { return stripColors_->isChecked(); }
+
+// The vertex arrays are fixed, but a MeshScene owns its points per part, so the scene is rebuilt: on
+// Spot or the bunny that takes a few milliseconds, well inside a slider drag's frame.
+void LevelViews::showContinuous() {
+    const Mesh current = lodstrips_mesh(*runtime_);
+    continuousScene_ = stripColors_->isChecked() ? buildMeshScene(stripColouredMesh(*runtime_, current), {})
+                                                 : buildMeshScene(current, continuousData_->images);
+    continuousLabel_->setText(tr("%1 triangles").arg(QLocale().toString(qulonglong(runtime_->triangle_count()))));
+    refreshSingle();
+}
 
 void LevelViews::connectView(VtkView* view, int level) {
     // One camera for all: whichever view the user drags, the others repaint.
@@ -115,7 +233,8 @@ std::shared_ptr<const MeshScene> LevelViews::sceneOf(int level) const {
 }
 
 void LevelViews::showLevelIn(VtkView* view, int level) {
-    std::shared_ptr<const MeshScene> scene = sceneOf(level);
+    std::shared_ptr<const MeshScene> scene =
+        view == single_ && continuousActive_ && continuousScene_ ? continuousScene_ : sceneOf(level);
     if (view->scene() != scene) view->setScene(std::move(scene), false);
     view->setOverlayScene(level >= 0 && level < levelCount() ? levels_[std::size_t(level)].cells : nullptr);
 }
@@ -129,6 +248,22 @@ void LevelViews::setLevels(std::vector<LevelData> levels, bool resetCamera) {
     levels_ = std::move(levels);
     heatmaps_ = {};
     heatmapVisible_ = false;
+    continuousActive_ = false;
+    continuousScene_ = nullptr;
+    runtime_.reset();
+    continuousData_ = levels_.empty() ? nullptr : levels_.front().continuous;
+    if (continuousData_) {
+        auto runtime = std::make_unique<lodstrips::LodStrips>();
+        const std::vector<std::uint8_t>& file = continuousData_->lodstripsFile;
+        if (runtime->load_memory(file.data(), file.size())) runtime_ = std::move(runtime);
+    }
+    {
+        const QSignalBlocker block(continuousSlider_);
+        continuousSlider_->setValue(continuousSteps);
+    }
+    continuousLabel_->setText(runtime_ ? tr("%1 triangles").arg(QLocale().toString(qulonglong(runtime_->triangle_count())))
+                                       : QString());
+    continuousRow_->setVisible(runtime_ != nullptr);
     if (!sameCount || current_ >= levelCount()) current_ = std::max(0, levelCount() - 1);
     {
         const QSignalBlocker block(slider_);
@@ -177,6 +312,12 @@ void LevelViews::refreshSingle() {
     showLevelIn(single_, current_);
     // The original as loaded (textured), also beside a heat map: the swipe shows what the error field covers.
     single_->setCompareScene(compareVisible_ && current_ > 0 ? levels_.front().scene : nullptr);
+    if (continuousActive_ && runtime_) {
+        singleLabel_->setText(tr("Continuous LOD %1 · %2 triangles")
+                                  .arg(continuousFactor(), 0, 'f', 3)
+                                  .arg(QLocale().toString(qulonglong(runtime_->triangle_count()))));
+        return;
+    }
     singleLabel_->setText(levelCount() ? levelLabelText(current_) : tr("No mesh"));
 }
 
@@ -196,6 +337,7 @@ void LevelViews::setArrangement(Arrangement arrangement) {
 
 void LevelViews::setCurrentLevel(int level) {
     level = std::clamp(level, 0, std::max(0, levelCount() - 1));
+    continuousActive_ = false;  // choosing a stored level leaves the continuous view
     if (level == current_ && single_->scene() == sceneOf(level)) return;
     current_ = level;
     {
@@ -272,11 +414,13 @@ QImage LevelViews::levelImage(int level, QSize size) {
     } else {
         const int previous = current_;
         const bool compare = compareVisible_;
+        const bool continuous = continuousActive_;
         compareVisible_ = false;
         setCurrentLevel(level);
         image = single_->grabFramebuffer();
         compareVisible_ = compare;
         setCurrentLevel(previous);
+        continuousActive_ = continuous;
         refreshSingle();
     }
     if (image.isNull()) return image;

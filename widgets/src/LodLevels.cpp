@@ -166,6 +166,12 @@ std::vector<LevelData> buildStructureLevels(const LevelData& original, const Pre
     const double buildMs = static_cast<double>(timer.nsecsElapsed()) / 1e6 / double(built.levels.size());
     std::vector<LevelData> levels{original};
     levels.front().cells = buildCellsScene(built.cells);
+    if (!built.lodstrips_file.empty()) {
+        auto continuous = std::make_shared<ContinuousLodData>();
+        continuous->lodstripsFile = std::move(built.lodstrips_file);
+        continuous->images = images;
+        levels.front().continuous = std::move(continuous);
+    }
     if (preset.method == LodMethod::octree) {
         levels.front().structureSummary = octreeSummary(built.octree_stats);
     } else if (!built.cells.empty()) {
@@ -187,6 +193,7 @@ std::vector<LevelData> buildStructureLevels(const LevelData& original, const Pre
         level.verticesOnOriginal = preset.method == LodMethod::lodstrips;
         level.cells = levels.front().cells;
         level.structureSummary = levels.front().structureSummary;
+        level.continuous = levels.front().continuous;
         levels.push_back(std::move(level));
     }
     return levels;

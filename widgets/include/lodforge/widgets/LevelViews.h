@@ -10,12 +10,18 @@
 #include <QList>
 #include <QWidget>
 
+#include <memory>
 #include <vector>
 
+class QCheckBox;
 class QGridLayout;
 class QLabel;
 class QSlider;
 class QStackedWidget;
+
+namespace lodstrips {
+class LodStrips;
+}
 
 namespace lodforge::widgets {
 
@@ -71,6 +77,21 @@ public:
     QList<VtkView*> tileViews() const;
     QList<QLabel*> tileLabels() const;
 
+    // Continuous LOD (LODStrips levels only; the row under the single view is hidden otherwise): the
+    // slider (0..1000 = factor 0..1, 0 the coarsest stored level) moves the LODStrips runtime and the
+    // single view draws its current strips until a stored level is chosen again.
+    bool hasContinuousLod() const { return runtime_ != nullptr; }
+    bool continuousActive() const { return continuousActive_; }
+    void setContinuousFactor(double factor);
+    double continuousFactor() const;
+    std::size_t continuousTriangles() const;  // the runtime's current count; 0 without a runtime
+    // Every strip in its own colour (stripColor) instead of the materials, in the continuous view.
+    void setStripColors(bool on);
+    bool stripColors() const;
+    QSlider* continuousSlider() const { return continuousSlider_; }
+    QLabel* continuousLabel() const { return continuousLabel_; }
+    QCheckBox* stripColorsBox() const { return stripColors_; }
+
     // "LOD 2 · 1,464 triangles · error 0.42 % (0.0061)"; "Original · 5,856 triangles".
     QString levelLabelText(int level) const;
 
@@ -95,6 +116,8 @@ private:
     void refreshSingle();
     void refreshTiles();
     void connectView(VtkView* view, int levelOrCurrent);
+    void setupContinuous();
+    void showContinuous();
 
     QStackedWidget* stack_ = nullptr;
     QWidget* singlePage_ = nullptr;
@@ -104,6 +127,14 @@ private:
     QLabel* singleLabel_ = nullptr;
     QSlider* slider_ = nullptr;
     QList<Tile> tiles_;
+    QWidget* continuousRow_ = nullptr;
+    QSlider* continuousSlider_ = nullptr;
+    QLabel* continuousLabel_ = nullptr;
+    QCheckBox* stripColors_ = nullptr;
+    std::unique_ptr<lodstrips::LodStrips> runtime_;
+    std::shared_ptr<const ContinuousLodData> continuousData_;
+    std::shared_ptr<const MeshScene> continuousScene_;
+    bool continuousActive_ = false;
 
     std::vector<LevelData> levels_;
     HeatmapData heatmaps_;

@@ -11,12 +11,19 @@
 #include <QString>
 
 #include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <vector>
 
 namespace lodforge::widgets {
 
 class MeshScene;
+
+// LODStrips levels: what the continuous LOD slider needs to run the runtime itself (docs/studio.md).
+struct ContinuousLodData {
+    std::vector<std::uint8_t> lodstripsFile;                     // MethodLevels::lodstrips_file
+    std::vector<std::shared_ptr<const lodforge::Image>> images;  // per material, as for the levels
+};
 
 struct LevelData {
     int index = 0;  // 0 = the original
@@ -35,6 +42,8 @@ struct LevelData {
     // overlay scene (buildCellsScene), and a summary of it for the report; null / empty otherwise.
     std::shared_ptr<const MeshScene> cells;
     QString structureSummary;
+    // LODStrips levels (every level shares it): the runtime's file for the continuous slider; null otherwise.
+    std::shared_ptr<const ContinuousLodData> continuous;
 };
 
 // "Octree: 85 nodes, 64 leaves, depth 3 reached; triangles per level 5,856 · 2,900 · 1,210"; empty when

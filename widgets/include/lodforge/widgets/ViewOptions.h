@@ -4,6 +4,8 @@
 
 #include <QColor>
 
+#include <cstddef>
+
 namespace lodforge::widgets {
 
 struct ViewOptions {
@@ -28,5 +30,9 @@ inline QColor viewBackgroundColor() { return QColor(46, 52, 64); }
 // by triangle count, viridis over log(1 + triangles) / log(1 + the largest count of the scene).
 QColor cellDepthColor(int depth);
 QColor cellTriangleColor(double triangles, double maxTriangles);
+
+// The continuous LOD view's strip colours: a hue from a hash of the strip index, so neighbouring strips
+// (consecutive indices) differ clearly.
+QColor stripColor(std::size_t strip);
 
 }  // namespace lodforge::widgets
