@@ -1,5 +1,6 @@
 #include "lodforge/widgets/LevelViews.h"
 
+#include "MeshActorBuilder.h"
 #include "lodforge/lodstrips.h"
 #include "lodforge/lodstrips_runtime.h"
 #include "lodforge/widgets/MeshScene.h"
@@ -13,6 +14,9 @@
 #include <QSlider>
 #include <QStackedWidget>
 #include <QVBoxLayout>
+
+#include <vtkCellArray.h>
+#include <vtkIdTypeArray.h>
 
 #include <algorithm>
 #include <cmath>
@@ -161,6 +165,14 @@ void LevelViews::setContinuousFactor(double factor) {
         const QSignalBlocker block(continuousSlider_);
         continuousSlider_->setValue(int(std::lround(factor * continuousSteps)));
     }
+    if (!fullStrips_) {
+        // The full-detail strips once, with every vertex the runtime has (level 0 uses them all); later
+        // moves only replace this scene's triangles.
+        runtime_->go_to_level(0);
+        fullStrips_ = buildMeshScene(lodstrips_mesh(*runtime_), continuousData_->images);
+        patchable_ = fullStrips_->parts.size() == 1 &&
+                     std::size_t(fullStrips_->parts.front().polyData->GetNumberOfPoints()) == runtime_->vertex_count();
+    }
     runtime_->go_to_lod(factor);
     runtime_->clear_changes();
     continuousActive_ = true;
@@ -184,14 +196,33 @@ void LevelViews::setStripColors(bool on) {
 
 bool LevelViews::stripColors() const { return stripColors_->isChecked(); }
 
-// The vertex arrays are fixed, but a MeshScene owns its points per part, so the scene is rebuilt: on
-// Spot or the bunny that takes a few milliseconds, well inside a slider drag's frame.
+// The vertex arrays are fixed: unless the strips are coloured (own vertices per strip) or the mesh has
+// several materials (parts with their own vertex subsets), only the triangles of the full-detail scene
+// are replaced, which on the bunny takes well under a drag's frame. Otherwise the scene is rebuilt.
 void LevelViews::showContinuous() {
-    const Mesh current = lodstrips_mesh(*runtime_);
-    continuousScene_ = stripColors_->isChecked() ? buildMeshScene(stripColouredMesh(*runtime_, current), {})
-                                                 : buildMeshScene(current, continuousData_->images);
+    if (stripColors_->isChecked()) {
+        continuousScene_ = buildMeshScene(stripColouredMesh(*runtime_, lodstrips_mesh(*runtime_)), {});
+    } else if (patchable_) {
+        std::vector<std::uint32_t> triangles;
+        runtime_->triangles(triangles);
+        const auto n = static_cast<vtkIdType>(triangles.size() / 3);
+        vtkNew<vtkIdTypeArray> offsets, connectivity;
+        offsets->SetNumberOfValues(n + 1);
+        connectivity->SetNumberOfValues(3 * n);
+        vtkIdType* o = offsets->GetPointer(0);
+        vtkIdType* c = connectivity->GetPointer(0);
+        for (vtkIdType t = 0; t <= n; ++t) o[t] = 3 * t;
+        for (std::size_t i = 0; i < triangles.size(); ++i) c[i] = static_cast<vtkIdType>(triangles[i]);
+        vtkNew<vtkCellArray> polys;
+        polys->SetData(offsets, connectivity);
+        fullStrips_->parts.front().polyData->SetPolys(polys);
+        continuousScene_ = fullStrips_;
+    } else {
+        continuousScene_ = buildMeshScene(lodstrips_mesh(*runtime_), continuousData_->images);
+    }
     continuousLabel_->setText(tr("%1 triangles").arg(QLocale().toString(qulonglong(runtime_->triangle_count()))));
     refreshSingle();
+    single_->update();  // the same scene with new triangles: the view would not notice on its own
 }
 
 void LevelViews::connectView(VtkView* view, int level) {
@@ -250,6 +281,8 @@ void LevelViews::setLevels(std::vector<LevelData> levels, bool resetCamera) {
     heatmapVisible_ = false;
     continuousActive_ = false;
     continuousScene_ = nullptr;
+    fullStrips_ = nullptr;
+    patchable_ = false;
     runtime_.reset();
     continuousData_ = levels_.empty() ? nullptr : levels_.front().continuous;
     if (continuousData_) {

@@ -85,6 +85,9 @@ public:
     void setContinuousFactor(double factor);
     double continuousFactor() const;
     std::size_t continuousTriangles() const;  // the runtime's current count; 0 without a runtime
+    // Whether moves only replace the triangles of one full-detail scene (one material, no strip colours
+    // needed) rather than rebuilding the scene; known after the first move.
+    bool continuousPatchesTriangles() const { return patchable_; }
     // Every strip in its own colour (stripColor) instead of the materials, in the continuous view.
     void setStripColors(bool on);
     bool stripColors() const;
@@ -134,6 +137,8 @@ private:
     std::unique_ptr<lodstrips::LodStrips> runtime_;
     std::shared_ptr<const ContinuousLodData> continuousData_;
     std::shared_ptr<const MeshScene> continuousScene_;
+    std::shared_ptr<const MeshScene> fullStrips_;  // every runtime vertex; its triangles follow the runtime
+    bool patchable_ = false;
     bool continuousActive_ = false;
 
     std::vector<LevelData> levels_;
