@@ -4,6 +4,7 @@
 // report, and a collapse chain (no structure) shows no cells and says why. Real pixels, tolerances.
 #include "MainWindow.h"
 #include "PixelStats.h"
+#include "StudioSession.h"
 
 #include "lodforge/preset.h"
 #include "lodforge/widgets/LevelViews.h"
@@ -19,7 +20,6 @@
 #include <QHash>
 #include <QPlainTextEdit>
 #include <QSettings>
-#include <QSignalSpy>
 #include <QStatusBar>
 #include <QTest>
 
@@ -28,6 +28,7 @@
 
 using lodforge::studio::MainWindow;
 using lodforge::testing::differingFraction;
+using lodforge::testing::freshFrame;
 using lodforge::testing::nearColor;
 using lodforge::widgets::cellDepthColor;
 using lodforge::widgets::viewBackgroundColor;
@@ -36,14 +37,6 @@ using lodforge::widgets::VtkView;
 namespace {
 
 const QString spotPath = QStringLiteral(LODFORGE_SAMPLES_DIR "/spot/spot_triangulated.obj");
-
-// Renders a fresh frame of `view` and grabs it.
-QImage freshFrame(VtkView* view) {
-    const quint64 before = view->frameCount();
-    view->update();
-    if (!QTest::qWaitFor([&] { return view->frameCount() > before; }, 5000)) qWarning("no new frame");
-    return view->grabFramebuffer().convertToFormat(QImage::Format_RGB32);
-}
 
 // Pixels of `after` that differ from `before` (any channel by more than 24).
 QList<QRgb> changedPixels(const QImage& before, const QImage& after) {
@@ -84,11 +77,8 @@ void CellsOverlayTest::initTestCase() {
 }
 
 void CellsOverlayTest::init() {
-    window_ = std::make_unique<MainWindow>();
-    window_->setInteractive(false);
-    window_->resize(1200, 860);
-    window_->show();
-    QVERIFY(QTest::qWaitForWindowExposed(window_.get()));
+    window_ = lodforge::testing::openStudioWindow();
+    QVERIFY(window_);
 }
 
 void CellsOverlayTest::cleanup() {
@@ -96,26 +86,14 @@ void CellsOverlayTest::cleanup() {
     window_.reset();
 }
 
-bool CellsOverlayTest::load(const QString& path) {
-    QSignalSpy finished(window_.get(), &MainWindow::loadFinished);
-    window_->openFile(path);
-    return finished.wait(120000) && finished.at(0).at(0).toBool();
-}
+bool CellsOverlayTest::load(const QString& path) { return lodforge::testing::loadInStudio(*window_, path); }
 
 bool CellsOverlayTest::build(lodforge::LodMethod method, QString* message) {
     lodforge::Preset preset = window_->preset();
     preset.method = method;
     preset.levels = {{lodforge::LodTarget::Kind::ratio, 0.5}, {lodforge::LodTarget::Kind::ratio, 0.2}};
     preset.octree.max_triangles_per_node = 300;
-    window_->setPreset(preset);
-    QSignalSpy finished(window_.get(), &MainWindow::jobFinished);
-    window_->buildLodChain();
-    if (finished.isEmpty() && !finished.wait(60000)) {
-        *message = QStringLiteral("no jobFinished in time");
-        return false;
-    }
-    *message = finished.at(0).at(2).toString();
-    return finished.at(0).at(1).toBool();
+    return lodforge::testing::buildInStudio(*window_, preset, message);
 }
 
 void CellsOverlayTest::octreeCellsDrawnByDepthAndByTriangles() {

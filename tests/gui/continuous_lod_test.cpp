@@ -4,6 +4,7 @@
 // without a trace, and a collapse chain has no slider. Real pixels, tolerances.
 #include "MainWindow.h"
 #include "PixelStats.h"
+#include "StudioSession.h"
 
 #include "lodforge/lodstrips_runtime.h"
 #include "lodforge/preset.h"
@@ -19,15 +20,14 @@
 #include <QLabel>
 #include <QPlainTextEdit>
 #include <QSettings>
-#include <QSignalSpy>
 #include <QSlider>
-#include <QTest>
 
 #include <memory>
 #include <set>
 
 using lodforge::studio::MainWindow;
 using lodforge::testing::differingFraction;
+using lodforge::testing::freshFrame;
 using lodforge::testing::nearColor;
 using lodforge::widgets::viewBackgroundColor;
 using lodforge::widgets::VtkView;
@@ -35,13 +35,6 @@ using lodforge::widgets::VtkView;
 namespace {
 
 const QString spotPath = QStringLiteral(LODFORGE_SAMPLES_DIR "/spot/spot_triangulated.obj");
-
-QImage freshFrame(VtkView* view) {
-    const quint64 before = view->frameCount();
-    view->update();
-    if (!QTest::qWaitFor([&] { return view->frameCount() > before; }, 5000)) qWarning("no new frame");
-    return view->grabFramebuffer().convertToFormat(QImage::Format_RGB32);
-}
 
 // "1,234 triangles" -> 1234 (whatever the locale's group separator).
 long long countIn(const QString& text) {
@@ -99,11 +92,8 @@ void ContinuousLodTest::initTestCase() {
 }
 
 void ContinuousLodTest::init() {
-    window_ = std::make_unique<MainWindow>();
-    window_->setInteractive(false);
-    window_->resize(1200, 860);
-    window_->show();
-    QVERIFY(QTest::qWaitForWindowExposed(window_.get()));
+    window_ = lodforge::testing::openStudioWindow();
+    QVERIFY(window_);
 }
 
 void ContinuousLodTest::cleanup() {
@@ -111,25 +101,13 @@ void ContinuousLodTest::cleanup() {
     window_.reset();
 }
 
-bool ContinuousLodTest::load(const QString& path) {
-    QSignalSpy finished(window_.get(), &MainWindow::loadFinished);
-    window_->openFile(path);
-    return finished.wait(120000) && finished.at(0).at(0).toBool();
-}
+bool ContinuousLodTest::load(const QString& path) { return lodforge::testing::loadInStudio(*window_, path); }
 
 bool ContinuousLodTest::build(lodforge::LodMethod method, QString* message) {
     lodforge::Preset preset = window_->preset();
     preset.method = method;
     preset.levels = {{lodforge::LodTarget::Kind::ratio, 0.5}, {lodforge::LodTarget::Kind::ratio, 0.05}};
-    window_->setPreset(preset);
-    QSignalSpy finished(window_.get(), &MainWindow::jobFinished);
-    window_->buildLodChain();
-    if (finished.isEmpty() && !finished.wait(60000)) {
-        *message = QStringLiteral("no jobFinished in time");
-        return false;
-    }
-    *message = finished.at(0).at(2).toString();
-    return finished.at(0).at(1).toBool();
+    return lodforge::testing::buildInStudio(*window_, preset, message);
 }
 
 void ContinuousLodTest::sliderMovesTheRuntimeAndColoursStrips() {

@@ -1,0 +1,56 @@
+// The steps the in-process studio tests share: a non-interactive main window, loading a file, building
+// a preset's levels, and grabbing a freshly rendered frame.
+#pragma once
+
+#include "MainWindow.h"
+
+#include "lodforge/preset.h"
+#include "lodforge/widgets/VtkView.h"
+
+#include <QImage>
+#include <QSignalSpy>
+#include <QString>
+#include <QTest>
+
+#include <memory>
+
+namespace lodforge::testing {
+
+// Shown and exposed, or null.
+inline std::unique_ptr<studio::MainWindow> openStudioWindow() {
+    auto window = std::make_unique<studio::MainWindow>();
+    window->setInteractive(false);
+    window->resize(1200, 860);
+    window->show();
+    if (!QTest::qWaitForWindowExposed(window.get())) return nullptr;
+    return window;
+}
+
+inline bool loadInStudio(studio::MainWindow& window, const QString& path) {
+    QSignalSpy finished(&window, &studio::MainWindow::loadFinished);
+    window.openFile(path);
+    return finished.wait(120000) && finished.at(0).at(0).toBool();
+}
+
+// Builds `preset`'s levels; false with the job's message (or why it never finished) in `message`.
+inline bool buildInStudio(studio::MainWindow& window, const Preset& preset, QString* message) {
+    window.setPreset(preset);
+    QSignalSpy finished(&window, &studio::MainWindow::jobFinished);
+    window.buildLodChain();
+    if (finished.isEmpty() && !finished.wait(60000)) {
+        *message = QStringLiteral("no jobFinished in time");
+        return false;
+    }
+    *message = finished.at(0).at(2).toString();
+    return finished.at(0).at(1).toBool();
+}
+
+// Renders a fresh frame of `view` and grabs it.
+inline QImage freshFrame(widgets::VtkView* view) {
+    const quint64 before = view->frameCount();
+    view->update();
+    if (!QTest::qWaitFor([&] { return view->frameCount() > before; }, 5000)) qWarning("no new frame");
+    return view->grabFramebuffer().convertToFormat(QImage::Format_RGB32);
+}
+
+}  // namespace lodforge::testing
