@@ -175,6 +175,15 @@ void ContinuousLodTest::sliderMovesTheRuntimeAndColoursStrips() {
     qInfo("after colouring off %.2f%% differ", 100 * restored);
     QVERIFY2(restored < 0.005, qPrintable(QString::number(restored)));
 
+    // The heat map shows the stored level's error field; switched off, the continuous view is back.
+    levels->setHeatmaps(lodforge::widgets::computeHeatmaps(levels->levels()));
+    levels->setHeatmapVisible(true);
+    QVERIFY(levels->heatmapVisible() && view->scene() == levels->heatmaps().scenes[std::size_t(levels->currentLevel())]);
+    QVERIFY(!levels->singleLabel()->text().contains(QStringLiteral("Continuous")));
+    levels->setHeatmapVisible(false);
+    QVERIFY(levels->singleLabel()->text().contains(QStringLiteral("Continuous")));
+    QVERIFY(differingFraction(coarse, freshFrame(view), viewBackgroundColor()) < 0.005);
+
     // A stored level leaves the continuous view.
     levels->setCurrentLevel(1);
     QVERIFY(!levels->continuousActive());

@@ -179,6 +179,11 @@ void LevelViews::setContinuousFactor(double factor) {
     showContinuous();
 }
 
+// A heat map shows the stored level's error field; the continuous view resumes when it is switched off.
+bool LevelViews::showsContinuous() const {
+    return continuousActive_ && runtime_ && continuousScene_ && !heatmapVisible_;
+}
+
 double LevelViews::continuousFactor() const { return double(continuousSlider_->value()) / continuousSteps; }
 
 std::size_t LevelViews::continuousTriangles() const { return runtime_ ? runtime_->triangle_count() : 0; }
@@ -265,7 +270,7 @@ std::shared_ptr<const MeshScene> LevelViews::sceneOf(int level) const {
 
 void LevelViews::showLevelIn(VtkView* view, int level) {
     std::shared_ptr<const MeshScene> scene =
-        view == single_ && continuousActive_ && continuousScene_ ? continuousScene_ : sceneOf(level);
+        view == single_ && showsContinuous() ? continuousScene_ : sceneOf(level);
     if (view->scene() != scene) view->setScene(std::move(scene), false);
     view->setOverlayScene(level >= 0 && level < levelCount() ? levels_[std::size_t(level)].cells : nullptr);
 }
@@ -345,7 +350,7 @@ void LevelViews::refreshSingle() {
     showLevelIn(single_, current_);
     // The original as loaded (textured), also beside a heat map: the swipe shows what the error field covers.
     single_->setCompareScene(compareVisible_ && current_ > 0 ? levels_.front().scene : nullptr);
-    if (continuousActive_ && runtime_) {
+    if (showsContinuous()) {
         singleLabel_->setText(tr("Continuous LOD %1 · %2 triangles")
                                   .arg(continuousFactor(), 0, 'f', 3)
                                   .arg(QLocale().toString(qulonglong(runtime_->triangle_count()))));

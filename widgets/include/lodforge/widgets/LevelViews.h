@@ -121,6 +121,7 @@ private:
     void connectView(VtkView* view, int levelOrCurrent);
     void setupContinuous();
     void showContinuous();
+    bool showsContinuous() const;
 
     QStackedWidget* stack_ = nullptr;
     QWidget* singlePage_ = nullptr;
