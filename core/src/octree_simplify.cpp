@@ -113,21 +113,8 @@ void NodeQuadric::add(const NodeQuadric& other) {
 }
 
 Vec3d clamped_minimizer(const Quadric& q, Vec3d around, const double lo[3], const double hi[3]) {
-    Eigen::Matrix3d A;
-    A << q.a00, q.a01, q.a02, q.a01, q.a11, q.a12, q.a02, q.a12, q.a22;
-    const Eigen::Vector3d b(q.b0, q.b1, q.b2);
-    const Eigen::Vector3d xbar(around.x, around.y, around.z);
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(A);
-    const Eigen::Vector3d ev = eig.eigenvalues();
-    const double largest = std::max(std::fabs(ev(0)), std::fabs(ev(2)));
-    Eigen::Vector3d inv = Eigen::Vector3d::Zero();
-    for (int a = 0; a < 3; ++a)
-        if (largest > 0 && std::fabs(ev(a)) > 1e-3 * largest) inv(a) = 1.0 / ev(a);
-    const Eigen::Matrix3d& V = eig.eigenvectors();
-    Eigen::Vector3d x = xbar + V * inv.asDiagonal() * V.transpose() * (-b - A * xbar);
-    if (!x.allFinite()) x = xbar;
-    for (int a = 0; a < 3; ++a) x(a) = std::clamp(x(a), lo[a], hi[a]);
-    return {x(0), x(1), x(2)};
+    const Vec3d v = minimizer_near(q, around);
+    return {std::clamp(v.x, lo[0], hi[0]), std::clamp(v.y, lo[1], hi[1]), std::clamp(v.z, lo[2], hi[2])};
 }
 
 NodeMesh simplify_node(const NodeMesh& input, const NodeQuadric& quadric, const QuadricFrame& frame,

@@ -4,6 +4,7 @@
 
 #include <Eigen/Dense>
 
+#include <algorithm>
 #include <cmath>
 
 namespace lodforge {
@@ -158,6 +159,23 @@ bool optimal_position(const Quadric& q, Vec3d& out) {
     if (!x.allFinite()) return false;
     out = {x(0), x(1), x(2)};
     return true;
+}
+
+Vec3d minimizer_near(const Quadric& q, Vec3d around, double relative_tolerance) {
+    Eigen::Matrix3d A;
+    A << q.a00, q.a01, q.a02, q.a01, q.a11, q.a12, q.a02, q.a12, q.a22;
+    const Eigen::Vector3d b(q.b0, q.b1, q.b2);
+    const Eigen::Vector3d xbar(around.x, around.y, around.z);
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(A);
+    const Eigen::Vector3d ev = eig.eigenvalues();
+    const double largest = std::max(std::fabs(ev(0)), std::fabs(ev(2)));
+    Eigen::Vector3d inv = Eigen::Vector3d::Zero();
+    for (int a = 0; a < 3; ++a)
+        if (largest > 0 && std::fabs(ev(a)) > relative_tolerance * largest) inv(a) = 1.0 / ev(a);
+    const Eigen::Matrix3d& V = eig.eigenvectors();
+    Eigen::Vector3d x = xbar + V * inv.asDiagonal() * V.transpose() * (-b - A * xbar);
+    if (!x.allFinite()) x = xbar;
+    return {x(0), x(1), x(2)};
 }
 
 }  // namespace lodforge

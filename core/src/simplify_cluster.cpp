@@ -14,7 +14,6 @@
 #include "lodforge/error.h"
 #include "lodforge/quadric.h"
 
-#include <Eigen/Dense>
 
 #include <algorithm>
 #include <cmath>
@@ -365,20 +364,8 @@ void Clusterer::build(const Grid& g, ClusterResult& out) {
     std::vector<Vec3d> rep(cells);
     for (std::size_t c = 0; c < cells; ++c) {
         const double k = members[c] ? 1.0 / members[c] : 0.0;
-        const Eigen::Vector3d xbar(mean[3 * c] * k, mean[3 * c + 1] * k, mean[3 * c + 2] * k);
-        const Quadric& q = total[c];
-        Eigen::Matrix3d A;
-        A << q.a00, q.a01, q.a02, q.a01, q.a11, q.a12, q.a02, q.a12, q.a22;
-        const Eigen::Vector3d b(q.b0, q.b1, q.b2);
-        const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(A);
-        const Eigen::Vector3d ev = eig.eigenvalues();
-        const double largest = std::max(std::fabs(ev(2)), std::fabs(ev(0)));
-        Eigen::Vector3d inv = Eigen::Vector3d::Zero();
-        for (int a = 0; a < 3; ++a)
-            if (largest > 0 && std::fabs(ev(a)) > 1e-3 * largest) inv(a) = 1.0 / ev(a);
-        const Eigen::Matrix3d& V = eig.eigenvectors();
-        Eigen::Vector3d x = xbar + V * inv.asDiagonal() * V.transpose() * (-b - A * xbar);
-        if (!x.allFinite()) x = xbar;
+        const Vec3d near = minimizer_near(total[c], {mean[3 * c] * k, mean[3 * c + 1] * k, mean[3 * c + 2] * k});
+        double x[3] = {near.x, near.y, near.z};
         // Clamp into the cell (in model units, where the grid lives).
         const std::uint64_t code = g.codes[c];
         const std::uint32_t cid[3] = {static_cast<std::uint32_t>(code >> 42), static_cast<std::uint32_t>((code >> 21) & 0x1fffff),
@@ -387,10 +374,10 @@ void Clusterer::build(const Grid& g, ClusterResult& out) {
         const float ctr[3] = {centre.x, centre.y, centre.z};
         for (int a = 0; a < 3; ++a) {
             const double lo = o[a] + g.size * cid[a], hi = lo + g.size;
-            const double model = std::clamp(x(a) * scale + ctr[a], lo, hi);
-            x(a) = (model - ctr[a]) / scale;
+            const double model = std::clamp(x[a] * scale + ctr[a], lo, hi);
+            x[a] = (model - ctr[a]) / scale;
         }
-        rep[c] = {x(0), x(1), x(2)};
+        rep[c] = {x[0], x[1], x[2]};
     }
 
     // Triangles kept (first of each cell triple, input order) and the vertices they use.

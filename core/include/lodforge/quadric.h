@@ -73,4 +73,10 @@ private:
 // whose minimisers form a plane or line), in which case `out` is untouched.
 bool optimal_position(const Quadric& q, Vec3d& out);
 
+// The minimiser of q closest to `around` (Lindstrom 2000): a pseudo-inverse that drops eigenvalues below
+// `relative_tolerance` times the largest, so flat or straight neighbourhoods keep the directions they do
+// not constrain at `around`. Never fails; `around` when q is empty. Used where one representative must be
+// placed for a whole cell or node (vertex clustering, the out-of-core octree operator), before clamping.
+Vec3d minimizer_near(const Quadric& q, Vec3d around, double relative_tolerance = 1e-3);
+
 }  // namespace lodforge
