@@ -8,6 +8,7 @@
 #include "lodforge/morph.h"
 #include "lodforge/morph_file.h"
 #include "lodforge/morph_lod.h"
+#include "lodforge/supermesh.h"
 
 #include <nlohmann/json.hpp>
 
@@ -38,7 +39,7 @@ void add_build(CLI::App& morph, const GlobalOptions& global) {
     CLI::App* cmd = morph.add_subcommand(
         "build", "Build a morph LOD file from keyframes with identical connectivity (a directory of .obj/.ply "
                  "frames sorted by name, or a .gltf/.glb with morph targets)");
-    cmd->add_option("INPUT", o->inputs, "Sequence directory or glTF (two meshes + --landmarks: not supported yet)")
+    cmd->add_option("INPUT", o->inputs, "Sequence directory or glTF, or two closed genus-0 meshes A B with --landmarks")
         ->required()
         ->expected(1, 2);
     cmd->add_option("-o,--output", o->output, "Output .lfmorph file")->required();
@@ -56,12 +57,11 @@ void add_build(CLI::App& morph, const GlobalOptions& global) {
         ->capture_default_str();
     cmd->add_option("--weights", o->weights, "Attribute weights, e.g. normal=0.05,color=0.1,uv=0.1");
     cmd->add_flag("--close-seams", o->close_seams, "Let attribute seams close (flat-shaded inputs)");
-    cmd->add_option("--landmarks", o->landmarks, "Landmark correspondences for two genus-0 meshes (not supported yet)");
+    cmd->add_option("--landmarks", o->landmarks, "Landmark pairs (vertex of A, vertex of B) aligning two genus-0 meshes (docs/morph.md)");
     cmd->callback([o, &global] {
-        if (o->inputs.size() == 2 || !o->landmarks.empty())
-            throw_error(Error::Kind::unsupported, o->inputs.front(),
-                        "morph build from two meshes with --landmarks (supermesh by sphere mapping, case (b)) is "
-                        "not supported yet; give one sequence directory or glTF with morph targets");
+        const bool two_meshes = o->inputs.size() == 2;
+        if (two_meshes != !o->landmarks.empty())
+            throw Error(Error::Kind::argument, "morph build: two meshes need --landmarks L.json, and --landmarks needs two meshes");
         if (o->frames < 0 || o->cost_frames < 0)
             throw Error(Error::Kind::argument, "morph build: --frames and --cost-frames must be >= 0");
         if (o->frames == 1) throw Error(Error::Kind::argument, "morph build: --frames must be 0 (all) or at least 2");
@@ -76,7 +76,10 @@ void add_build(CLI::App& morph, const GlobalOptions& global) {
         TerminalProgress progress(!global.quiet && stderr_is_terminal());
         MorphLoadOptions lo;
         lo.frames = static_cast<std::size_t>(o->frames);
-        const MorphMesh mesh = load_morph(o->inputs.front(), lo, &progress);
+        SupermeshParams sp;
+        sp.frames = lo.frames;
+        const MorphMesh mesh = two_meshes ? load_supermesh(o->inputs[0], o->inputs[1], o->landmarks, sp, &progress)
+                                          : load_morph(o->inputs.front(), lo, &progress);
         const MorphLod lod = build_morph_lod(mesh, params, &progress);
         MorphWriteOptions wo;
         wo.encoding = o->encoding == "float" ? MorphEncoding::float32 : MorphEncoding::quantized16;

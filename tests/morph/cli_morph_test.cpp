@@ -66,11 +66,11 @@ TEST(CliMorph, GltfPerFrameOrderAndFloatEncoding) {
 
 TEST(CliMorph, ErrorsNameTheFileAndExitOne) {
     lodforge::test::ScratchDir dir("cli-morph-err");
-    // Case (b) is not built yet: a clear "not supported yet".
+    // Case (b) with a missing landmark file names it (the rest of case (b): tests/morph/supermesh_test.cpp).
     auto r = run_cli("morph build " + quoted(sphere()) + " " + quoted(sphere()) + " --landmarks l.json -o " +
                      quoted(dir.file("x.lfmorph")));
     EXPECT_EQ(r.exit_code, 1);
-    EXPECT_TRUE(contains(r.out, "not supported yet")) << r.out;
+    EXPECT_TRUE(contains(r.out, "lodforge: error: l.json")) << r.out;
     r = run_cli("morph build " + quoted(dir.file("none")) + " -o " + quoted(dir.file("x.lfmorph")));
     EXPECT_EQ(r.exit_code, 1);
     EXPECT_TRUE(contains(r.out, "lodforge: error: " + dir.file("none"))) << r.out;

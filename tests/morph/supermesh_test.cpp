@@ -1,0 +1,256 @@
+// Case (b) of issue 8: the supermesh of two genus-0 meshes (topology check, sphere maps, landmark
+// alignment, overlay), on Spot and generated spheres, through the library and the CLI.
+#include "lodforge/error.h"
+#include "lodforge/landmarks.h"
+#include "lodforge/mesh_io.h"
+#include "lodforge/morph.h"
+#include "lodforge/supermesh.h"
+
+#include "support/cli_run.h"
+#include "support/test_paths.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <array>
+#include <cmath>
+#include <map>
+#include <set>
+
+namespace {
+
+using namespace lodforge;
+
+std::string spot() { return test::shared_data("tex-spot/spot_triangulated.obj"); }
+std::string bunny() { return test::shared_data("scan-bunny/bun_zipper.ply"); }
+
+// Icosphere: 12 · 4^0 ... vertices on the unit sphere times `radius`, faces counter-clockwise from outside.
+Mesh icosphere(int subdivisions, float radius = 1.f, Vec3f centre = {})
+{
+    const float t = (1.f + std::sqrt(5.f)) / 2.f;
+    std::vector<Vec3f> p = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
+                            {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+    std::vector<std::uint32_t> f = {0, 11, 5, 0, 5, 1, 0, 1, 7, 0, 7, 10, 0, 10, 11, 1, 5, 9, 5, 11, 4, 11, 10, 2, 10, 7, 6, 7, 1, 8,
+                                    3, 9, 4, 3, 4, 2, 3, 2, 6, 3, 6, 8, 3, 8, 9, 4, 9, 5, 2, 4, 11, 6, 2, 10, 8, 6, 7, 9, 8, 1};
+    for (auto& q : p) q = q * (1.f / length(q));
+    for (int s = 0; s < subdivisions; ++s) {
+        std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> mid;
+        auto middle = [&](std::uint32_t a, std::uint32_t b) {
+            const auto k = std::minmax(a, b);
+            auto it = mid.find(k);
+            if (it != mid.end()) return it->second;
+            Vec3f m = (p[a] + p[b]) * 0.5f;
+            p.push_back(m * (1.f / length(m)));
+            return mid[k] = std::uint32_t(p.size() - 1);
+        };
+        std::vector<std::uint32_t> g;
+        for (std::size_t i = 0; i < f.size(); i += 3) {
+            const std::uint32_t a = f[i], b = f[i + 1], c = f[i + 2];
+            const std::uint32_t ab = middle(a, b), bc = middle(b, c), ca = middle(c, a);
+            g.insert(g.end(), {a, ab, ca, b, bc, ab, c, ca, bc, ab, bc, ca});
+        }
+        f.swap(g);
+    }
+    Mesh m;
+    for (auto q : p) m.positions.push_back(centre + q * radius);
+    m.indices = f;
+    return m;
+}
+
+Mesh torus(int nu, int nv)
+{
+    Mesh m;
+    for (int i = 0; i < nu; ++i)
+        for (int j = 0; j < nv; ++j) {
+            const float u = 2 * float(M_PI) * i / nu, v = 2 * float(M_PI) * j / nv;
+            m.positions.push_back({(2 + std::cos(v)) * std::cos(u), (2 + std::cos(v)) * std::sin(u), std::sin(v)});
+        }
+    auto id = [&](int i, int j) { return std::uint32_t(((i + nu) % nu) * nv + (j + nv) % nv); };
+    for (int i = 0; i < nu; ++i)
+        for (int j = 0; j < nv; ++j)
+            m.indices.insert(m.indices.end(), {id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+    return m;
+}
+
+Error::Kind kind_of(const std::function<void()>& f, std::string* message = nullptr)
+{
+    try {
+        f();
+    } catch (const Error& e) {
+        if (message) *message = e.what();
+        return e.kind();
+    }
+    ADD_FAILURE() << "no error";
+    return Error::Kind::cancelled;
+}
+
+bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+// Landmarks on Spot and on a sphere around it: the sphere vertex nearest to the ray from Spot's centre
+// through each of a few Spot vertices (nose, tail, feet, top); an honest, reproducible pairing.
+Landmarks spot_sphere_landmarks(const Mesh& spot_mesh, const Mesh& ball, const std::vector<std::uint32_t>& spot_vertices)
+{
+    const Vec3f c = spot_mesh.bounds().center();
+    Landmarks l;
+    for (std::uint32_t v : spot_vertices) {
+        Vec3f d = spot_mesh.positions[v] - c;
+        d = d * (1.f / length(d));
+        std::uint32_t best = 0;
+        float best_dot = -2;
+        const Vec3f bc = ball.bounds().center();
+        for (std::uint32_t w = 0; w < ball.vertex_count(); ++w) {
+            Vec3f e = ball.positions[w] - bc;
+            const float dd = dot(d, e * (1.f / length(e)));
+            if (dd > best_dot) best_dot = dd, best = w;
+        }
+        l.pairs.push_back({v, best});
+    }
+    return l;
+}
+
+// Extreme vertices of a mesh along ±x, ±y, +z: distinct, well spread landmarks.
+std::vector<std::uint32_t> extremes(const Mesh& m)
+{
+    std::vector<std::uint32_t> out;
+    for (int axis = 0; axis < 3; ++axis)
+        for (int sign = -1; sign <= 1; sign += 2) {
+            if (axis == 2 && sign < 0) continue;
+            std::uint32_t best = 0;
+            for (std::uint32_t v = 0; v < m.vertex_count(); ++v)
+                if (sign * m.positions[v][axis] > sign * m.positions[best][axis]) best = v;
+            out.push_back(best);
+        }
+    return out;
+}
+
+double surface_area(const std::vector<Vec3f>& p, const std::vector<std::uint32_t>& idx)
+{
+    double s = 0;
+    for (std::size_t i = 0; i < idx.size(); i += 3) s += 0.5 * double(length(cross(p[idx[i + 1]] - p[idx[i]], p[idx[i + 2]] - p[idx[i]])));
+    return s;
+}
+
+// The checks every supermesh must pass: both inputs' points present at their positions, one closed
+// genus-0 connectivity, positive faces on the sphere, each frame covering its input's surface once.
+void expect_valid_supermesh(const SupermeshResult& r, const Mesh& a, const Mesh& b)
+{
+    const MorphMesh& m = r.morph;
+    ASSERT_EQ(m.frame_count(), 2u);
+    ASSERT_EQ(m.vertex_count(), r.a_points + r.b_points + r.crossings);
+    // Every input vertex present (found by position, not by trusting the layout).
+    for (int frame = 0; frame < 2; ++frame) {
+        const Mesh& in = frame == 0 ? a : b;
+        std::set<std::array<float, 3>> have;
+        for (const Vec3f& p : m.frame_positions[std::size_t(frame)]) have.insert({p.x, p.y, p.z});
+        std::size_t missing = 0;
+        for (const Vec3f& p : in.positions) missing += have.count({p.x, p.y, p.z}) ? 0 : 1;
+        EXPECT_EQ(missing, 0u) << "frame " << frame;
+    }
+    // No self-intersection on the sphere: every face positively oriented against the centre.
+    ASSERT_EQ(r.sphere_points.size(), m.vertex_count());
+    std::size_t negative = 0;
+    for (std::size_t i = 0; i < m.base.indices.size(); i += 3) {
+        const auto& p = r.sphere_points[m.base.indices[i]];
+        const auto& q = r.sphere_points[m.base.indices[i + 1]];
+        const auto& s = r.sphere_points[m.base.indices[i + 2]];
+        const double det = p[0] * (q[1] * s[2] - q[2] * s[1]) - p[1] * (q[0] * s[2] - q[2] * s[0]) + p[2] * (q[0] * s[1] - q[1] * s[0]);
+        negative += det > 0 ? 0 : 1;
+    }
+    EXPECT_EQ(negative, 0u);
+    // A closed genus-0 surface itself (Euler characteristic 2, manifold, consistently oriented).
+    EXPECT_NO_THROW(check_sphere_topology(m.base, "supermesh"));
+    // Frame 0 covers A once, frame 1 covers B once.
+    const double area_a = surface_area(a.positions, a.indices), area_b = surface_area(b.positions, b.indices);
+    EXPECT_NEAR(surface_area(m.frame_positions[0], m.base.indices) / area_a, 1.0, 1e-4);
+    EXPECT_NEAR(surface_area(m.frame_positions[1], m.base.indices) / area_b, 1.0, 1e-4);
+    EXPECT_LT(r.landmark_residual, 1e-5);
+}
+
+Mesh weld_copy(const Mesh& m)
+{
+    // Spot as points only (its texcoord seams split wedges; the supermesh works on points).
+    Mesh out;
+    std::vector<std::uint32_t> ids = m.position_ids;
+    if (ids.empty()) return m;
+    std::size_t n = 0;
+    for (auto id : ids) n = std::max<std::size_t>(n, id + 1);
+    out.positions.resize(n);
+    for (std::size_t v = 0; v < m.vertex_count(); ++v) out.positions[ids[v]] = m.positions[v];
+    for (auto i : m.indices) out.indices.push_back(ids[i]);
+    return out;
+}
+
+}  // namespace
+
+TEST(SphereTopology, AcceptsSpheresAndSpot)
+{
+    const SphereTopology t = check_sphere_topology(icosphere(2), "ico");
+    EXPECT_EQ(t.points.size(), 162u);
+    EXPECT_EQ(t.faces.size(), 320u);
+    const Mesh s = read_mesh(spot());
+    const SphereTopology ts = check_sphere_topology(s, "spot");
+    EXPECT_EQ(ts.points.size(), 2930u);  // welded across the texcoord seams
+    EXPECT_EQ(ts.faces.size(), 5856u);
+}
+
+TEST(SphereTopology, RejectsOtherTopologiesByName)
+{
+    std::string msg;
+    EXPECT_EQ(kind_of([] { check_sphere_topology(torus(24, 12), "torus.ply"); }, &msg), Error::Kind::unsupported);
+    EXPECT_TRUE(contains(msg, "torus.ply") && contains(msg, "genus 1")) << msg;
+
+    const Mesh bun = read_mesh(bunny());
+    EXPECT_EQ(kind_of([&] { check_sphere_topology(bun, "bun_zipper.ply"); }, &msg), Error::Kind::invalid);
+    EXPECT_TRUE(contains(msg, "bun_zipper.ply") && contains(msg, "border edges")) << msg;
+
+    Mesh two = icosphere(1);
+    const Mesh other = icosphere(1, 1.f, {3, 0, 0});
+    for (auto i : other.indices) two.indices.push_back(i + std::uint32_t(two.positions.size()));
+    two.positions.insert(two.positions.end(), other.positions.begin(), other.positions.end());
+    EXPECT_EQ(kind_of([&] { check_sphere_topology(two, "two.obj"); }, &msg), Error::Kind::unsupported);
+    EXPECT_TRUE(contains(msg, "2 components")) << msg;
+
+    Mesh flipped = icosphere(1);
+    std::swap(flipped.indices[1], flipped.indices[2]);
+    EXPECT_EQ(kind_of([&] { check_sphere_topology(flipped, "flip.obj"); }, &msg), Error::Kind::invalid);
+    EXPECT_TRUE(contains(msg, "inconsistently oriented")) << msg;
+
+    Mesh extra = icosphere(1);
+    extra.positions.push_back({5, 5, 5});
+    EXPECT_EQ(kind_of([&] { check_sphere_topology(extra, "x.obj"); }, &msg), Error::Kind::invalid);
+    EXPECT_TRUE(contains(msg, "used by no face")) << msg;
+}
+
+TEST(SphereMap, SpotMapsWithoutFolds)
+{
+    const SphereTopology t = check_sphere_topology(read_mesh(spot()), "spot");
+    const SphereMap m = map_to_sphere(t, {}, "spot");
+    ASSERT_EQ(m.points.size(), t.points.size());
+    std::size_t folded = 0;
+    for (const auto& f : t.faces) {
+        const auto &p = m.points[f[0]], &q = m.points[f[1]], &s = m.points[f[2]];
+        const double det = p[0] * (q[1] * s[2] - q[2] * s[1]) - p[1] * (q[0] * s[2] - q[2] * s[0]) + p[2] * (q[0] * s[1] - q[1] * s[0]);
+        folded += det > 0 ? 0 : 1;
+    }
+    EXPECT_EQ(folded, 0u);
+    for (const auto& p : m.points) EXPECT_NEAR(p[0] * p[0] + p[1] * p[1] + p[2] * p[2], 1.0, 1e-9);
+    EXPECT_GT(m.min_face_orient, 0.0);
+}
+
+TEST(Supermesh, SpotAndIcosphere)
+{
+    const Mesh a = weld_copy(read_mesh(spot()));
+    const Mesh b = icosphere(4, 0.6f, a.bounds().center());
+    const Landmarks l = spot_sphere_landmarks(a, b, extremes(a));
+    const SupermeshResult r = build_supermesh(a, b, l, {}, "spot", "ico", "l.json");
+    expect_valid_supermesh(r, a, b);
+    EXPECT_EQ(r.a_points, 2930u);
+    EXPECT_EQ(r.b_points, 2562u);
+    EXPECT_GT(r.crossings, 0u);
+    // The landmark pairs meet: the sphere points of each pair coincide after the warp.
+    for (const auto& p : l.pairs) {
+        const auto& x = r.sphere_points[p.a];
+        const auto& y = r.sphere_points[r.a_points + p.b];
+        EXPECT_LT(std::hypot(x[0] - y[0], x[1] - y[1], x[2] - y[2]), 1e-4);
+    }
+}
