@@ -9,8 +9,8 @@
 //   the crossings along each edge and the rotation order at every vertex, then its faces are traced.
 //
 // All combinatorial decisions (does edge a cross edge b, on which side does b leave a) are signs of
-// determinants of the *input* points, so they are consistent with each other; a sign too close to zero
-// to trust is reported as "not in general position" and the caller perturbs one mesh and retries.
+// determinants of the *input* points (orient_sign: a filtered predicate), so they are consistent with
+// each other; a sign too close to zero to trust is reported as "not in general position" and the caller perturbs one mesh and retries.
 #include "sphere_overlay.h"
 
 #include <algorithm>
@@ -19,10 +19,6 @@
 
 namespace lodforge::sphere {
 namespace {
-
-// Below this a determinant of unit vectors is not trusted (rounding is ~1e-16; thin triangles of a
-// sphere map have determinants far above it).
-constexpr double k_sign_tol = 1e-14;
 
 std::uint64_t key(std::uint32_t a, std::uint32_t b) { return (std::uint64_t(a) << 32) | b; }
 
@@ -106,8 +102,6 @@ private:
     std::vector<std::vector<std::uint32_t>> cells_;
 };
 
-int trusted_sign(double d) { return d > k_sign_tol ? 1 : (d < -k_sign_tol ? -1 : 0); }
-
 }  // namespace
 
 bool overlay_triangulations(const SphereTriangulation& a, const SphereTriangulation& b, Overlay& out, std::string& why)
@@ -133,8 +127,8 @@ bool overlay_triangulations(const SphereTriangulation& a, const SphereTriangulat
                 stamp[e] = g;
                 const D3& a0 = pa[ea.ends[e][0]];
                 const D3& a1 = pa[ea.ends[e][1]];
-                const int s0 = trusted_sign(det3(a0, a1, b0)), s1 = trusted_sign(det3(a0, a1, b1));
-                const int t0 = trusted_sign(det3(b0, b1, a0)), t1 = trusted_sign(det3(b0, b1, a1));
+                const int s0 = orient_sign(a0, a1, b0), s1 = orient_sign(a0, a1, b1);
+                const int t0 = orient_sign(b0, b1, a0), t1 = orient_sign(b0, b1, a1);
                 // Clearly on one side: no crossing, whatever the other signs say.
                 if ((s0 == s1 && s0 != 0) || (t0 == t1 && t0 != 0)) continue;
                 D3 x = cross(cross(a0, a1), cross(b0, b1));
@@ -354,9 +348,13 @@ bool overlay_triangulations(const SphereTriangulation& a, const SphereTriangulat
         bool done = false;
         for (std::size_t apex = 0; apex < m && !done; ++apex) {
             double worst = INFINITY;
-            for (std::size_t i = 1; i + 1 < m; ++i)
-                worst = std::min(worst, det3(out.points[cycle[apex]], out.points[cycle[(apex + i) % m]], out.points[cycle[(apex + i + 1) % m]]));
-            if (!(worst > 0)) continue;
+            bool all_positive = true;
+            for (std::size_t i = 1; i + 1 < m && all_positive; ++i) {
+                const D3 &p = out.points[cycle[apex]], &q = out.points[cycle[(apex + i) % m]], &r = out.points[cycle[(apex + i + 1) % m]];
+                all_positive = orient_sign(p, q, r) > 0;
+                worst = std::min(worst, dot(p, cross(sub(q, p), sub(r, p))));
+            }
+            if (!all_positive) continue;
             for (std::size_t i = 1; i + 1 < m; ++i)
                 out.triangles.push_back({cycle[apex], cycle[(apex + i) % m], cycle[(apex + i + 1) % m]});
             out.min_det = std::min(out.min_det, worst);

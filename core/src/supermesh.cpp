@@ -55,7 +55,7 @@ D3 rotate(const Eigen::Matrix3d& r, const D3& p)
 bool all_positive(const std::vector<D3>& x, const std::vector<std::array<std::uint32_t, 3>>& faces)
 {
     for (const auto& f : faces)
-        if (!(sphere::det3(x[f[0]], x[f[1]], x[f[2]]) > 1e-15)) return false;
+        if (sphere::orient_sign(x[f[0]], x[f[1]], x[f[2]]) <= 0) return false;
     return true;
 }
 
@@ -66,6 +66,17 @@ double max_gap(const std::vector<D3>& x, const std::vector<std::uint32_t>& movin
     return g;
 }
 
+double signed_volume(const SphereTopology& t)
+{
+    double v = 0;
+    for (const auto& f : t.faces) {
+        const Vec3f a = t.points[f[0]], b = t.points[f[1]], c = t.points[f[2]];
+        v += double(a.x) * (double(b.y) * c.z - double(b.z) * c.y) - double(a.y) * (double(b.x) * c.z - double(b.z) * c.x) +
+             double(a.z) * (double(b.x) * c.y - double(b.y) * c.x);
+    }
+    return v / 6;
+}
+
 struct WarpResult {
     int steps = 0;
     double residual = 0;
@@ -73,7 +84,7 @@ struct WarpResult {
 
 // Moves points `moving` of the map x towards `target` by a flow of smooth Gaussian-RBF displacement
 // fields, each step fold-checked over all faces and halved when it would fold one.
-WarpResult landmark_warp(std::vector<D3>& x, const std::vector<std::array<std::uint32_t, 3>>& faces,
+WarpResult landmark_warp(std::vector<D3>& x, const SphereTopology& mesh,
                          const std::vector<std::uint32_t>& moving, const std::vector<D3>& target, const SupermeshParams& params,
                          Progress* progress)
 {
@@ -81,6 +92,8 @@ WarpResult landmark_warp(std::vector<D3>& x, const std::vector<std::array<std::u
     const std::size_t k = moving.size();
     const double sigma2 = 0.5 * 0.5;
     std::vector<D3> y(x.size());
+    std::vector<std::uint8_t> pinned(x.size(), 0);
+    for (auto v : moving) pinned[v] = 1;
     const double start_gap = max_gap(x, moving, target);
     r.residual = start_gap;
     while (r.steps < params.max_warp_steps && r.residual > params.warp_tolerance) {
@@ -115,10 +128,15 @@ WarpResult landmark_warp(std::vector<D3>& x, const std::vector<std::array<std::u
                 f = sphere::sub(f, sphere::mul(x[v], sphere::dot(f, x[v])));
                 y[v] = sphere::normalized(sphere::add(x[v], sphere::mul(f, alpha)));
             }
-            if (all_positive(y, faces) && max_gap(y, moving, target) < r.residual) moved = true;
+            // A smooth near-identity step cannot fold a well-shaped face; slivers left by the sphere map's
+            // fold repair can, and get the same local repair.
+            const bool pos = all_positive(y, mesh.faces) || repair_sphere_folds(mesh, y, 20) == 0;
+            if (pos && max_gap(y, moving, target) < r.residual) moved = true;
         }
         if (!moved) break;
         x.swap(y);
+        // The flow squeezes the regions a landmark moves into; spread them again (landmarks pinned).
+        relax_sphere_slivers(mesh, x, pinned, 0.05, 3);
         r.residual = max_gap(x, moving, target);
         ++r.steps;
     }
@@ -156,6 +174,12 @@ SupermeshResult build_supermesh(const Mesh& a, const Mesh& b, const Landmarks& l
         lb.push_back(pb);
     }
 
+    // The sphere map follows the face order; an inside-out mesh would morph A's outside onto B's inside.
+    const double va = signed_volume(ta), vb = signed_volume(tb);
+    if ((va < 0) != (vb < 0))
+        throw_error(Error::Kind::invalid, va < 0 ? source_a : source_b,
+                    "the faces are oriented inwards (negative enclosed volume) while the other mesh's face outwards; "
+                    "flip one mesh's faces");
     const SphereMap ma = map_to_sphere(ta, params.sphere, source_a, progress);
     SphereMap mb = map_to_sphere(tb, params.sphere, source_b, progress);
 
@@ -164,9 +188,11 @@ SupermeshResult build_supermesh(const Mesh& a, const Mesh& b, const Landmarks& l
     for (std::size_t i = 0; i < la.size(); ++i) from.push_back(mb.points[lb[i]]), to.push_back(ma.points[la[i]]);
     const Eigen::Matrix3d rot = kabsch(from, to);
     for (auto& p : mb.points) p = rotate(rot, p);
+    if (!all_positive(mb.points, tb.faces))
+        throw_error(Error::Kind::invalid, source_b, "sphere map: a face folds when the map is rotated (faces too thin)");
     SupermeshResult result;
     result.rotation_residual = max_gap(mb.points, lb, to);
-    const WarpResult warp = landmark_warp(mb.points, tb.faces, lb, to, params, progress);
+    const WarpResult warp = landmark_warp(mb.points, tb, lb, to, params, progress);
     result.landmark_residual = warp.residual;
     result.warp_steps = warp.steps;
     if (warp.residual > 0.01)

@@ -39,8 +39,9 @@ struct SphereTopology {
 SphereTopology check_sphere_topology(const Mesh& mesh, const std::string& source);
 
 struct SphereMapParams {
-    int relax_rounds = 30;     // rounds of (relaxation sweeps + Möbius centering) after the Tutte start
-    int sweeps_per_round = 10;
+    int stretch_rounds = 8;    // Tutte solves, each reweighted by the last one's area stretch (1 = plain)
+    int repair_sweeps = 200;   // local sweeps moving only the points of folded faces
+    int fallback_rounds = 30;  // then, if folds remain, rounds of Möbius centering + 10 global sweeps
 };
 
 struct SphereMap {
@@ -48,6 +49,7 @@ struct SphereMap {
     std::size_t cut_face = 0;        // the face whose star became the outer triangle of the Tutte disk
     double min_face_orient = 0;      // smallest det[p0, p1, p2] over the faces (> 0: no fold)
     double min_face_angle = 0;       // smallest triangle corner angle on the sphere, radians
+    double area_distortion = 0;      // Σ a_f·(a_f / s_f) over faces (3D and sphere area shares); 1 = area-preserving
 };
 
 // Spherical parametrisation: Tutte embedding (mean-value weights) of the mesh minus one face into a
@@ -56,6 +58,15 @@ struct SphereMap {
 // on return; otherwise Error(invalid) naming `source`.
 SphereMap map_to_sphere(const SphereTopology& mesh, const SphereMapParams& params, const std::string& source,
                         Progress* progress = nullptr);
+
+// Moves only the points of folded faces (towards their neighbours' centroid, each move kept when it
+// unfolds a face of the point's star) for up to `sweeps` sweeps; returns the faces still folded.
+std::size_t repair_sphere_folds(const SphereTopology& mesh, std::vector<std::array<double, 3>>& points, int sweeps);
+
+// Moves the unpinned points of faces whose smallest corner sine is below min_sine towards their
+// neighbours' centroid when that improves the worst face of their star without folding one.
+void relax_sphere_slivers(const SphereTopology& mesh, std::vector<std::array<double, 3>>& points,
+                          const std::vector<std::uint8_t>& pinned, double min_sine, int sweeps);
 
 struct SupermeshParams {
     SphereMapParams sphere;
