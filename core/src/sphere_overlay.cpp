@@ -163,7 +163,7 @@ bool overlay_triangulations(const SphereTriangulation& a, const SphereTriangulat
             });
             for (auto it = first; it + 1 < last; ++it) {
                 const double d = along_a ? crossings[*(it + 1)].ta - crossings[*it].ta : crossings[*(it + 1)].tb - crossings[*it].tb;
-                if (!(d > 1e-12)) return false;
+                if (!(d > 0)) return false;  // a wrong order of two close ones fails the checks of step 8
             }
         }
         return true;

@@ -90,14 +90,14 @@ WarpResult landmark_warp(std::vector<D3>& x, const SphereTopology& mesh,
 {
     WarpResult r;
     const std::size_t k = moving.size();
-    const double sigma2 = 0.5 * 0.5;
     std::vector<D3> y(x.size());
     std::vector<std::uint8_t> pinned(x.size(), 0);
     for (auto v : moving) pinned[v] = 1;
     const double start_gap = max_gap(x, moving, target);
     r.residual = start_gap;
-    while (r.steps < params.max_warp_steps && r.residual > params.warp_tolerance) {
-        check_progress(progress, start_gap > 0 ? 1 - r.residual / start_gap : 1, "supermesh: landmark warp");
+    // One fold-checked step of the flow with Gaussians of width sigma (chord distance); y = the result.
+    auto try_step = [&](double sigma) {
+        const double sigma2 = sigma * sigma;
         // Tangent displacements at the landmarks (log map), interpolated by Gaussians in chord distance.
         Eigen::MatrixXd kmat{Eigen::Index(k), Eigen::Index(k)}, d{Eigen::Index(k), 3};
         double longest = 0;
@@ -133,6 +133,14 @@ WarpResult landmark_warp(std::vector<D3>& x, const SphereTopology& mesh,
             const bool pos = all_positive(y, mesh.faces) || repair_sphere_folds(mesh, y, 20) == 0;
             if (pos && max_gap(y, moving, target) < r.residual) moved = true;
         }
+        return moved;
+    };
+    while (r.steps < params.max_warp_steps && r.residual > params.warp_tolerance) {
+        check_progress(progress, start_gap > 0 ? 1 - r.residual / start_gap : 1, "supermesh: landmark warp");
+        // Wide fields first (they move whole regions); narrower ones when a wide one would fold a face.
+        bool moved = false;
+        for (double sigma : {0.5, 1.0, 0.25, 0.125})
+            if ((moved = try_step(sigma))) break;
         if (!moved) break;
         x.swap(y);
         // The flow squeezes the regions a landmark moves into; spread them again (landmarks pinned).
