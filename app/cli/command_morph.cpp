@@ -38,7 +38,8 @@ void add_build(CLI::App& morph, const GlobalOptions& global) {
     auto o = std::make_shared<Options>();
     CLI::App* cmd = morph.add_subcommand(
         "build", "Build a morph LOD file from keyframes with identical connectivity (a directory of .obj/.ply "
-                 "frames sorted by name, or a .gltf/.glb with morph targets)");
+                 "frames sorted by name, or a .gltf/.glb with morph targets), or from two closed genus-0 meshes "
+                 "A B aligned by --landmarks (supermesh)");
     cmd->add_option("INPUT", o->inputs, "Sequence directory or glTF, or two closed genus-0 meshes A B with --landmarks")
         ->required()
         ->expected(1, 2);

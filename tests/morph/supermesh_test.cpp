@@ -400,6 +400,13 @@ TEST(CliSupermesh, BuildInfoExtractAndErrors)
     for (const Vec3f& p : shape_b.positions) worst = std::max(worst, std::fabs(length(p - c) - 0.5f));
     EXPECT_LT(worst, 0.01f);
 
+    // --frames 3: the blend sampled at t = 0, 0.5, 1 as keyframes.
+    r = test::run_cli("morph build " + test::quoted(spot()) + " " + test::quoted(dir.file("ball.obj")) + " --landmarks " +
+                      test::quoted(dir.file("l.json")) + " -o " + test::quoted(dir.file("s3.lfmorph")) +
+                      " --levels 0.5 --frames 3 --order per-frame");
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    EXPECT_TRUE(contains(r.out, "3 frames") && contains(r.out, "3 sequence(s)")) << r.out;
+
     Landmarks first;
     first.pairs = {{0, 0}};
     write_landmarks(first, dir.file("l0.json"));
