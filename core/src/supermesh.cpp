@@ -200,7 +200,28 @@ SupermeshResult build_supermesh(const Mesh& a, const Mesh& b, const Landmarks& l
         throw_error(Error::Kind::invalid, source_b, "sphere map: a face folds when the map is rotated (faces too thin)");
     SupermeshResult result;
     result.rotation_residual = max_gap(mb.points, lb, to);
-    const WarpResult warp = landmark_warp(mb.points, tb, lb, to, params, progress);
+    // All pairs at once first; if that stalls, from the saved start one more pair at a time (the pairs
+    // already met held in place), which gets through configurations the joint flow cannot.
+    std::vector<D3> start = mb.points;
+    WarpResult warp = landmark_warp(mb.points, tb, lb, to, params, progress);
+    if (warp.residual > 0.01 && lb.size() > 1) {
+        std::vector<D3> incremental = start;
+        WarpResult inc;
+        int steps = 0;
+        for (std::size_t c = 1; c <= lb.size(); ++c) {
+            const std::vector<std::uint32_t> sub_b(lb.begin(), lb.begin() + long(c));
+            const std::vector<D3> sub_t(to.begin(), to.begin() + long(c));
+            inc = landmark_warp(incremental, tb, sub_b, sub_t, params, progress);
+            steps += inc.steps;
+            if (inc.residual > 0.01) break;
+        }
+        inc.steps = steps;
+        if (inc.residual <= 0.01 && max_gap(incremental, lb, to) <= 0.01) {
+            mb.points.swap(incremental);
+            warp = inc;
+            warp.residual = max_gap(mb.points, lb, to);
+        }
+    }
     result.landmark_residual = warp.residual;
     result.warp_steps = warp.steps;
     if (warp.residual > 0.01)
