@@ -30,6 +30,7 @@ namespace lodforge::widgets {
 class Job;
 class LevelViews;
 class LoadJob;
+class MorphPanel;
 class ParametersPanel;
 class ReportPanel;
 class StatsPanel;
@@ -106,6 +107,9 @@ public:
     widgets::ParametersPanel* parametersPanel() const { return params_; }
     widgets::ReportPanel* reportPanel() const { return report_; }
     QPlainTextEdit* logView() const { return log_; }
+    // The Morph dock (docs/studio.md, "Morph"): morph playback with LOD and landmark picking.
+    widgets::MorphPanel* morphPanel() const { return morph_; }
+    QDockWidget* morphDock() const { return morphDock_; }
 
     // The whole window as shown, with the 3D views' current frames in place.
     QImage grabWindowImage();
@@ -128,6 +132,7 @@ private:
     void createToolBar();
     void createDocks();
     void createStatusBar();
+    void createMorph();  // the Morph dock and menu
     void restoreSettings();
     void saveSettings();
     void showOpenDialog();
@@ -165,6 +170,8 @@ private:
     QDoubleSpinBox* rangeBox_ = nullptr;
     QSlider* splitSlider_ = nullptr;
     QUndoStack* undo_ = nullptr;
+    widgets::MorphPanel* morph_ = nullptr;
+    QDockWidget* morphDock_ = nullptr;
 
     QAction* openAction_ = nullptr;
     QAction* quitAction_ = nullptr;
