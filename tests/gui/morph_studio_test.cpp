@@ -20,6 +20,7 @@
 #include <QApplication>
 #include <QDir>
 #include <QDockWidget>
+#include <QElapsedTimer>
 #include <QFile>
 #include <QLabel>
 #include <QMenuBar>
@@ -87,6 +88,7 @@ private slots:
     void timeAndLodMoveIndependently();
     void heatmapShowsTheFramesError();
     void lfmorphFileBrokenFileAndCancel();
+    void gltfMorphTargetsPlay();
     void landmarkPickingRoundTrips();
 
 private:
@@ -185,6 +187,12 @@ void MorphStudioTest::timeAndLodMoveIndependently() {
     QCOMPARE(panel_->lodFactor(), 0.5);
     QCOMPARE(panel_->triangleCount(), lodforge::extract_morph(data->morph, data->lod, 0.5, 0.5).triangle_count());
 
+    // What a frame change costs on the GUI thread (extract_morph + the drawable scene): logged, not asserted.
+    QElapsedTimer timer;
+    timer.start();
+    for (int i = 1; i <= 20; ++i) panel_->setTime(0.5 + i / 100.0);
+    qInfo("frame change at F 0.5: %.1f ms each", timer.elapsed() / 20.0);
+
     // Play advances t (and loops); Pause stops it.
     panel_->setTime(0.9);
     QSignalSpy ticks(panel_, &MorphPanel::timeChanged);
@@ -226,6 +234,16 @@ void MorphStudioTest::heatmapShowsTheFramesError() {
     QVERIFY(shown.wait(30000));
     QVERIFY(panel_->heatmapCurrent());
     QVERIFY(panel_->heatmapMaxError() > 0);
+
+    // While playing, the heat map follows t (computed in the background, one at a time).
+    QSignalSpy updated(panel_, &MorphPanel::timeChanged);
+    const double firstT = panel_->heatmapTime();
+    panel_->setPlaying(true);
+    QVERIFY(QTest::qWaitFor([&] { return panel_->heatmapTime() != firstT; }, 20000));
+    const double secondT = panel_->heatmapTime();
+    QVERIFY(QTest::qWaitFor([&] { return panel_->heatmapTime() != secondT; }, 20000));
+    panel_->setPlaying(false);
+    QVERIFY(updated.size() >= 2);
 
     // Full detail: the LOD is the mesh, the error is zero everywhere.
     shown.clear();
@@ -280,6 +298,27 @@ void MorphStudioTest::lfmorphFileBrokenFileAndCancel() {
     QCOMPARE(loaded.at(0).at(1).toString(), QString());
     QCOMPARE(panel_->data(), shown);
     QVERIFY(!panel_->isBusy());
+}
+
+void MorphStudioTest::gltfMorphTargetsPlay() {
+    // The glTF sample is flat shaded (every edge a normal seam): like the CLI, it simplifies only with
+    // --close-seams.
+    panel_->setCloseSeams(true);
+    QVERIFY(openMorph(QStringLiteral(LODFORGE_SHARED_DATA "/morph-animated-morph-sphere/AnimatedMorphSphere.gltf")));
+    const auto data = panel_->data();
+    QVERIFY(data->morph.frame_count() > 2);
+    VtkView* view = panel_->view();
+    const QImage start = freshFrame(view);
+    panel_->setTime(0.5);
+    const QImage middle = freshFrame(view);
+    const double change = differingFraction(start, middle, viewBackgroundColor());
+    qInfo("sphere: %zu keyframes, t 0 -> 0.5 changes %.1f%% of the drawn pixels", data->morph.frame_count(), 100 * change);
+    QVERIFY2(change > 0.05, qPrintable(QString::number(change)));
+    const std::size_t full = panel_->triangleCount();
+    panel_->setLodFactor(0.0);
+    qInfo("sphere: %zu triangles at F 1, %zu at F 0", full, panel_->triangleCount());
+    QVERIFY(panel_->triangleCount() < full);
+    QCOMPARE(panel_->triangleCount(), data->lod.sequences.front().level_triangles.back());
 }
 
 void MorphStudioTest::landmarkPickingRoundTrips() {

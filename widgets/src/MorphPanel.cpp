@@ -162,7 +162,7 @@ MorphPanel::MorphPanel(QWidget* parent) : QWidget(parent) {
 
     playTimer_.setInterval(playIntervalMs);
     connect(&playTimer_, &QTimer::timeout, this, &MorphPanel::advancePlay);
-    // Heat maps measure the whole mesh: wait until the sliders rest for a moment.
+    // Heat maps measure the whole mesh: at most one per interval, and one at a time (startHeatmap).
     heatDebounce_.setSingleShot(true);
     heatDebounce_.setInterval(60);
     connect(&heatDebounce_, &QTimer::timeout, this, &MorphPanel::startHeatmap);
@@ -344,7 +344,9 @@ void MorphPanel::showFrame(bool resetCamera) {
         view_->setScene(buildMeshScene(mesh, {}), resetCamera);
         if (!heat_) emit frameShown();
     }
-    if (heat_) heatDebounce_.start();
+    // A throttle rather than a debounce: while playing, t changes every tick and a restarted timer would
+    // never fire.
+    if (heat_ && !heatDebounce_.isActive()) heatDebounce_.start();
     updateLabels();
 }
 

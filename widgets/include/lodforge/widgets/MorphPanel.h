@@ -77,6 +77,7 @@ public:
     // The heat map shown is of the current (t, F) (false while one is being computed).
     bool heatmapCurrent() const;
     double heatmapMaxError() const { return heatMax_; }  // model units, of the heat map shown
+    double heatmapTime() const { return heatT_; }         // t of the heat map shown (-1: none)
 
     std::size_t triangleCount() const { return triangles_; }  // of the LOD mesh at (t, F)
     QString timeText() const;
