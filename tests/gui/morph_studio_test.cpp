@@ -9,6 +9,7 @@
 #include "PixelStats.h"
 #include "StudioSession.h"
 
+#include "lodforge/error.h"
 #include "lodforge/landmarks.h"
 #include "lodforge/morph_file.h"
 #include "lodforge/morph_lod.h"
@@ -389,6 +390,13 @@ void MorphStudioTest::landmarkPickingRoundTrips() {
     qInfo("marker pixels: %d before, %d after", yellowBefore, yellowAfter);
     QVERIFY(yellowAfter > yellowBefore + 30);
     QVERIFY(!build->isEnabled());  // still not connected
+    // The hook itself refuses rather than pretending to build.
+    try {
+        (void)MorphPanel::build_supermesh(*a, *b, picker->landmarks(), nullptr);
+        QFAIL("build_supermesh returned a mesh without a core builder");
+    } catch (const lodforge::Error& e) {
+        QCOMPARE(e.kind(), lodforge::Error::Kind::unsupported);
+    }
 
     // Saved through the core writer, read back by the core reader: the pairs as picked.
     const QString file = tmp_.filePath(QStringLiteral("L.json"));
