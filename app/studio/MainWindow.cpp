@@ -937,6 +937,10 @@ void MainWindow::createMorph() {
     addDockWidget(Qt::BottomDockWidgetArea, morphDock_);
     morphDock_->hide();
     connect(morph_, &widgets::MorphPanel::logMessage, this, &MainWindow::appendLog);
+    // The View menu's toggles apply to the morph views as well.
+    const auto syncViewOptions = [this] { morph_->setViewOptions(viewOptions()); };
+    for (const ViewToggle& t : viewToggles_) connect(t.action, &QAction::toggled, this, syncViewOptions);
+    connect(morphDock_, &QDockWidget::visibilityChanged, this, syncViewOptions);
 
     auto showMorph = [this](bool landmarks) {
         morphDock_->show();

@@ -183,6 +183,14 @@ void MorphStudioTest::timeAndLodMoveIndependently() {
     const double lodChange = differingFraction(t5, f2, viewBackgroundColor(), {}, 8);
     qInfo("F 1 -> 0.2 changes %.1f%% of the drawn pixels", 100 * lodChange);
     QVERIFY2(lodChange > 0.02, qPrintable(QString::number(lodChange)));
+    // The View menu's wireframe toggle reaches the morph view.
+    window_->findChild<QAction*>(QStringLiteral("actionWireframe"))->trigger();
+    QVERIFY(view->viewOptions().wireframe);
+    const double wire = differingFraction(f2, freshFrame(view), viewBackgroundColor());
+    QVERIFY2(wire > 0.2, qPrintable(QString::number(wire)));
+    window_->findChild<QAction*>(QStringLiteral("actionWireframe"))->trigger();
+    QVERIFY(!view->viewOptions().wireframe);
+
     // The sliders drive the same state.
     panel_->findChild<QSlider*>(QStringLiteral("morphLod"))->setValue(500);
     QCOMPARE(panel_->lodFactor(), 0.5);

@@ -178,6 +178,11 @@ MorphPanel::~MorphPanel() {
     heatJob_ = nullptr;
 }
 
+void MorphPanel::setViewOptions(const ViewOptions& options) {
+    for (VtkView* v : {view_, picker_->view(LandmarkPicker::Side::a), picker_->view(LandmarkPicker::Side::b)})
+        v->setViewOptions(options);
+}
+
 void MorphPanel::showLandmarks() { tabs_->setCurrentWidget(picker_); }
 void MorphPanel::showAnimation() { tabs_->setCurrentIndex(0); }
 

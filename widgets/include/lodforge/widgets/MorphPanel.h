@@ -12,6 +12,7 @@
 #include "lodforge/morph.h"
 #include "lodforge/morph_lod.h"
 #include "lodforge/progress.h"
+#include "lodforge/widgets/ViewOptions.h"
 
 #include <QString>
 #include <QTimer>
@@ -84,6 +85,8 @@ public:
     QString lodText() const;
     VtkView* view() const { return view_; }
     LandmarkPicker* landmarkPicker() const { return picker_; }
+    // The main View menu's toggles (wireframe, edges, flat shading, ...) for the morph and landmark views.
+    void setViewOptions(const ViewOptions& options);
     void showLandmarks();  // the Landmarks tab
     void showAnimation();  // the Animation tab
 
