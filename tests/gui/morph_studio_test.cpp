@@ -25,6 +25,7 @@
 #include <QFile>
 #include <QLabel>
 #include <QMenuBar>
+#include <QPlainTextEdit>
 #include <QPushButton>
 #include <QSettings>
 #include <QSignalSpy>
@@ -306,6 +307,10 @@ void MorphStudioTest::lfmorphFileBrokenFileAndCancel() {
     QVERIFY2(message.contains(QStringLiteral("broken.lfmorph")), qPrintable(message));
     QCOMPARE(panel_->data(), shown);
 
+    QVERIFY(!openMorph(tmp_.filePath(QStringLiteral("missing-sequence")), &message));
+    QVERIFY2(message.contains(QStringLiteral("missing-sequence")), qPrintable(message));
+    QCOMPARE(panel_->data(), shown);
+
     // Cancel a build of the whole gallop: cancelled (no message), nothing replaced.
     QSignalSpy loaded(panel_, &MorphPanel::morphLoaded);
     panel_->openMorph(horseDir);
@@ -323,8 +328,15 @@ void MorphStudioTest::lfmorphFileBrokenFileAndCancel() {
 void MorphStudioTest::gltfMorphTargetsPlay() {
     // The glTF sample is flat shaded (every edge a normal seam): like the CLI, it simplifies only with
     // --close-seams.
+    const QString sphere = QStringLiteral(LODFORGE_SHARED_DATA "/morph-animated-morph-sphere/AnimatedMorphSphere.gltf");
+    QVERIFY(openMorph(sphere));
+    panel_->setLodFactor(0.0);
+    QCOMPARE(panel_->triangleCount(), panel_->data()->lod.triangles);
+    QVERIFY2(window_->logView()->toPlainText().contains(QStringLiteral("Close seams")),
+             qPrintable(window_->logView()->toPlainText()));
+    panel_->setLodFactor(1.0);
     panel_->setCloseSeams(true);
-    QVERIFY(openMorph(QStringLiteral(LODFORGE_SHARED_DATA "/morph-animated-morph-sphere/AnimatedMorphSphere.gltf")));
+    QVERIFY(openMorph(sphere));
     const auto data = panel_->data();
     QVERIFY(data->morph.frame_count() > 2);
     VtkView* view = panel_->view();

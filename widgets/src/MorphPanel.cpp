@@ -259,6 +259,10 @@ void MorphPanel::startMorphJob(const QString& name, const QString& source, Fill 
                                 .arg(d.morph.vertex_count())
                                 .arg(d.lod.levels.size())
                                 .arg(result.elapsedMs));
+            const auto& levels = d.lod.sequences.front().level_triangles;
+            if (!levels.empty() && levels.back() >= d.lod.triangles)
+                emit logMessage(tr("%1: the LOD removes no triangles (every edge a seam, as in flat-shaded "
+                                   "files?); open it again with Close seams").arg(d.source));
             heatT_ = heatF_ = -1;
             showFrame(true);
             if (heat_) startHeatmap();
