@@ -7,11 +7,14 @@
 #include "lodforge/mesh_io.h"
 #include "lodforge/morph.h"
 #include "lodforge/morph_file.h"
+#include "lodforge/morph_gltf.h"
+#include "lodforge/morph_lodstrips.h"
 #include "lodforge/morph_lod.h"
 
 #include <nlohmann/json.hpp>
 
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <string>
 #include <vector>
@@ -30,7 +33,7 @@ void add_build(CLI::App& morph, const GlobalOptions& global) {
     struct Options {
         std::vector<std::string> inputs;
         std::string output, order = "single", levels = "0.5,0.25,0.1,0.03", landmarks, weights;
-        std::string encoding = "16bit", frame_cost = "sum";
+        std::string encoding = "16bit", frame_cost = "sum", gltf, strips;
         long long frames = 0, cost_frames = 16;
         bool close_seams = false;
     };
@@ -56,6 +59,10 @@ void add_build(CLI::App& morph, const GlobalOptions& global) {
         ->capture_default_str();
     cmd->add_option("--weights", o->weights, "Attribute weights, e.g. normal=0.05,color=0.1,uv=0.1");
     cmd->add_flag("--close-seams", o->close_seams, "Let attribute seams close (flat-shaded inputs)");
+    cmd->add_option("--gltf", o->gltf,
+                    "Also write a .glb: each level a mesh with the frames as morph targets and the source's "
+                    "animation, plus the morph LODStrips file (.lfmstrips) next to it (single or naive order)");
+    cmd->add_option("--strips", o->strips, "Also write the morph LODStrips file (.lfmstrips) here");
     cmd->add_option("--landmarks", o->landmarks, "Landmark correspondences for two genus-0 meshes (not supported yet)");
     cmd->callback([o, &global] {
         if (o->inputs.size() == 2 || !o->landmarks.empty())
@@ -80,7 +87,35 @@ void add_build(CLI::App& morph, const GlobalOptions& global) {
         const MorphLod lod = build_morph_lod(mesh, params, &progress);
         MorphWriteOptions wo;
         wo.encoding = o->encoding == "float" ? MorphEncoding::float32 : MorphEncoding::quantized16;
+        if (!o->gltf.empty() || !o->strips.empty()) {
+            // Before anything is written, so that an order the strips cannot take leaves no output.
+            if (lod.sequences.size() != 1)
+                throw_error(Error::Kind::unsupported, o->gltf.empty() ? o->strips : o->gltf,
+                            "--gltf/--strips need one collapse order (--order single or naive); per-frame orders "
+                            "give one change set per frame (see docs/morph.md)");
+            if (mesh.frame_count() < 2 && !o->gltf.empty())
+                throw_error(Error::Kind::invalid, o->gltf, "morph targets need at least two frames");
+        }
         write_morph_lod(o->output, mesh, lod, wo, &progress);
+        if (!o->gltf.empty() || !o->strips.empty()) {
+            const MorphStripsBuild strips = build_morph_lodstrips(mesh, lod, {}, &progress);
+            std::string strips_path = o->strips;
+            if (strips_path.empty()) strips_path = std::filesystem::path(o->gltf).replace_extension(".lfmstrips").string();
+            write_morph_lodstrips(strips.data, strips_path, wo.encoding);
+            const MorphStripsStorage ss = morph_lodstrips_storage(strips.data, wo.encoding);
+            std::printf("%s: %zu strips, %zu collapses, %zu bytes (%.1f KB per frame)\n", strips_path.c_str(),
+                        strips.data.strips.strip_count(), strips.data.strips.collapse_count(), ss.file_bytes,
+                        ss.bytes_per_frame / 1024.0);
+            if (!o->gltf.empty()) {
+                MorphGltfOptions go;
+                go.name = std::filesystem::path(o->gltf).stem().string();
+                go.timing = morph_gltf_timing(mesh);
+                const MorphGltfResult gr = write_morph_glb(mesh, lod, strips, go, o->gltf, &progress);
+                std::printf("%s: %zu levels, %zu morph targets each, %s, %zu bytes\n", o->gltf.c_str(),
+                            gr.level_triangles.size(), gr.targets, go.timing.animated ? "animated" : "no animation",
+                            gr.glb.bytes);
+            }
+        }
         const MorphFileStats st = morph_file_stats(mesh, lod, wo);
         std::printf("%s: %zu frames, %zu vertices, %zu triangles, order %s, %zu sequence(s)\n", o->output.c_str(),
                     mesh.frame_count(), mesh.vertex_count(), lod.triangles, morph_order_name(lod.order), lod.sequences.size());

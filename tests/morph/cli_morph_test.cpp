@@ -89,3 +89,26 @@ TEST(CliMorph, ErrorsNameTheFileAndExitOne) {
     EXPECT_EQ(run_cli("morph --help").exit_code, 0);
     EXPECT_EQ(run_cli("morph build --help").exit_code, 0);
 }
+
+TEST(CliMorph, BuildWithGltfWritesTheGlbAndTheMorphStripsNextToIt) {
+    lodforge::test::ScratchDir dir("cli-morph-export");
+    const std::string glb = dir.file("sphere.glb");
+    auto r = run_cli("morph build " + quoted(sphere()) + " -o " + quoted(dir.file("s.lfmorph")) +
+                     " --frames 4 --close-seams --levels 0.5,0.1 --gltf " + quoted(glb));
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    EXPECT_TRUE(contains(r.out, "3 levels, 3 morph targets each, animated")) << r.out;
+    EXPECT_TRUE(std::filesystem::exists(dir.file("sphere.lfmstrips")));
+    const auto v = lodforge::test::run_command(std::string(LODFORGE_GLTF_VALIDATE) + " " + quoted(glb) + " 2>&1");
+    EXPECT_EQ(v.exit_code, 0) << v.out;
+    // --strips alone, and the per-frame order refused before anything is written
+    r = run_cli("morph build " + quoted(horse()) + " -o " + quoted(dir.file("h.lfmorph")) + " --frames 3 --levels 0.5 --strips " +
+                quoted(dir.file("h.lfmstrips")));
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    EXPECT_TRUE(std::filesystem::exists(dir.file("h.lfmstrips")));
+    r = run_cli("morph build " + quoted(sphere()) + " -o " + quoted(dir.file("p.lfmorph")) +
+                " --frames 3 --close-seams --levels 0.5 --order per-frame --gltf " + quoted(dir.file("p.glb")));
+    EXPECT_EQ(r.exit_code, 1);
+    EXPECT_TRUE(contains(r.out, "one collapse order")) << r.out;
+    EXPECT_FALSE(std::filesystem::exists(dir.file("p.lfmorph")));
+    EXPECT_FALSE(std::filesystem::exists(dir.file("p.glb")));
+}
