@@ -134,7 +134,9 @@ void add_extract(CLI::App& morph, const GlobalOptions& global) {
     };
     auto o = std::make_shared<Options>();
     CLI::App* cmd = morph.add_subcommand("extract", "Write the pose at time t with LOD factor F as a mesh");
-    cmd->add_option("IN", o->input, "Morph LOD file (.lfmorph)")->required();
+    cmd->add_option("IN", o->input, "Morph LOD file (.lfmorph) or morph LODStrips file (.lfmstrips: the strip "
+                                    "runtime's set_frame + go_to_lod)")
+        ->required();
     cmd->add_option("--t", o->t, "Time in [0, 1] across the whole sequence")->required();
     cmd->add_option("--lod", o->lod, "LOD factor in [0, 1]: 0 the coarsest stored level, 1 full detail")->required();
     cmd->add_option("-o,--output", o->output, "Output mesh (.ply or .obj)")->required();
@@ -142,8 +144,18 @@ void add_extract(CLI::App& morph, const GlobalOptions& global) {
         if (!(o->t >= 0 && o->t <= 1)) throw Error(Error::Kind::argument, "morph extract: --t must be in [0, 1]");
         if (!(o->lod >= 0 && o->lod <= 1)) throw Error(Error::Kind::argument, "morph extract: --lod must be in [0, 1]");
         TerminalProgress progress(!global.quiet && stderr_is_terminal());
-        const MorphLodFile f = read_morph_lod(o->input, &progress);
-        const Mesh m = extract_morph(f.morph, f.lod, o->t, o->lod);
+        Mesh m;
+        if (is_morph_lodstrips_file(o->input)) {
+            lodstrips::MorphLodStrips rt;
+            std::string why;
+            if (!rt.assign(read_morph_lodstrips(o->input), &why)) throw_error(Error::Kind::format, o->input, why);
+            rt.set_frame(o->t);
+            rt.go_to_lod(o->lod);
+            m = morph_lodstrips_mesh(rt);
+        } else {
+            const MorphLodFile f = read_morph_lod(o->input, &progress);
+            m = extract_morph(f.morph, f.lod, o->t, o->lod);
+        }
         write_mesh(m, o->output, {}, &progress);
         std::printf("%s: t %.4g, LOD %.4g: %zu triangles, %zu vertices\n", o->output.c_str(), o->t, o->lod,
                     m.triangle_count(), m.vertex_count());

@@ -436,4 +436,22 @@ lodstrips::MorphData read_morph_lodstrips(const std::string& path) {
     return d;
 }
 
+Mesh morph_lodstrips_mesh(const lodstrips::MorphLodStrips& runtime) {
+    Mesh m = lodstrips_mesh(runtime.strips());
+    const float* p = runtime.positions();
+    const float* n = runtime.normals();
+    m.normals.resize(m.positions.size());
+    for (std::size_t v = 0; v < m.positions.size(); ++v) {
+        m.positions[v] = {p[3 * v], p[3 * v + 1], p[3 * v + 2]};
+        m.normals[v] = {n[3 * v], n[3 * v + 1], n[3 * v + 2]};
+    }
+    return m;
+}
+
+bool is_morph_lodstrips_file(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    char magic[8] = {};
+    return in.read(magic, 8) && std::memcmp(magic, lodstrips::morph_file_magic, 8) == 0;
+}
+
 }  // namespace lodforge

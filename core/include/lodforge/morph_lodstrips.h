@@ -61,4 +61,10 @@ void write_morph_lodstrips(const lodstrips::MorphData& data, const std::string& 
 // Reads and decodes with the runtime's decoder; Error(io) / Error(format) name the file and the problem.
 lodstrips::MorphData read_morph_lodstrips(const std::string& path);
 
+// The mesh the runtime draws now (lodstrips_mesh of its strips: the vertex prefix of the level, every
+// attribute and material, the strips' triangles) with the positions and normals of its current time.
+Mesh morph_lodstrips_mesh(const lodstrips::MorphLodStrips& runtime);
+// True when the file starts with the .lfmstrips magic (false when it cannot be read).
+bool is_morph_lodstrips_file(const std::string& path);
+
 }  // namespace lodforge
