@@ -25,8 +25,9 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
-#include <cstdio>
 #include <cstring>
+#include <fstream>
+#include <iterator>
 #include <string>
 #include <utility>
 #include <vector>
@@ -169,15 +170,10 @@ public:
     }
 
     bool load_file(const std::string& path, std::string* error = nullptr) {
-        std::FILE* f = std::fopen(path.c_str(), "rb");
-        if (!f) return detail::fail(error, "cannot open for reading");
-        std::vector<std::uint8_t> bytes;
-        std::uint8_t chunk[1 << 16];
-        std::size_t n;
-        while ((n = std::fread(chunk, 1, sizeof chunk, f)) > 0) bytes.insert(bytes.end(), chunk, chunk + n);
-        const bool read_error = std::ferror(f) != 0;
-        std::fclose(f);
-        if (read_error) return detail::fail(error, "read error");
+        std::ifstream in(path, std::ios::binary);
+        if (!in) return detail::fail(error, "cannot open for reading");
+        const std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        if (in.bad()) return detail::fail(error, "read error");
         return load_memory(bytes.data(), bytes.size(), error);
     }
 
