@@ -114,7 +114,7 @@ void strips_section(const MorphMesh& morph, const std::vector<MorphLod>& lods, s
 
 int main(int argc, char** argv) {
     std::string models = "horse,sphere,cube";
-    std::size_t samples = 20000, stride = 1, reps = 50, cost_frames = 0;
+    std::size_t samples = 20000, stride = 1, reps = 50, cost_frames = MorphLodParams{}.cost_frames;  // the product default (16)
     std::string frame_cost = "sum", orders = "single,per-frame,naive";
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
