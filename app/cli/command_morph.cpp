@@ -162,16 +162,50 @@ void add_extract(CLI::App& morph, const GlobalOptions& global) {
     });
 }
 
+void print_strips_info(const std::string& path, bool json) {
+    const lodstrips::MorphData d = read_morph_lodstrips(path);
+    const auto bytes = std::filesystem::file_size(path);
+    const lodstrips::Data& s = d.strips;
+    nlohmann::ordered_json j;
+    j["file"] = path;
+    j["format"] = "lfmstrips";
+    j["version"] = lodstrips::morph_format_version;
+    j["bytes"] = bytes;
+    j["encoding"] = d.quantized ? "16bit" : "float";
+    j["frames"] = d.frame_count;
+    j["vertices"] = s.vertex_count;
+    j["strips"] = s.strip_count();
+    j["restart"] = s.restart;
+    j["collapses"] = s.collapse_count();
+    j["triangles"] = s.triangles.front();
+    j["coarsest_triangles"] = s.triangles.back();
+    j["bytes_per_frame"] = double(bytes) / double(d.frame_count);
+    if (json) {
+        std::printf("%s\n", j.dump(2).c_str());
+        return;
+    }
+    std::printf("%s: lfmstrips v%u, %s, %llu bytes (%.1f KB per frame)\n", path.c_str(), lodstrips::morph_format_version,
+                d.quantized ? "16-bit" : "float", static_cast<unsigned long long>(bytes),
+                double(bytes) / double(d.frame_count) / 1024.0);
+    std::printf("frames: %u, vertices: %u, strips: %zu (%s), collapses: %zu, triangles: %u to %u\n", d.frame_count,
+                s.vertex_count, s.strip_count(), s.restart ? "restart" : "degenerate joins", s.collapse_count(),
+                s.triangles.front(), s.triangles.back());
+}
+
 void add_info(CLI::App& morph) {
     struct Options {
         std::string input;
         bool json = false;
     };
     auto o = std::make_shared<Options>();
-    CLI::App* cmd = morph.add_subcommand("info", "Describe a morph LOD file");
-    cmd->add_option("IN", o->input, "Morph LOD file (.lfmorph)")->required();
+    CLI::App* cmd = morph.add_subcommand("info", "Describe a morph LOD file (.lfmorph) or morph LODStrips file (.lfmstrips)");
+    cmd->add_option("IN", o->input, "Morph LOD file (.lfmorph) or morph LODStrips file (.lfmstrips)")->required();
     cmd->add_flag("--json", o->json, "Print JSON");
     cmd->callback([o] {
+        if (is_morph_lodstrips_file(o->input)) {
+            print_strips_info(o->input, o->json);
+            return;
+        }
         const MorphLodFile f = read_morph_lod(o->input);
         const MorphWriteOptions wo{f.encoding};
         const MorphFileStats st = morph_file_stats(f.morph, f.lod, wo);

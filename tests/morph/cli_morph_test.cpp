@@ -146,6 +146,14 @@ TEST(CliMorph, ExtractFromTheStripsFileEqualsExtractFromTheMorphFile) {
         EXPECT_GT(a.size(), 100u);
         EXPECT_EQ(a, triangles(lodforge::read_mesh(dir.file("b.ply")))) << args;
     }
+    r = run_cli("morph info " + quoted(strips) + " --json", false);
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["format"], "lfmstrips");
+    EXPECT_EQ(j["frames"], 3);
+    EXPECT_EQ(j["encoding"], "float");
+    EXPECT_EQ(j["triangles"], 16843);
+    EXPECT_LE(j["coarsest_triangles"].get<int>(), 1685);
     // a damaged strips file: exit 1 naming it
     std::filesystem::resize_file(strips, std::filesystem::file_size(strips) - 5);
     r = run_cli("morph extract " + quoted(strips) + " --t 0.5 --lod 0.5 -o " + quoted(dir.file("c.ply")));
