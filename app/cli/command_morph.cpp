@@ -96,25 +96,40 @@ void add_build(CLI::App& morph, const GlobalOptions& global) {
             if (mesh.frame_count() < 2 && !o->gltf.empty())
                 throw_error(Error::Kind::invalid, o->gltf, "morph targets need at least two frames");
         }
-        write_morph_lod(o->output, mesh, lod, wo, &progress);
-        if (!o->gltf.empty() || !o->strips.empty()) {
-            const MorphStripsBuild strips = build_morph_lodstrips(mesh, lod, {}, &progress);
-            std::string strips_path = o->strips;
+        // Everything is computed before the first write, and a failed later write removes the earlier
+        // outputs of this run: a failed run leaves no output.
+        const bool extra = !o->gltf.empty() || !o->strips.empty();
+        MorphStripsBuild strips;
+        MorphGltfOptions go;
+        std::string strips_path = o->strips;
+        if (extra) {
+            strips = build_morph_lodstrips(mesh, lod, {}, &progress);
             if (strips_path.empty()) strips_path = std::filesystem::path(o->gltf).replace_extension(".lfmstrips").string();
-            write_morph_lodstrips(strips.data, strips_path, wo.encoding);
-            const MorphStripsStorage ss = morph_lodstrips_storage(strips.data, wo.encoding);
-            std::printf("%s: %zu strips, %zu collapses, %zu bytes (%.1f KB per frame)\n", strips_path.c_str(),
-                        strips.data.strips.strip_count(), strips.data.strips.collapse_count(), ss.file_bytes,
-                        ss.bytes_per_frame / 1024.0);
+            go.name = std::filesystem::path(o->gltf).stem().string();
+            if (!o->gltf.empty()) go.timing = morph_gltf_timing(mesh);
+        }
+        std::vector<std::string> written;
+        try {
+            write_morph_lod(o->output, mesh, lod, wo, &progress);
+            written.push_back(o->output);
+            if (extra) {
+                write_morph_lodstrips(strips.data, strips_path, wo.encoding);
+                written.push_back(strips_path);
+                const MorphStripsStorage ss = morph_lodstrips_storage(strips.data, wo.encoding);
+                std::printf("%s: %zu strips, %zu collapses, %zu bytes (%.1f KB per frame)\n", strips_path.c_str(),
+                            strips.data.strips.strip_count(), strips.data.strips.collapse_count(), ss.file_bytes,
+                            ss.bytes_per_frame / 1024.0);
+            }
             if (!o->gltf.empty()) {
-                MorphGltfOptions go;
-                go.name = std::filesystem::path(o->gltf).stem().string();
-                go.timing = morph_gltf_timing(mesh);
                 const MorphGltfResult gr = write_morph_glb(mesh, lod, strips, go, o->gltf, &progress);
                 std::printf("%s: %zu levels, %zu morph targets each, %s, %zu bytes\n", o->gltf.c_str(),
                             gr.level_triangles.size(), gr.targets, go.timing.animated ? "animated" : "no animation",
                             gr.glb.bytes);
             }
+        } catch (...) {
+            std::error_code ignored;
+            for (const std::string& f : written) std::filesystem::remove(f, ignored);
+            throw;
         }
         const MorphFileStats st = morph_file_stats(mesh, lod, wo);
         std::printf("%s: %zu frames, %zu vertices, %zu triangles, order %s, %zu sequence(s)\n", o->output.c_str(),

@@ -113,6 +113,14 @@ TEST(CliMorph, BuildWithGltfWritesTheGlbAndTheMorphStripsNextToIt) {
     EXPECT_TRUE(contains(r.out, "one collapse order")) << r.out;
     EXPECT_FALSE(std::filesystem::exists(dir.file("p.lfmorph")));
     EXPECT_FALSE(std::filesystem::exists(dir.file("p.glb")));
+    // a glb that cannot be written: exit 1 naming it, and neither the .lfmorph nor the strips are left
+    const std::string nowhere = dir.file("missing-dir/x.glb");
+    r = run_cli("morph build " + quoted(sphere()) + " -o " + quoted(dir.file("q.lfmorph")) + " --frames 3 --close-seams " +
+                "--levels 0.5 --gltf " + quoted(nowhere) + " --strips " + quoted(dir.file("q.lfmstrips")));
+    EXPECT_EQ(r.exit_code, 1);
+    EXPECT_TRUE(contains(r.out, nowhere)) << r.out;
+    EXPECT_FALSE(std::filesystem::exists(dir.file("q.lfmorph")));
+    EXPECT_FALSE(std::filesystem::exists(dir.file("q.lfmstrips")));
 }
 
 // `morph extract` from the strips file (the runtime's set_frame + go_to_lod) writes the same triangles as
