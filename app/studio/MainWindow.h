@@ -30,6 +30,8 @@ namespace lodforge::widgets {
 class Job;
 class LevelViews;
 class LoadJob;
+class McoPriorityPanel;
+class OctreeTuningPanel;
 class ParametersPanel;
 class ReportPanel;
 class StatsPanel;
@@ -106,6 +108,10 @@ public:
     widgets::ParametersPanel* parametersPanel() const { return params_; }
     widgets::ReportPanel* reportPanel() const { return report_; }
     QPlainTextEdit* logView() const { return log_; }
+    // The structure inspectors (docs/studio.md): the MC octree's priority slider, the octree's tuning
+    // and view-dependent cut.
+    widgets::McoPriorityPanel* mcoPriorityPanel() const { return mcoPanel_; }
+    widgets::OctreeTuningPanel* octreeTuningPanel() const { return octreePanel_; }
 
     // The whole window as shown, with the 3D views' current frames in place.
     QImage grabWindowImage();
@@ -128,6 +134,7 @@ private:
     void createToolBar();
     void createDocks();
     void createStatusBar();
+    void createStructurePanels();
     void restoreSettings();
     void saveSettings();
     void showOpenDialog();
@@ -160,6 +167,8 @@ private:
     QDockWidget* paramsDock_ = nullptr;
     QDockWidget* reportDock_ = nullptr;
     QDockWidget* logDock_ = nullptr;
+    widgets::McoPriorityPanel* mcoPanel_ = nullptr;
+    widgets::OctreeTuningPanel* octreePanel_ = nullptr;
     QProgressBar* progressBar_ = nullptr;
     QPushButton* cancelButton_ = nullptr;
     QDoubleSpinBox* rangeBox_ = nullptr;
