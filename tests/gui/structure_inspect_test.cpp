@@ -363,8 +363,11 @@ void StructureInspectTest::octreeViewDependentCutAndNodeScrub() {
     QCOMPARE(beforeScrub, atReset);  // pinning at its own level changes nothing
     const QImage beforeFrame = freshFrame(view);
     std::uint64_t coarsest = beforeScrub;
+    window_->activateWindow();
+    view->setFocus();
+    QVERIFY(QTest::qWaitForWindowActive(window_.get()));
     for (int i = 0; i < 3; ++i) {
-        panel->coarser();
+        QTest::keyClick(view, Qt::Key_BracketRight);  // the Coarser shortcut
         coarsest = panel->cutTriangles();
         QVERIFY(lodforge::is_valid_cut(store, panel->cut()));
         QCOMPARE(borderEdges(panel->cutMesh()), inputBorders);
@@ -374,6 +377,8 @@ void StructureInspectTest::octreeViewDependentCutAndNodeScrub() {
     QVERIFY(coarsest < beforeScrub);
     QVERIFY(window_->levelViews()->singleLabel()->text().contains(QStringLiteral("level %1").arg(panel->pinnedLevel())));
     QVERIFY(differingFraction(beforeFrame, freshFrame(view), viewBackgroundColor()) > 0.005);
+    QTest::keyClick(view, Qt::Key_BracketLeft);  // the Finer shortcut
+    QVERIFY(panel->cutTriangles() > coarsest);
     while (panel->pinnedLevel() > 0) panel->finer();
     QVERIFY(panel->cutTriangles() > beforeScrub);
     QVERIFY(lodforge::is_valid_cut(store, panel->cut()));

@@ -142,8 +142,10 @@ OctreeTuningPanel::OctreeTuningPanel(LevelViews* views, QWidget* parent) : QWidg
     finerAction->setShortcut(QKeySequence(Qt::Key_BracketLeft));
     finerAction->setShortcutContext(Qt::WindowShortcut);
     connect(finerAction, &QAction::triggered, this, &OctreeTuningPanel::finer);
-    addAction(coarserAction);
-    addAction(finerAction);
+    // On the views (always shown), not on this panel: a window shortcut needs its widget visible, and the
+    // dock may sit behind another tab.
+    views_->addAction(coarserAction);
+    views_->addAction(finerAction);
 
     debounce_ = new QTimer(this);
     debounce_->setSingleShot(true);
