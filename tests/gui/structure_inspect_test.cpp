@@ -165,6 +165,11 @@ void StructureInspectTest::mcoPrioritySliderExtractsColouredLevels() {
     qInfo("MC octree: %zu priorities, last update %.1f ms (%s), %s", top, panel->lastExtractMs(),
           qPrintable(panel->timing()), qPrintable(panel->labelText()));
 
+    // The triangle budget box: the finest index within the budget.
+    panel->budgetBox()->setValue(20000);
+    QVERIFY(panel->triangles() <= 20000 && panel->priority() < top);
+    QVERIFY(lodforge::mc_triangles_at(*tree, panel->priority() + 1) > 20000);
+
     // Coarse and fine frames differ; the scan's colours show.
     panel->setPriority(top / 50);
     const std::uint64_t coarseTriangles = panel->triangles();

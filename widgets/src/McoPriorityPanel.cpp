@@ -13,9 +13,11 @@
 #include <QLocale>
 #include <QPushButton>
 #include <QSlider>
+#include <QSpinBox>
 #include <QVBoxLayout>
 
 #include <algorithm>
+#include <limits>
 #include <vector>
 
 namespace lodforge::widgets {
@@ -46,10 +48,23 @@ McoPriorityPanel::McoPriorityPanel(LevelViews* views, QWidget* parent) : QWidget
     label_->setObjectName(QStringLiteral("mcoPriorityLabel"));
     label_->setTextFormat(Qt::PlainText);
     layout->addWidget(label_);
+    auto* budgetRow = new QHBoxLayout;
+    budgetRow->addWidget(new QLabel(tr("At most"), this));
+    budget_ = new QSpinBox(this);
+    budget_->setObjectName(QStringLiteral("mcoTriangleBudget"));
+    budget_->setRange(1, std::numeric_limits<int>::max());
+    budget_->setValue(50000);
+    budget_->setGroupSeparatorShown(true);
+    budget_->setSuffix(tr(" triangles"));
+    budget_->setKeyboardTracking(false);
+    budget_->setToolTip(tr("Move the slider to the finest priority within this triangle budget"));
+    budgetRow->addWidget(budget_, 1);
+    layout->addLayout(budgetRow);
     layout->addStretch(1);
 
     update_ = new CoalescedUpdate([this] { show(); }, this);
     connect(buildButton_, &QPushButton::clicked, this, &McoPriorityPanel::build);
+    connect(budget_, &QSpinBox::valueChanged, this, [this](int value) { setTriangleBudget(std::uint64_t(value)); });
     connect(cancelButton_, &QPushButton::clicked, this, &McoPriorityPanel::cancel);
     connect(slider_, &QSlider::valueChanged, this, [this](int value) {
         shown_ = std::size_t(std::max(0, value));
@@ -155,6 +170,10 @@ void McoPriorityPanel::setPriority(std::size_t priority) {
     update_->run();
 }
 
+void McoPriorityPanel::setTriangleBudget(std::uint64_t triangles) {
+    if (tree_) setPriority(mc_priority_for_triangles(*tree_, triangles));
+}
+
 double McoPriorityPanel::lastExtractMs() const { return update_->lastMs(); }
 
 QString McoPriorityPanel::labelText() const {
@@ -203,6 +222,7 @@ void McoPriorityPanel::updateUi() {
     buildButton_->setText(tr("Build MC octree (resolution %1)").arg(resolution_));
     cancelButton_->setEnabled(job_ != nullptr);
     slider_->setEnabled(tree_ != nullptr);
+    budget_->setEnabled(tree_ != nullptr);
     if (!tree_) label_->setText(model_ ? tr("Build the octree to extract its levels") : tr("Open a mesh first"));
 }
 

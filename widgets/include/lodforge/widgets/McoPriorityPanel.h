@@ -18,6 +18,7 @@
 class QLabel;
 class QPushButton;
 class QSlider;
+class QSpinBox;
 
 namespace lodforge::widgets {
 
@@ -48,6 +49,8 @@ public:
 
     // Extracts and shows the mesh at `priority` (clamped to the tree's range) now, on this thread.
     void setPriority(std::size_t priority);
+    // The largest priority whose mesh has at most `triangles` (the tree's cumulative table), shown now.
+    void setTriangleBudget(std::uint64_t triangles);
     std::size_t priority() const { return shown_; }
     std::uint64_t triangles() const { return shownTriangles_; }
     std::size_t cutCells() const { return shownCells_; }  // 0 while the cells overlay is off
@@ -60,6 +63,7 @@ public:
     QSlider* slider() const { return slider_; }
     QLabel* label() const { return label_; }
     QPushButton* buildButton() const { return buildButton_; }
+    QSpinBox* budgetBox() const { return budget_; }
 
 signals:
     void built(bool ok, const QString& message);
@@ -87,6 +91,7 @@ private:
     QLabel* status_ = nullptr;
     QSlider* slider_ = nullptr;
     QLabel* label_ = nullptr;
+    QSpinBox* budget_ = nullptr;
 };
 
 }  // namespace lodforge::widgets
