@@ -293,12 +293,14 @@ void OctreeTuningPanel::startBuild() {
             stats_ = store_->stats();
             builtParams_ = params;
             pin_ = UINT32_MAX;
-            message = tr("Octree built in %1 ms: %2").arg(r.elapsedMs).arg(statsText());
-            for (const std::string& w : out->result.warnings) message += QStringLiteral("; ") + QString::fromStdString(w);
+            QString warnings;
+            for (const std::string& w : out->result.warnings) warnings += QStringLiteral("; ") + QString::fromStdString(w);
+            status_->setText(tr("Built in %1 ms%2").arg(r.elapsedMs).arg(warnings));
+            message = tr("Octree built in %1 ms: %2%3").arg(r.elapsedMs).arg(statsText(), warnings);
         } else {
             message = r.status == JobResult::Status::cancelled ? tr("Octree build cancelled") : r.error;
         }
-        status_->setText(message);
+        if (!ok) status_->setText(message);
         showStats();
         updateUi();
         if (ok && viewDependent_) updateCut();
