@@ -272,6 +272,15 @@ void StructureInspectTest::octreeKnobsUpdateStatistics() {
     checkAgainst(first);
     qInfo("300 per leaf: %s", qPrintable(panel->statsLabel()->text()));
 
+    // The tree's cells over the original: one box per node, drawn when the overlay is on.
+    VtkView* view = window_->view();
+    QVERIFY(window_->levelViews()->inspectionOwner() == panel);
+    QCOMPARE(lodforge::widgets::describe(*view->overlayScene()).lines, 12 * first.nodes);
+    const QImage plain = freshFrame(view);
+    setCells(true);
+    const QImage firstCells = freshFrame(view);
+    QVERIFY(changedPixels(plain, firstCells) > 500);
+
     // A burst of knob changes in the Parameters panel's spin boxes: one rebuild, with the last values.
     QSignalSpy built(panel, &OctreeTuningPanel::built);
     auto* maxTriangles = window_->parametersPanel()->findChild<QSpinBox*>(QStringLiteral("maxTrianglesPerNode"));
@@ -290,6 +299,8 @@ void StructureInspectTest::octreeKnobsUpdateStatistics() {
     const lodforge::OctreeStats second = reference(60, 3);
     checkAgainst(second);
     QVERIFY(second.depth_reached <= 3 && second.nodes != first.nodes);
+    QCOMPARE(lodforge::widgets::describe(*view->overlayScene()).lines, 12 * second.nodes);
+    QVERIFY(changedPixels(firstCells, freshFrame(view)) > 200);  // the cells of the new tree
     qInfo("60 per leaf, depth 3: %s", qPrintable(panel->statsLabel()->text()));
 
     // Undo (max depth back to 8) schedules a rebuild too; Cancel stops it before it starts.
@@ -389,8 +400,11 @@ void StructureInspectTest::octreeViewDependentCutAndNodeScrub() {
     QVERIFY(lodforge::is_valid_cut(store, panel->cut()));
     QCOMPARE(borderEdges(panel->cutMesh()), inputBorders);
 
-    // Off: the stored level comes back.
+    // Off: the tree's cells again; without them the stored level comes back.
     panel->setViewDependent(false);
+    QVERIFY(window_->levelViews()->inspectionOwner() == panel);
+    QVERIFY(window_->levelViews()->singleLabel()->text().contains(QStringLiteral("the tree's cells")));
+    panel->setShowTree(false);
     QVERIFY(window_->levelViews()->inspectionOwner() == nullptr);
     QVERIFY(window_->levelViews()->singleLabel()->text().startsWith(QStringLiteral("Original")));
 }

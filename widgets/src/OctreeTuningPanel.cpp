@@ -95,6 +95,11 @@ OctreeTuningPanel::OctreeTuningPanel(LevelViews* views, QWidget* parent) : QWidg
     levels_->setMinimumHeight(120);
     layout->addWidget(levels_, 1);
 
+    treeBox_ = new QCheckBox(tr("Tree cells over the mesh (O shows them)"), this);
+    treeBox_->setObjectName(QStringLiteral("octreeShowTree"));
+    treeBox_->setChecked(true);
+    treeBox_->setToolTip(tr("After each build, the original with every node of the tree as the cells overlay"));
+    layout->addWidget(treeBox_);
     viewDependentBox_ = new QCheckBox(tr("View-dependent cut in the view"), this);
     viewDependentBox_->setObjectName(QStringLiteral("octreeViewDependent"));
     viewDependentBox_->setToolTip(tr("Each node's level from its projected error at the current camera"));
@@ -156,6 +161,7 @@ OctreeTuningPanel::OctreeTuningPanel(LevelViews* views, QWidget* parent) : QWidg
     connect(buildButton_, &QPushButton::clicked, this, &OctreeTuningPanel::build);
     connect(cancelButton_, &QPushButton::clicked, this, &OctreeTuningPanel::cancel);
     connect(viewDependentBox_, &QCheckBox::toggled, this, &OctreeTuningPanel::setViewDependent);
+    connect(treeBox_, &QCheckBox::toggled, this, &OctreeTuningPanel::setShowTree);
     connect(cullingBox_, &QCheckBox::toggled, this, &OctreeTuningPanel::setFrustumCulling);
     connect(screenSlider_, &QSlider::valueChanged, this, [this] {
         screenValue_->setText(QStringLiteral("%1 px").arg(screenError(), 0, 'f', 1));
@@ -304,6 +310,7 @@ void OctreeTuningPanel::startBuild() {
         showStats();
         updateUi();
         if (ok && viewDependent_) updateCut();
+        if (ok && !viewDependent_) showTreeCells();
         emit logMessage(message);
         emit built(ok, message);
     });
@@ -352,8 +359,37 @@ void OctreeTuningPanel::setViewDependent(bool on) {
     } else {
         update_->cancel();
         views_->clearInspection(this);
+        showTreeCells();
     }
     updateUi();
+}
+
+void OctreeTuningPanel::setShowTree(bool on) {
+    {
+        const QSignalBlocker block(treeBox_);
+        treeBox_->setChecked(on);
+    }
+    if (viewDependent_) return;
+    if (on) {
+        showTreeCells();
+    } else {
+        views_->clearInspection(this);
+    }
+}
+
+bool OctreeTuningPanel::showTree() const { return treeBox_->isChecked(); }
+
+void OctreeTuningPanel::showTreeCells() {
+    if (!store_ || !model_ || viewDependent_ || !treeBox_->isChecked()) return;
+    std::vector<StructureCell> cells;
+    for (const OctreeCell& c : store_->cells())
+        cells.push_back({{c.min[0], c.min[1], c.min[2]}, c.size, c.depth, c.leaf, c.triangles});
+    const QLocale locale;
+    views_->setInspection(this, model_->scene, buildCellsScene(cells),
+                          tr("Octree · %1 nodes · %2 leaves · depth %3 · the tree's cells over the original")
+                              .arg(locale.toString(qulonglong(stats_.nodes)))
+                              .arg(locale.toString(qulonglong(stats_.leaves)))
+                              .arg(stats_.depth_reached));
 }
 
 double OctreeTuningPanel::screenError() const { return screenSlider_->value() * pixelsPerStep; }

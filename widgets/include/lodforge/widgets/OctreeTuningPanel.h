@@ -1,4 +1,5 @@
 // The out-of-core octree's tuning and view-dependent cut (docs/studio.md, "Octree tuning"):
+//  - the tree's cells over the original (every node; the cells overlay's depth / triangle colours);
 //  - statistics (nodes, leaves, depth reached, triangles per level) of the octree the Parameters' knobs
 //    give, rebuilt in the background, debounced and cancellable, whenever max triangles per leaf or max
 //    depth change (once a first build was asked for);
@@ -66,6 +67,11 @@ public:
     // "1,234 nodes · 1,000 leaves · depth 6 reached (max 8) · ≤ 300 triangles per leaf"
     QString statsText() const;
 
+    // The whole tree's cells (every node, coloured by depth or by the triangles under it) over the
+    // original in the single view, after every build while the view-dependent cut is off (on by default).
+    void setShowTree(bool on);
+    bool showTree() const;
+
     // The view-dependent cut in the single view.
     void setViewDependent(bool on);
     bool viewDependent() const { return viewDependent_; }
@@ -105,6 +111,7 @@ private:
     void showStats();
     void updateUi();
     lodforge::Cut pinnedCut(const lodforge::Cut& viewCut) const;
+    void showTreeCells();
 
     LevelViews* views_;
     std::shared_ptr<const LoadedModel> model_;
@@ -130,6 +137,7 @@ private:
     QLabel* status_ = nullptr;
     QLabel* statsLabel_ = nullptr;
     QTableWidget* levels_ = nullptr;
+    QCheckBox* treeBox_ = nullptr;
     QCheckBox* viewDependentBox_ = nullptr;
     QCheckBox* cullingBox_ = nullptr;
     QSlider* screenSlider_ = nullptr;
