@@ -139,6 +139,13 @@ void StructureInspectTest::mcoPrioritySliderExtractsColouredLevels() {
     McoPriorityPanel* panel = window_->mcoPriorityPanel();
     QVERIFY(panel->buildButton()->text().contains(QStringLiteral("64")));
     QSignalSpy built(panel, &McoPriorityPanel::built);
+    // Cancel drops a build: no result, no tree.
+    panel->build();
+    QVERIFY(panel->isBuilding());
+    panel->cancel();
+    QVERIFY(!panel->isBuilding());
+    QTest::qWait(300);
+    QVERIFY(built.isEmpty() && !panel->hasTree());
     QTest::mouseClick(panel->buildButton(), Qt::LeftButton);
     QVERIFY(built.wait(60000));
     QVERIFY2(built.at(0).at(0).toBool(), qPrintable(built.at(0).at(1).toString()));
