@@ -9,6 +9,7 @@
 #include "lodforge/widgets/LodLevels.h"
 #include "lodforge/widgets/McoPriorityPanel.h"
 #include "lodforge/widgets/OctreeTuningPanel.h"
+#include "lodforge/widgets/MorphPanel.h"
 #include "lodforge/widgets/ParametersPanel.h"
 #include "lodforge/widgets/ReportPanel.h"
 #include "lodforge/widgets/StatsPanel.h"
@@ -104,6 +105,7 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
     createToolBar();
     createStatusBar();
     createStructurePanels();
+    createMorph();
 
     connect(levels_, &widgets::LevelViews::hoverText, this, [this](const QString& text) {
         if (text.isEmpty()) {
@@ -960,6 +962,63 @@ void MainWindow::closeEvent(QCloseEvent* event) {
     if (job_) job_->cancel();
     if (task_) task_->cancel();
     QMainWindow::closeEvent(event);
+}
+
+// The morph workspace lives in its own dock with its own views and jobs; the window only hosts it.
+void MainWindow::createMorph() {
+    morph_ = new widgets::MorphPanel(this);
+    morph_->setObjectName(QStringLiteral("morph"));
+    morphDock_ = new QDockWidget(tr("Morph"), this);
+    morphDock_->setObjectName(QStringLiteral("morphDock"));
+    morphDock_->setWidget(morph_);
+    addDockWidget(Qt::BottomDockWidgetArea, morphDock_);
+    morphDock_->hide();
+    connect(morph_, &widgets::MorphPanel::logMessage, this, &MainWindow::appendLog);
+    // The View menu's toggles apply to the morph views as well.
+    const auto syncViewOptions = [this] { morph_->setViewOptions(viewOptions()); };
+    for (const ViewToggle& t : viewToggles_) connect(t.action, &QAction::toggled, this, syncViewOptions);
+    connect(morphDock_, &QDockWidget::visibilityChanged, this, syncViewOptions);
+
+    auto showMorph = [this](bool landmarks) {
+        morphDock_->show();
+        morphDock_->raise();
+        if (landmarks) {
+            morph_->showLandmarks();
+        } else {
+            morph_->showAnimation();
+        }
+    };
+    QMenu* menu = new QMenu(tr("&Morph"), this);
+    menu->setObjectName(QStringLiteral("menuMorph"));
+    menuBar()->insertMenu(menuBar()->actions().constLast(), menu);  // before Help
+    QAction* openFile = menu->addAction(tr("Open &morph…"));
+    openFile->setObjectName(QStringLiteral("actionOpenMorph"));
+    openFile->setShortcut(QKeySequence(Qt::CTRL | Qt::Key_M));
+    openFile->setStatusTip(tr("Open a glTF with morph targets or a .lfmorph file and build its LOD"));
+    connect(openFile, &QAction::triggered, this, [this, showMorph] {
+        const QString path = QFileDialog::getOpenFileName(this, tr("Open morph"), QString(),
+                                                          tr("Morphs (*.gltf *.glb *.lfmorph);;All files (*)"));
+        if (path.isEmpty()) return;
+        showMorph(false);
+        morph_->openMorph(path);
+    });
+    QAction* openSequence = menu->addAction(tr("Open keyframe &sequence…"));
+    openSequence->setObjectName(QStringLiteral("actionOpenMorphSequence"));
+    openSequence->setShortcut(QKeySequence(Qt::CTRL | Qt::SHIFT | Qt::Key_M));
+    openSequence->setStatusTip(tr("Open a directory of OBJ/PLY keyframes with one connectivity and build its LOD"));
+    connect(openSequence, &QAction::triggered, this, [this, showMorph] {
+        const QString path = QFileDialog::getExistingDirectory(this, tr("Open keyframe sequence"));
+        if (path.isEmpty()) return;
+        showMorph(false);
+        morph_->openMorph(path);
+    });
+    QAction* landmarks = menu->addAction(tr("&Landmark picking"));
+    landmarks->setObjectName(QStringLiteral("actionLandmarks"));
+    landmarks->setShortcut(QKeySequence(Qt::CTRL | Qt::Key_K));
+    landmarks->setStatusTip(tr("Pick landmark pairs on two meshes for the two-mesh morph"));
+    connect(landmarks, &QAction::triggered, this, [showMorph] { showMorph(true); });
+    menu->addSeparator();
+    menu->addAction(morphDock_->toggleViewAction());
 }
 
 }  // namespace lodforge::studio

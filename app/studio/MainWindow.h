@@ -32,6 +32,7 @@ class LevelViews;
 class LoadJob;
 class McoPriorityPanel;
 class OctreeTuningPanel;
+class MorphPanel;
 class ParametersPanel;
 class ReportPanel;
 class StatsPanel;
@@ -112,6 +113,9 @@ public:
     // and view-dependent cut.
     widgets::McoPriorityPanel* mcoPriorityPanel() const { return mcoPanel_; }
     widgets::OctreeTuningPanel* octreeTuningPanel() const { return octreePanel_; }
+    // The Morph dock (docs/studio.md, "Morph"): morph playback with LOD and landmark picking.
+    widgets::MorphPanel* morphPanel() const { return morph_; }
+    QDockWidget* morphDock() const { return morphDock_; }
 
     // The whole window as shown, with the 3D views' current frames in place.
     QImage grabWindowImage();
@@ -135,6 +139,7 @@ private:
     void createDocks();
     void createStatusBar();
     void createStructurePanels();
+    void createMorph();  // the Morph dock and menu
     void restoreSettings();
     void saveSettings();
     void showOpenDialog();
@@ -174,6 +179,8 @@ private:
     QDoubleSpinBox* rangeBox_ = nullptr;
     QSlider* splitSlider_ = nullptr;
     QUndoStack* undo_ = nullptr;
+    widgets::MorphPanel* morph_ = nullptr;
+    QDockWidget* morphDock_ = nullptr;
 
     QAction* openAction_ = nullptr;
     QAction* quitAction_ = nullptr;

@@ -5,6 +5,8 @@
 #include "lodforge/heatmap.h"
 
 #include <vtkActor.h>
+#include <vtkBillboardTextActor3D.h>
+#include <vtkCellArray.h>
 #include <vtkCallbackCommand.h>
 #include <vtkCamera.h>
 #include <vtkCellPicker.h>
@@ -18,6 +20,7 @@
 #include <vtkOpenGLState.h>
 #include <vtkPlane.h>
 #include <vtkPlaneCollection.h>
+#include <vtkPoints.h>
 #include <vtkPointData.h>
 #include <vtkPolyDataMapper.h>
 #include <vtkProperty.h>
@@ -175,6 +178,9 @@ struct VtkView::Private {
     vtkSmartPointer<vtkActor> overlayActor;
     vtkSmartPointer<vtkPolyDataMapper> overlayMapper;
     void applyOverlayOptions();
+
+    vtkSmartPointer<vtkActor> markerActor;
+    std::vector<vtkSmartPointer<vtkBillboardTextActor3D>> markerLabels;
 
     vtkSmartPointer<vtkCamera> ownCamera;
     vtkSmartPointer<vtkTexture> checker;
@@ -521,6 +527,58 @@ void VtkView::setViewCamera(const ViewCamera& c) {
     update();
     emit cameraChanged();
 }
+
+void VtkView::setMarkers(const std::vector<ViewMarker>& markers) {
+    if (d->markerActor) d->renderer->RemoveActor(d->markerActor);
+    d->markerActor = nullptr;
+    for (const auto& label : d->markerLabels) d->renderer->RemoveActor(label);
+    d->markerLabels.clear();
+    if (!markers.empty()) {
+        vtkNew<vtkPoints> points;
+        vtkNew<vtkCellArray> verts;
+        vtkNew<vtkUnsignedCharArray> colors;
+        colors->SetNumberOfComponents(3);
+        for (const ViewMarker& m : markers) {
+            const vtkIdType id = points->InsertNextPoint(m.position.data());
+            verts->InsertNextCell(1, &id);
+            const unsigned char rgb[3] = {static_cast<unsigned char>(m.color.red()),
+                                          static_cast<unsigned char>(m.color.green()),
+                                          static_cast<unsigned char>(m.color.blue())};
+            colors->InsertNextTypedTuple(rgb);
+
+            auto label = vtkSmartPointer<vtkBillboardTextActor3D>::New();
+            label->SetInput(m.label.toUtf8().constData());
+            label->SetPosition(m.position[0], m.position[1], m.position[2]);
+            label->SetDisplayOffset(9, 9);
+            label->PickableOff();
+            vtkTextProperty* text = label->GetTextProperty();
+            text->SetFontSize(16);
+            text->BoldOn();
+            text->ShadowOn();
+            text->SetColor(m.color.redF(), m.color.greenF(), m.color.blueF());
+            d->renderer->AddActor(label);
+            d->markerLabels.push_back(label);
+        }
+        vtkNew<vtkPolyData> polyData;
+        polyData->SetPoints(points);
+        polyData->SetVerts(verts);
+        polyData->GetPointData()->SetScalars(colors);
+        vtkNew<vtkPolyDataMapper> mapper;
+        mapper->SetInputData(polyData);
+        mapper->SetColorModeToDirectScalars();
+        d->markerActor = vtkSmartPointer<vtkActor>::New();
+        d->markerActor->SetMapper(mapper);
+        d->markerActor->PickableOff();
+        vtkProperty* property = d->markerActor->GetProperty();
+        property->SetRepresentationToPoints();
+        property->RenderPointsAsSpheresOn();
+        property->SetPointSize(14.f);
+        d->renderer->AddActor(d->markerActor);
+    }
+    update();
+}
+
+std::size_t VtkView::markerCount() const { return d->markerLabels.size(); }
 
 void VtkView::pickHover() {
     if (const std::optional<double> value = scalarAt(d->hoverPosition)) {
