@@ -407,6 +407,17 @@ void StructureInspectTest::octreeViewDependentCutAndNodeScrub() {
     QVERIFY(lodforge::is_valid_cut(store, panel->cut()));
     QCOMPARE(borderEdges(panel->cutMesh()), inputBorders);
 
+    // A smaller view is a smaller viewport: the cut follows the resize, with fewer triangles.
+    {
+        const std::uint64_t large = panel->cutTriangles();
+        QSignalSpy updated(panel, &OctreeTuningPanel::cutUpdated);
+        window_->resize(800, 560);
+        QVERIFY(updated.wait(5000));
+        qInfo("resized view: %llu -> %llu triangles", qulonglong(large), qulonglong(panel->cutTriangles()));
+        QVERIFY(panel->cutTriangles() < large);
+        QVERIFY(lodforge::is_valid_cut(store, panel->cut()));
+    }
+
     // Off: the tree's cells again; without them the stored level comes back.
     panel->setViewDependent(false);
     QVERIFY(window_->levelViews()->inspectionOwner() == panel);

@@ -13,6 +13,7 @@
 
 #include <QAction>
 #include <QCheckBox>
+#include <QEvent>
 #include <QFile>
 #include <QFileInfo>
 #include <QGridLayout>
@@ -172,6 +173,7 @@ OctreeTuningPanel::OctreeTuningPanel(LevelViews* views, QWidget* parent) : QWidg
     connect(views_->singleView(), &VtkView::cameraChanged, this, [this] {
         if (viewDependent_ && store_) update_->request();
     });
+    views_->singleView()->installEventFilter(this);  // a resize changes the viewport the cut is for
     connect(views_->singleView(), &VtkView::clicked, this, [this](QPoint position) {
         if (!pickButton_->isChecked()) return;
         pickButton_->setChecked(false);
@@ -187,6 +189,12 @@ OctreeTuningPanel::OctreeTuningPanel(LevelViews* views, QWidget* parent) : QWidg
     });
     screenValue_->setText(QStringLiteral("%1 px").arg(screenError(), 0, 'f', 1));
     updateUi();
+}
+
+bool OctreeTuningPanel::eventFilter(QObject* watched, QEvent* event) {
+    if (watched == views_->singleView() && event->type() == QEvent::Resize && viewDependent_ && store_)
+        update_->request();
+    return QWidget::eventFilter(watched, event);
 }
 
 OctreeTuningPanel::~OctreeTuningPanel() {

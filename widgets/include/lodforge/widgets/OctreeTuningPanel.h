@@ -106,6 +106,9 @@ signals:
     void cutUpdated();
     void logMessage(const QString& text);
 
+protected:
+    bool eventFilter(QObject* watched, QEvent* event) override;
+
 private:
     void startBuild();
     void showStats();
