@@ -7,6 +7,8 @@
 #include "lodforge/widgets/LevelViews.h"
 #include "lodforge/widgets/LoadJob.h"
 #include "lodforge/widgets/LodLevels.h"
+#include "lodforge/widgets/McoPriorityPanel.h"
+#include "lodforge/widgets/OctreeTuningPanel.h"
 #include "lodforge/widgets/MorphPanel.h"
 #include "lodforge/widgets/ParametersPanel.h"
 #include "lodforge/widgets/ReportPanel.h"
@@ -41,6 +43,8 @@
 #include <QUndoCommand>
 #include <QUndoStack>
 #include <QUrl>
+
+#include <tuple>
 
 namespace lodforge::studio {
 
@@ -100,6 +104,7 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
     createMenus();
     createToolBar();
     createStatusBar();
+    createStructurePanels();
     createMorph();
 
     connect(levels_, &widgets::LevelViews::hoverText, this, [this](const QString& text) {
@@ -168,6 +173,36 @@ void MainWindow::createDocks() {
     tabifyDockWidget(paramsDock_, reportDock_);
     tabifyDockWidget(reportDock_, logDock_);
     paramsDock_->raise();
+}
+
+// Two docks beside the Log, their View menu toggles, and the few hooks they need: the loaded model and
+// every parameter change (edits, undo, redo, presets) for their knobs.
+void MainWindow::createStructurePanels() {
+    mcoPanel_ = new widgets::McoPriorityPanel(levels_, this);
+    mcoPanel_->setObjectName(QStringLiteral("mcoPriority"));
+    octreePanel_ = new widgets::OctreeTuningPanel(levels_, this);
+    octreePanel_->setObjectName(QStringLiteral("octreeTuning"));
+    QDockWidget* previous = logDock_;
+    QMenu* viewMenu = menuBar()->findChild<QMenu*>(QStringLiteral("menuView"));
+    for (auto [panel, title, name] : {std::tuple<QWidget*, QString, QString>{mcoPanel_, tr("MC octree"), QStringLiteral("mcoDock")},
+                                      {octreePanel_, tr("Octree"), QStringLiteral("octreeDock")}}) {
+        auto* dock = new QDockWidget(title, this);
+        dock->setObjectName(name);
+        dock->setWidget(panel);
+        addDockWidget(Qt::RightDockWidgetArea, dock);
+        tabifyDockWidget(previous, dock);
+        previous = dock;
+        if (viewMenu) viewMenu->addAction(dock->toggleViewAction());
+    }
+    paramsDock_->raise();
+    auto forward = [this] {
+        mcoPanel_->setPreset(params_->preset());
+        octreePanel_->setPreset(params_->preset());
+    };
+    forward();
+    connect(undo_, &QUndoStack::indexChanged, this, forward);
+    connect(mcoPanel_, &widgets::McoPriorityPanel::logMessage, this, &MainWindow::appendLog);
+    connect(octreePanel_, &widgets::OctreeTuningPanel::logMessage, this, &MainWindow::appendLog);
 }
 
 void MainWindow::createActions() {
@@ -530,6 +565,8 @@ void MainWindow::onLoadFinished(widgets::LoadJob* job, const widgets::LoadResult
         }
         levels_->setCompareVisible(false);
         levels_->setLevels({original});
+        mcoPanel_->setModel(model_);
+        octreePanel_->setModel(model_);
         report_->clear();
         stats_->showInfo(model_->info, model_->elapsedMs, model_->warnings);
         setWindowTitle(tr("%1[*] — LodForge Studio").arg(name));

@@ -30,6 +30,8 @@ namespace lodforge::widgets {
 class Job;
 class LevelViews;
 class LoadJob;
+class McoPriorityPanel;
+class OctreeTuningPanel;
 class MorphPanel;
 class ParametersPanel;
 class ReportPanel;
@@ -107,6 +109,10 @@ public:
     widgets::ParametersPanel* parametersPanel() const { return params_; }
     widgets::ReportPanel* reportPanel() const { return report_; }
     QPlainTextEdit* logView() const { return log_; }
+    // The structure inspectors (docs/studio.md): the MC octree's priority slider, the octree's tuning
+    // and view-dependent cut.
+    widgets::McoPriorityPanel* mcoPriorityPanel() const { return mcoPanel_; }
+    widgets::OctreeTuningPanel* octreeTuningPanel() const { return octreePanel_; }
     // The Morph dock (docs/studio.md, "Morph"): morph playback with LOD and landmark picking.
     widgets::MorphPanel* morphPanel() const { return morph_; }
     QDockWidget* morphDock() const { return morphDock_; }
@@ -132,6 +138,7 @@ private:
     void createToolBar();
     void createDocks();
     void createStatusBar();
+    void createStructurePanels();
     void createMorph();  // the Morph dock and menu
     void restoreSettings();
     void saveSettings();
@@ -165,6 +172,8 @@ private:
     QDockWidget* paramsDock_ = nullptr;
     QDockWidget* reportDock_ = nullptr;
     QDockWidget* logDock_ = nullptr;
+    widgets::McoPriorityPanel* mcoPanel_ = nullptr;
+    widgets::OctreeTuningPanel* octreePanel_ = nullptr;
     QProgressBar* progressBar_ = nullptr;
     QPushButton* cancelButton_ = nullptr;
     QDoubleSpinBox* rangeBox_ = nullptr;

@@ -191,6 +191,7 @@ struct VtkView::Private {
     vtkNew<vtkCellPicker> picker;
     QTimer hoverTimer;
     QPoint hoverPosition;
+    std::optional<QPointF> pressPosition;  // of a left press, for clicked()
 };
 
 std::vector<VtkView::Private::Actor> VtkView::Private::makeActors(const MeshScene& meshScene) {
@@ -505,6 +506,28 @@ std::optional<std::array<double, 3>> VtkView::surfacePointAt(QPoint position) {
     return std::array<double, 3>{p[0], p[1], p[2]};
 }
 
+VtkView::ViewCamera VtkView::viewCamera() const {
+    vtkCamera* camera = d->renderer->GetActiveCamera();
+    ViewCamera out;
+    camera->GetPosition(out.position.data());
+    camera->GetFocalPoint(out.focalPoint.data());
+    camera->GetViewUp(out.viewUp.data());
+    out.viewAngle = camera->GetViewAngle();
+    return out;
+}
+
+void VtkView::setViewCamera(const ViewCamera& c) {
+    vtkCamera* camera = d->renderer->GetActiveCamera();
+    camera->SetPosition(c.position.data());
+    camera->SetFocalPoint(c.focalPoint.data());
+    camera->SetViewUp(c.viewUp.data());
+    camera->SetViewAngle(c.viewAngle);
+    camera->OrthogonalizeViewUp();
+    d->renderer->ResetCameraClippingRange();
+    update();
+    emit cameraChanged();
+}
+
 void VtkView::setMarkers(const std::vector<ViewMarker>& markers) {
     if (d->markerActor) d->renderer->RemoveActor(d->markerActor);
     d->markerActor = nullptr;
@@ -750,6 +773,8 @@ unsigned long releaseEvent(Qt::MouseButton button) {
 }  // namespace
 
 void VtkView::mousePressEvent(QMouseEvent* event) {
+    d->pressPosition.reset();
+    if (event->button() == Qt::LeftButton) d->pressPosition = event->position();
     setEventInformation(d->interactor, this, event->position(), event->modifiers());
     if (const unsigned long id = pressEvent(event->button()); id != vtkCommand::NoEvent) d->interactor->InvokeEvent(id);
     event->accept();
@@ -766,6 +791,10 @@ void VtkView::mouseReleaseEvent(QMouseEvent* event) {
     setEventInformation(d->interactor, this, event->position(), event->modifiers());
     if (const unsigned long id = releaseEvent(event->button()); id != vtkCommand::NoEvent) d->interactor->InvokeEvent(id);
     event->accept();
+    if (event->button() == Qt::LeftButton && d->pressPosition &&
+        (event->position() - *d->pressPosition).manhattanLength() <= 4)
+        emit clicked(event->position().toPoint());
+    d->pressPosition.reset();
 }
 
 void VtkView::mouseMoveEvent(QMouseEvent* event) {

@@ -83,6 +83,16 @@ public:
     // Whether an overlay is drawn now (a scene is set and the options show cells).
     bool overlayVisible() const;
 
+    // The camera (shared or own) in model units; setViewCamera moves it and emits cameraChanged.
+    struct ViewCamera {
+        std::array<double, 3> position{0, 0, 1};
+        std::array<double, 3> focalPoint{0, 0, 0};
+        std::array<double, 3> viewUp{0, 1, 0};
+        double viewAngle = 30;  // vertical field of view, degrees
+    };
+    ViewCamera viewCamera() const;
+    void setViewCamera(const ViewCamera& camera);
+
     // Markers over the scene (replacing the previous ones; empty: none). Not picked, not framed.
     void setMarkers(const std::vector<ViewMarker>& markers);
     std::size_t markerCount() const;
@@ -102,6 +112,8 @@ signals:
     // The heat map value under the mouse; hoverLeft when the cursor leaves the surface.
     void scalarHovered(double value);
     void hoverLeft();
+    // A left click without a drag (press and release within a few pixels), widget coordinates.
+    void clicked(QPoint position);
 
 protected:
     void initializeGL() override;
