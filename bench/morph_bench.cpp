@@ -7,7 +7,10 @@
 // the frames of the mean distance, and the worst frame's Hausdorff distance; build seconds; the .lfmorph
 // file size per frame (float and 16-bit quantised positions); extraction time per frame change (blend +
 // faces of the level + compact mesh, median over a sweep of t at fixed LOD factor; also the face replay
-// alone and the blend alone, which is all a runtime redoes per frame while the sequence stays).
+// alone and the blend alone, which is all a runtime redoes per frame while the sequence stays); for the
+// orders with one sequence, the morph LODStrips file (.lfmstrips) and the glTF export (morph targets per
+// level, .glb) per frame, and the strip runtime's time per frame change (set_frame at a fixed level) and
+// per LOD change (go_to_lod between levels, at a fixed frame).
 //
 //   lodforge_bench_morph [--models horse,sphere,cube] [--samples N] [--frame-stride S] [--reps N]
 //                        [--frame-cost max|sum] [--cost-frames N] [--orders single,per-frame,naive]
@@ -16,6 +19,8 @@
 #include "lodforge/error.h"
 #include "lodforge/morph.h"
 #include "lodforge/morph_file.h"
+#include "lodforge/morph_gltf.h"
+#include "lodforge/morph_lodstrips.h"
 #include "lodforge/morph_lod.h"
 
 #include <algorithm>
@@ -42,11 +47,74 @@ struct Model {
     bool close_seams = false;  // flat-shaded quads: every edge is a normal seam
 };
 
+template <class F>
+double median_ms(std::size_t reps, F&& f) {
+    std::vector<double> v;
+    for (std::size_t r = 0; r < reps; ++r) {
+        const auto a = Clock::now();
+        f(r);
+        v.push_back(seconds_since(a) * 1e3);
+    }
+    std::sort(v.begin(), v.end());
+    return v[v.size() / 2];
+}
+
+// The morph LODStrips and glTF export of every one-sequence order: storage per frame, runtime times.
+void strips_section(const MorphMesh& morph, const std::vector<MorphLod>& lods, std::size_t reps, const std::string& key) {
+    const double K = double(morph.frame_count());
+    const std::string glb = (std::filesystem::temp_directory_path() / ("lodforge-bench-morph-" + key + ".glb")).string();
+    std::printf("\n| order | .lfmstrips 16-bit, KB/frame | .lfmstrips float, KB/frame | of which strips + changes, KB | "
+                ".glb (morph targets), KB/frame | build strips s |\n|---|---|---|---|---|---|\n");
+    std::vector<std::pair<const MorphLod*, MorphStripsBuild>> built;
+    for (const MorphLod& lod : lods) {
+        if (lod.sequences.size() != 1) continue;
+        auto t0 = Clock::now();
+        MorphStripsBuild b = build_morph_lodstrips(morph, lod);
+        const double build = seconds_since(t0);
+        const MorphStripsStorage q = morph_lodstrips_storage(b.data, MorphEncoding::quantized16);
+        const MorphStripsStorage f = morph_lodstrips_storage(b.data, MorphEncoding::float32);
+        double glb_kb = 0;
+        if (morph.frame_count() > 1) {
+            MorphGltfOptions o;
+            o.timing = morph_gltf_timing(morph);
+            const MorphGltfResult r = write_morph_glb(morph, lod, b, o, glb);
+            glb_kb = double(r.glb.bytes) / K / 1024.0;
+            std::filesystem::remove(glb);
+        }
+        std::printf("| %s | **%.1f** | %.1f | %.1f | %.1f | %.3f |\n", morph_order_name(lod.order), q.bytes_per_frame / 1024.0,
+                    f.bytes_per_frame / 1024.0, double(q.strips_bytes) / 1024.0, glb_kb, build);
+        built.emplace_back(&lod, std::move(b));
+    }
+    std::printf("\n| order | LOD factor | triangles | set_frame (frame change), ms | go_to_lod 1 → f → 1, ms | "
+                "frame + LOD change, ms |\n|---|---|---|---|---|---|\n");
+    for (auto& [lod, b] : built) {
+        lodstrips::MorphLodStrips rt;
+        std::string why;
+        if (!rt.assign(b.data, &why)) throw Error(Error::Kind::invalid, why);
+        for (double f : {1.0, 0.5, 0.0}) {
+            rt.go_to_lod(f);
+            const std::size_t tris = rt.triangle_count();
+            const double frame = median_ms(reps, [&](std::size_t r) { rt.set_frame(double(r % 7 + 1) / 8.0); });
+            const double lodc = median_ms(reps, [&](std::size_t) {
+                rt.go_to_lod(f);
+                rt.go_to_lod(1.0);
+            });
+            const double both = median_ms(reps, [&](std::size_t r) {
+                rt.set_frame(double(r % 7 + 1) / 8.0);
+                rt.go_to_lod(r % 2 ? f : 1.0);
+            });
+            rt.clear_changes();
+            rt.clear_vertex_changes();
+            std::printf("| %s | %.1f | %zu | %.4f | %.4f | %.4f |\n", morph_order_name(lod->order), f, tris, frame, lodc, both);
+        }
+    }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
     std::string models = "horse,sphere,cube";
-    std::size_t samples = 20000, stride = 1, reps = 50, cost_frames = 0;
+    std::size_t samples = 20000, stride = 1, reps = 50, cost_frames = MorphLodParams{}.cost_frames;  // the product default (16)
     std::string frame_cost = "sum", orders = "single,per-frame,naive";
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
@@ -167,6 +235,7 @@ int main(int argc, char** argv) {
                     std::printf("| %s | %.1f | %.3f | %.3f | %.3f |\n", morph_order_name(lod.order), f, full[full.size() / 2],
                                 faces[faces.size() / 2], blend[blend.size() / 2]);
                 }
+            strips_section(morph, lods, reps, it->key);
         }
     } catch (const Error& e) {
         std::fprintf(stderr, "lodforge_bench_morph: %s\n", e.what());

@@ -7,12 +7,15 @@
 #include "lodforge/mesh_io.h"
 #include "lodforge/morph.h"
 #include "lodforge/morph_file.h"
+#include "lodforge/morph_gltf.h"
+#include "lodforge/morph_lodstrips.h"
 #include "lodforge/morph_lod.h"
 #include "lodforge/supermesh.h"
 
 #include <nlohmann/json.hpp>
 
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <string>
 #include <vector>
@@ -31,7 +34,7 @@ void add_build(CLI::App& morph, const GlobalOptions& global) {
     struct Options {
         std::vector<std::string> inputs;
         std::string output, order = "single", levels = "0.5,0.25,0.1,0.03", landmarks, weights;
-        std::string encoding = "16bit", frame_cost = "sum";
+        std::string encoding = "16bit", frame_cost = "sum", gltf, strips;
         long long frames = 0, cost_frames = 16;
         bool close_seams = false;
     };
@@ -58,6 +61,10 @@ void add_build(CLI::App& morph, const GlobalOptions& global) {
         ->capture_default_str();
     cmd->add_option("--weights", o->weights, "Attribute weights, e.g. normal=0.05,color=0.1,uv=0.1");
     cmd->add_flag("--close-seams", o->close_seams, "Let attribute seams close (flat-shaded inputs)");
+    cmd->add_option("--gltf", o->gltf,
+                    "Also write a .glb: each level a mesh with the frames as morph targets and the source's "
+                    "animation, plus the morph LODStrips file (.lfmstrips) next to it (single or naive order)");
+    cmd->add_option("--strips", o->strips, "Also write the morph LODStrips file (.lfmstrips) here");
     cmd->add_option("--landmarks", o->landmarks, "Landmark pairs (vertex of A, vertex of B) aligning two genus-0 meshes (docs/morph.md)");
     cmd->callback([o, &global] {
         const bool two_meshes = o->inputs.size() == 2;
@@ -84,7 +91,50 @@ void add_build(CLI::App& morph, const GlobalOptions& global) {
         const MorphLod lod = build_morph_lod(mesh, params, &progress);
         MorphWriteOptions wo;
         wo.encoding = o->encoding == "float" ? MorphEncoding::float32 : MorphEncoding::quantized16;
-        write_morph_lod(o->output, mesh, lod, wo, &progress);
+        if (!o->gltf.empty() || !o->strips.empty()) {
+            // Before anything is written, so that an order the strips cannot take leaves no output.
+            if (lod.sequences.size() != 1)
+                throw_error(Error::Kind::unsupported, o->gltf.empty() ? o->strips : o->gltf,
+                            "--gltf/--strips need one collapse order (--order single or naive); per-frame orders "
+                            "give one change set per frame (see docs/morph.md)");
+            if (mesh.frame_count() < 2 && !o->gltf.empty())
+                throw_error(Error::Kind::invalid, o->gltf, "morph targets need at least two frames");
+        }
+        // Everything is computed before the first write, and a failed later write removes the earlier
+        // outputs of this run: a failed run leaves no output.
+        const bool extra = !o->gltf.empty() || !o->strips.empty();
+        MorphStripsBuild strips;
+        MorphGltfOptions go;
+        std::string strips_path = o->strips;
+        if (extra) {
+            strips = build_morph_lodstrips(mesh, lod, {}, &progress);
+            if (strips_path.empty()) strips_path = std::filesystem::path(o->gltf).replace_extension(".lfmstrips").string();
+            go.name = std::filesystem::path(o->gltf).stem().string();
+            if (!o->gltf.empty()) go.timing = morph_gltf_timing(mesh);
+        }
+        std::vector<std::string> written;
+        try {
+            write_morph_lod(o->output, mesh, lod, wo, &progress);
+            written.push_back(o->output);
+            if (extra) {
+                write_morph_lodstrips(strips.data, strips_path, wo.encoding);
+                written.push_back(strips_path);
+                const MorphStripsStorage ss = morph_lodstrips_storage(strips.data, wo.encoding);
+                std::printf("%s: %zu strips, %zu collapses, %zu bytes (%.1f KB per frame)\n", strips_path.c_str(),
+                            strips.data.strips.strip_count(), strips.data.strips.collapse_count(), ss.file_bytes,
+                            ss.bytes_per_frame / 1024.0);
+            }
+            if (!o->gltf.empty()) {
+                const MorphGltfResult gr = write_morph_glb(mesh, lod, strips, go, o->gltf, &progress);
+                std::printf("%s: %zu levels, %zu morph targets each, %s, %zu bytes\n", o->gltf.c_str(),
+                            gr.level_triangles.size(), gr.targets, go.timing.animated ? "animated" : "no animation",
+                            gr.glb.bytes);
+            }
+        } catch (...) {
+            std::error_code ignored;
+            for (const std::string& f : written) std::filesystem::remove(f, ignored);
+            throw;
+        }
         const MorphFileStats st = morph_file_stats(mesh, lod, wo);
         std::printf("%s: %zu frames, %zu vertices, %zu triangles, order %s, %zu sequence(s)\n", o->output.c_str(),
                     mesh.frame_count(), mesh.vertex_count(), lod.triangles, morph_order_name(lod.order), lod.sequences.size());
@@ -103,7 +153,9 @@ void add_extract(CLI::App& morph, const GlobalOptions& global) {
     };
     auto o = std::make_shared<Options>();
     CLI::App* cmd = morph.add_subcommand("extract", "Write the pose at time t with LOD factor F as a mesh");
-    cmd->add_option("IN", o->input, "Morph LOD file (.lfmorph)")->required();
+    cmd->add_option("IN", o->input, "Morph LOD file (.lfmorph) or morph LODStrips file (.lfmstrips: the strip "
+                                    "runtime's set_frame + go_to_lod)")
+        ->required();
     cmd->add_option("--t", o->t, "Time in [0, 1] across the whole sequence")->required();
     cmd->add_option("--lod", o->lod, "LOD factor in [0, 1]: 0 the coarsest stored level, 1 full detail")->required();
     cmd->add_option("-o,--output", o->output, "Output mesh (.ply or .obj)")->required();
@@ -111,12 +163,52 @@ void add_extract(CLI::App& morph, const GlobalOptions& global) {
         if (!(o->t >= 0 && o->t <= 1)) throw Error(Error::Kind::argument, "morph extract: --t must be in [0, 1]");
         if (!(o->lod >= 0 && o->lod <= 1)) throw Error(Error::Kind::argument, "morph extract: --lod must be in [0, 1]");
         TerminalProgress progress(!global.quiet && stderr_is_terminal());
-        const MorphLodFile f = read_morph_lod(o->input, &progress);
-        const Mesh m = extract_morph(f.morph, f.lod, o->t, o->lod);
+        Mesh m;
+        if (is_morph_lodstrips_file(o->input)) {
+            lodstrips::MorphLodStrips rt;
+            std::string why;
+            if (!rt.assign(read_morph_lodstrips(o->input), &why)) throw_error(Error::Kind::format, o->input, why);
+            rt.set_frame(o->t);
+            rt.go_to_lod(o->lod);
+            m = morph_lodstrips_mesh(rt);
+        } else {
+            const MorphLodFile f = read_morph_lod(o->input, &progress);
+            m = extract_morph(f.morph, f.lod, o->t, o->lod);
+        }
         write_mesh(m, o->output, {}, &progress);
         std::printf("%s: t %.4g, LOD %.4g: %zu triangles, %zu vertices\n", o->output.c_str(), o->t, o->lod,
                     m.triangle_count(), m.vertex_count());
     });
+}
+
+void print_strips_info(const std::string& path, bool json) {
+    const lodstrips::MorphData d = read_morph_lodstrips(path);
+    const auto bytes = std::filesystem::file_size(path);
+    const lodstrips::Data& s = d.strips;
+    nlohmann::ordered_json j;
+    j["file"] = path;
+    j["format"] = "lfmstrips";
+    j["version"] = lodstrips::morph_format_version;
+    j["bytes"] = bytes;
+    j["encoding"] = d.quantized ? "16bit" : "float";
+    j["frames"] = d.frame_count;
+    j["vertices"] = s.vertex_count;
+    j["strips"] = s.strip_count();
+    j["restart"] = s.restart;
+    j["collapses"] = s.collapse_count();
+    j["triangles"] = s.triangles.front();
+    j["coarsest_triangles"] = s.triangles.back();
+    j["bytes_per_frame"] = double(bytes) / double(d.frame_count);
+    if (json) {
+        std::printf("%s\n", j.dump(2).c_str());
+        return;
+    }
+    std::printf("%s: lfmstrips v%u, %s, %llu bytes (%.1f KB per frame)\n", path.c_str(), lodstrips::morph_format_version,
+                d.quantized ? "16-bit" : "float", static_cast<unsigned long long>(bytes),
+                double(bytes) / double(d.frame_count) / 1024.0);
+    std::printf("frames: %u, vertices: %u, strips: %zu (%s), collapses: %zu, triangles: %u to %u\n", d.frame_count,
+                s.vertex_count, s.strip_count(), s.restart ? "restart" : "degenerate joins", s.collapse_count(),
+                s.triangles.front(), s.triangles.back());
 }
 
 void add_info(CLI::App& morph) {
@@ -125,10 +217,14 @@ void add_info(CLI::App& morph) {
         bool json = false;
     };
     auto o = std::make_shared<Options>();
-    CLI::App* cmd = morph.add_subcommand("info", "Describe a morph LOD file");
-    cmd->add_option("IN", o->input, "Morph LOD file (.lfmorph)")->required();
+    CLI::App* cmd = morph.add_subcommand("info", "Describe a morph LOD file (.lfmorph) or morph LODStrips file (.lfmstrips)");
+    cmd->add_option("IN", o->input, "Morph LOD file (.lfmorph) or morph LODStrips file (.lfmstrips)")->required();
     cmd->add_flag("--json", o->json, "Print JSON");
     cmd->callback([o] {
+        if (is_morph_lodstrips_file(o->input)) {
+            print_strips_info(o->input, o->json);
+            return;
+        }
         const MorphLodFile f = read_morph_lod(o->input);
         const MorphWriteOptions wo{f.encoding};
         const MorphFileStats st = morph_file_stats(f.morph, f.lod, wo);

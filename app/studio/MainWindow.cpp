@@ -7,6 +7,9 @@
 #include "lodforge/widgets/LevelViews.h"
 #include "lodforge/widgets/LoadJob.h"
 #include "lodforge/widgets/LodLevels.h"
+#include "lodforge/widgets/McoPriorityPanel.h"
+#include "lodforge/widgets/OctreeTuningPanel.h"
+#include "lodforge/widgets/MorphPanel.h"
 #include "lodforge/widgets/ParametersPanel.h"
 #include "lodforge/widgets/ReportPanel.h"
 #include "lodforge/widgets/StatsPanel.h"
@@ -40,6 +43,8 @@
 #include <QUndoCommand>
 #include <QUndoStack>
 #include <QUrl>
+
+#include <tuple>
 
 namespace lodforge::studio {
 
@@ -99,6 +104,8 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
     createMenus();
     createToolBar();
     createStatusBar();
+    createStructurePanels();
+    createMorph();
 
     connect(levels_, &widgets::LevelViews::hoverText, this, [this](const QString& text) {
         if (text.isEmpty()) {
@@ -166,6 +173,36 @@ void MainWindow::createDocks() {
     tabifyDockWidget(paramsDock_, reportDock_);
     tabifyDockWidget(reportDock_, logDock_);
     paramsDock_->raise();
+}
+
+// Two docks beside the Log, their View menu toggles, and the few hooks they need: the loaded model and
+// every parameter change (edits, undo, redo, presets) for their knobs.
+void MainWindow::createStructurePanels() {
+    mcoPanel_ = new widgets::McoPriorityPanel(levels_, this);
+    mcoPanel_->setObjectName(QStringLiteral("mcoPriority"));
+    octreePanel_ = new widgets::OctreeTuningPanel(levels_, this);
+    octreePanel_->setObjectName(QStringLiteral("octreeTuning"));
+    QDockWidget* previous = logDock_;
+    QMenu* viewMenu = menuBar()->findChild<QMenu*>(QStringLiteral("menuView"));
+    for (auto [panel, title, name] : {std::tuple<QWidget*, QString, QString>{mcoPanel_, tr("MC octree"), QStringLiteral("mcoDock")},
+                                      {octreePanel_, tr("Octree"), QStringLiteral("octreeDock")}}) {
+        auto* dock = new QDockWidget(title, this);
+        dock->setObjectName(name);
+        dock->setWidget(panel);
+        addDockWidget(Qt::RightDockWidgetArea, dock);
+        tabifyDockWidget(previous, dock);
+        previous = dock;
+        if (viewMenu) viewMenu->addAction(dock->toggleViewAction());
+    }
+    paramsDock_->raise();
+    auto forward = [this] {
+        mcoPanel_->setPreset(params_->preset());
+        octreePanel_->setPreset(params_->preset());
+    };
+    forward();
+    connect(undo_, &QUndoStack::indexChanged, this, forward);
+    connect(mcoPanel_, &widgets::McoPriorityPanel::logMessage, this, &MainWindow::appendLog);
+    connect(octreePanel_, &widgets::OctreeTuningPanel::logMessage, this, &MainWindow::appendLog);
 }
 
 void MainWindow::createActions() {
@@ -528,6 +565,8 @@ void MainWindow::onLoadFinished(widgets::LoadJob* job, const widgets::LoadResult
         }
         levels_->setCompareVisible(false);
         levels_->setLevels({original});
+        mcoPanel_->setModel(model_);
+        octreePanel_->setModel(model_);
         report_->clear();
         stats_->showInfo(model_->info, model_->elapsedMs, model_->warnings);
         setWindowTitle(tr("%1[*] — LodForge Studio").arg(name));
@@ -923,6 +962,63 @@ void MainWindow::closeEvent(QCloseEvent* event) {
     if (job_) job_->cancel();
     if (task_) task_->cancel();
     QMainWindow::closeEvent(event);
+}
+
+// The morph workspace lives in its own dock with its own views and jobs; the window only hosts it.
+void MainWindow::createMorph() {
+    morph_ = new widgets::MorphPanel(this);
+    morph_->setObjectName(QStringLiteral("morph"));
+    morphDock_ = new QDockWidget(tr("Morph"), this);
+    morphDock_->setObjectName(QStringLiteral("morphDock"));
+    morphDock_->setWidget(morph_);
+    addDockWidget(Qt::BottomDockWidgetArea, morphDock_);
+    morphDock_->hide();
+    connect(morph_, &widgets::MorphPanel::logMessage, this, &MainWindow::appendLog);
+    // The View menu's toggles apply to the morph views as well.
+    const auto syncViewOptions = [this] { morph_->setViewOptions(viewOptions()); };
+    for (const ViewToggle& t : viewToggles_) connect(t.action, &QAction::toggled, this, syncViewOptions);
+    connect(morphDock_, &QDockWidget::visibilityChanged, this, syncViewOptions);
+
+    auto showMorph = [this](bool landmarks) {
+        morphDock_->show();
+        morphDock_->raise();
+        if (landmarks) {
+            morph_->showLandmarks();
+        } else {
+            morph_->showAnimation();
+        }
+    };
+    QMenu* menu = new QMenu(tr("&Morph"), this);
+    menu->setObjectName(QStringLiteral("menuMorph"));
+    menuBar()->insertMenu(menuBar()->actions().constLast(), menu);  // before Help
+    QAction* openFile = menu->addAction(tr("Open &morph…"));
+    openFile->setObjectName(QStringLiteral("actionOpenMorph"));
+    openFile->setShortcut(QKeySequence(Qt::CTRL | Qt::Key_M));
+    openFile->setStatusTip(tr("Open a glTF with morph targets or a .lfmorph file and build its LOD"));
+    connect(openFile, &QAction::triggered, this, [this, showMorph] {
+        const QString path = QFileDialog::getOpenFileName(this, tr("Open morph"), QString(),
+                                                          tr("Morphs (*.gltf *.glb *.lfmorph);;All files (*)"));
+        if (path.isEmpty()) return;
+        showMorph(false);
+        morph_->openMorph(path);
+    });
+    QAction* openSequence = menu->addAction(tr("Open keyframe &sequence…"));
+    openSequence->setObjectName(QStringLiteral("actionOpenMorphSequence"));
+    openSequence->setShortcut(QKeySequence(Qt::CTRL | Qt::SHIFT | Qt::Key_M));
+    openSequence->setStatusTip(tr("Open a directory of OBJ/PLY keyframes with one connectivity and build its LOD"));
+    connect(openSequence, &QAction::triggered, this, [this, showMorph] {
+        const QString path = QFileDialog::getExistingDirectory(this, tr("Open keyframe sequence"));
+        if (path.isEmpty()) return;
+        showMorph(false);
+        morph_->openMorph(path);
+    });
+    QAction* landmarks = menu->addAction(tr("&Landmark picking"));
+    landmarks->setObjectName(QStringLiteral("actionLandmarks"));
+    landmarks->setShortcut(QKeySequence(Qt::CTRL | Qt::Key_K));
+    landmarks->setStatusTip(tr("Pick landmark pairs on two meshes for the two-mesh morph"));
+    connect(landmarks, &QAction::triggered, this, [showMorph] { showMorph(true); });
+    menu->addSeparator();
+    menu->addAction(morphDock_->toggleViewAction());
 }
 
 }  // namespace lodforge::studio

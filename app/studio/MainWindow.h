@@ -30,6 +30,9 @@ namespace lodforge::widgets {
 class Job;
 class LevelViews;
 class LoadJob;
+class McoPriorityPanel;
+class OctreeTuningPanel;
+class MorphPanel;
 class ParametersPanel;
 class ReportPanel;
 class StatsPanel;
@@ -106,6 +109,13 @@ public:
     widgets::ParametersPanel* parametersPanel() const { return params_; }
     widgets::ReportPanel* reportPanel() const { return report_; }
     QPlainTextEdit* logView() const { return log_; }
+    // The structure inspectors (docs/studio.md): the MC octree's priority slider, the octree's tuning
+    // and view-dependent cut.
+    widgets::McoPriorityPanel* mcoPriorityPanel() const { return mcoPanel_; }
+    widgets::OctreeTuningPanel* octreeTuningPanel() const { return octreePanel_; }
+    // The Morph dock (docs/studio.md, "Morph"): morph playback with LOD and landmark picking.
+    widgets::MorphPanel* morphPanel() const { return morph_; }
+    QDockWidget* morphDock() const { return morphDock_; }
 
     // The whole window as shown, with the 3D views' current frames in place.
     QImage grabWindowImage();
@@ -128,6 +138,8 @@ private:
     void createToolBar();
     void createDocks();
     void createStatusBar();
+    void createStructurePanels();
+    void createMorph();  // the Morph dock and menu
     void restoreSettings();
     void saveSettings();
     void showOpenDialog();
@@ -160,11 +172,15 @@ private:
     QDockWidget* paramsDock_ = nullptr;
     QDockWidget* reportDock_ = nullptr;
     QDockWidget* logDock_ = nullptr;
+    widgets::McoPriorityPanel* mcoPanel_ = nullptr;
+    widgets::OctreeTuningPanel* octreePanel_ = nullptr;
     QProgressBar* progressBar_ = nullptr;
     QPushButton* cancelButton_ = nullptr;
     QDoubleSpinBox* rangeBox_ = nullptr;
     QSlider* splitSlider_ = nullptr;
     QUndoStack* undo_ = nullptr;
+    widgets::MorphPanel* morph_ = nullptr;
+    QDockWidget* morphDock_ = nullptr;
 
     QAction* openAction_ = nullptr;
     QAction* quitAction_ = nullptr;

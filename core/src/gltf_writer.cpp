@@ -82,6 +82,7 @@ public:
                         "screen_coverage has " + std::to_string(options_.screen_coverage.size()) +
                             " values for " + std::to_string(levels.size()) + " levels");
         for (const VertexSource& s : sources_) check_source(*s.mesh);
+        if (morph_) check_morph();
 
         doc_["asset"] = {{"generator", options_.generator}, {"version", "2.0"}};
         if (levels.size() > 1) doc_["extensionsUsed"] = ordered_json::array({"MSFT_lod"});
@@ -93,7 +94,9 @@ public:
         for (std::size_t k = 0; k < levels.size(); ++k) {
             check_progress(progress_, static_cast<double>(k) / static_cast<double>(levels.size()), "writing glb");
             const std::string name = options_.name + "_LOD" + std::to_string(k);
-            meshes.push_back({{"name", name}, {"primitives", level_primitives(levels[k], k)}});
+            ordered_json mesh = {{"name", name}, {"primitives", level_primitives(levels[k], k)}};
+            if (morph_) add_mesh_weights(mesh);
+            meshes.push_back(std::move(mesh));
             ordered_json node = {{"name", name}, {"mesh", k}};
             if (k == 0 && levels.size() > 1) {
                 ordered_json ids = ordered_json::array();
@@ -106,6 +109,7 @@ public:
         }
         doc_["nodes"] = nodes;
         doc_["meshes"] = meshes;
+        if (morph_ && !morph_->key_times.empty()) doc_["animations"] = animation(levels.size());
         if (!materials_.empty()) doc_["materials"] = materials_;
         if (!textures_.empty()) {
             doc_["textures"] = textures_;
@@ -265,6 +269,7 @@ private:
         for (const auto& [mat, indices] : groups) {
             ordered_json p;
             p["attributes"] = attributes(level.source, level.vertex_count);
+            if (morph_) p["targets"] = targets(level.source, level.vertex_count);
             p["indices"] = add_indices(indices, level.vertex_count);
             if (mat != UINT32_MAX) p["material"] = material(m, mat);
             p["mode"] = 4;
@@ -401,6 +406,107 @@ private:
 
 public:
     void set_where(std::string where) { where_ = std::move(where); }
+    void set_morph(const GlbMorphTargets* morph) { morph_ = morph; }
+
+private:
+    // ---- morph targets (only with set_morph; one vertex source) ----------------------------------
+
+    const GlbMorphTargets* morph_ = nullptr;
+    std::vector<int> target_position_views_, target_normal_views_;
+    std::map<std::uint32_t, ordered_json> targets_by_count_;
+
+    void check_morph() const {
+        const GlbMorphTargets& m = *morph_;
+        const std::size_t T = m.position_deltas.size();
+        if (sources_.size() != 1) throw_error(Error::Kind::invalid, where_, "morph targets need one vertex buffer");
+        const std::size_t n = sources_[0].mesh->vertex_count();
+        if (T == 0) throw_error(Error::Kind::invalid, where_, "morph export without targets");
+        auto check = [&](const std::vector<std::vector<Vec3f>>& deltas, const char* what) {
+            for (std::size_t t = 0; t < deltas.size(); ++t) {
+                if (deltas[t].size() != n)
+                    throw_error(Error::Kind::invalid, where_, std::string("morph target ") + std::to_string(t) + " " + what +
+                                                                  " has " + std::to_string(deltas[t].size()) + " values for " +
+                                                                  std::to_string(n) + " vertices");
+                for (const Vec3f& d : deltas[t])
+                    if (!is_finite(d))
+                        throw_error(Error::Kind::invalid, where_, std::string("morph target ") + std::to_string(t) + " " +
+                                                                      what + " is not finite");
+            }
+        };
+        check(m.position_deltas, "POSITION");
+        check(m.normal_deltas, "NORMAL");
+        if (!m.normal_deltas.empty() && m.normal_deltas.size() != T)
+            throw_error(Error::Kind::invalid, where_, "morph targets: NORMAL and POSITION target counts differ");
+        if (!m.names.empty() && m.names.size() != T)
+            throw_error(Error::Kind::invalid, where_, "morph targets: name count differs from the target count");
+        if (!m.default_weights.empty() && m.default_weights.size() != T)
+            throw_error(Error::Kind::invalid, where_, "morph targets: weight count differs from the target count");
+        if (m.key_weights.size() != m.key_times.size())
+            throw_error(Error::Kind::invalid, where_, "morph animation: key and weight counts differ");
+        for (std::size_t k = 0; k < m.key_times.size(); ++k) {
+            if (!std::isfinite(m.key_times[k]) || (k > 0 && !(m.key_times[k] > m.key_times[k - 1])) || m.key_times[k] < 0)
+                throw_error(Error::Kind::invalid, where_, "morph animation: key times must increase from >= 0");
+            if (m.key_weights[k].size() != T)
+                throw_error(Error::Kind::invalid, where_, "morph animation: key " + std::to_string(k) + " has " +
+                                                              std::to_string(m.key_weights[k].size()) + " weights for " +
+                                                              std::to_string(T) + " targets");
+            for (float w : m.key_weights[k])
+                if (!std::isfinite(w)) throw_error(Error::Kind::invalid, where_, "morph animation: weight is not finite");
+        }
+        if (m.interpolation != "LINEAR" && m.interpolation != "STEP")
+            throw_error(Error::Kind::invalid, where_, "morph animation: interpolation must be LINEAR or STEP");
+    }
+
+    const ordered_json& targets(std::size_t source_index, std::uint32_t count) {
+        if (auto it = targets_by_count_.find(count); it != targets_by_count_.end()) return it->second;
+        (void)source_index;  // one source (check_morph)
+        const GlbMorphTargets& m = *morph_;
+        if (target_position_views_.empty()) {
+            for (const auto& d : m.position_deltas) target_position_views_.push_back(add_vertex_view(d));
+            for (const auto& d : m.normal_deltas) target_normal_views_.push_back(add_vertex_view(d));
+        }
+        ordered_json list = ordered_json::array();
+        for (std::size_t t = 0; t < m.position_deltas.size(); ++t) {
+            Bounds b;
+            for (std::uint32_t i = 0; i < count; ++i) b.add(m.position_deltas[t][i]);
+            ordered_json target;
+            target["POSITION"] = add_accessor({{"bufferView", target_position_views_[t]}, {"componentType", kFloat},
+                                               {"count", count}, {"type", "VEC3"}, {"min", {b.min.x, b.min.y, b.min.z}},
+                                               {"max", {b.max.x, b.max.y, b.max.z}}});
+            if (!target_normal_views_.empty())
+                target["NORMAL"] = add_accessor({{"bufferView", target_normal_views_[t]}, {"componentType", kFloat},
+                                                 {"count", count}, {"type", "VEC3"}});
+            list.push_back(std::move(target));
+        }
+        return targets_by_count_.emplace(count, std::move(list)).first->second;
+    }
+
+    void add_mesh_weights(ordered_json& mesh) const {
+        const GlbMorphTargets& m = *morph_;
+        mesh["weights"] = m.default_weights.empty() ? std::vector<float>(m.position_deltas.size(), 0.f) : m.default_weights;
+        if (!m.names.empty()) mesh["extras"] = {{"targetNames", m.names}};
+    }
+
+    ordered_json animation(std::size_t levels) {
+        const GlbMorphTargets& m = *morph_;
+        const int input_view = add_view(m.key_times.data(), m.key_times.size() * sizeof(float), 0, 0);
+        const int input = add_accessor({{"bufferView", input_view}, {"componentType", kFloat},
+                                        {"count", m.key_times.size()}, {"type", "SCALAR"},
+                                        {"min", {m.key_times.front()}}, {"max", {m.key_times.back()}}});
+        std::vector<float> weights;
+        for (const auto& key : m.key_weights) weights.insert(weights.end(), key.begin(), key.end());
+        const int output_view = add_view(weights.data(), weights.size() * sizeof(float), 0, 0);
+        const int output = add_accessor({{"bufferView", output_view}, {"componentType", kFloat},
+                                         {"count", weights.size()}, {"type", "SCALAR"}});
+        ordered_json channels = ordered_json::array();
+        for (std::size_t k = 0; k < levels; ++k)
+            channels.push_back({{"sampler", 0}, {"target", {{"node", k}, {"path", "weights"}}}});
+        ordered_json anim = {{"name", m.animation_name},
+                             {"samplers", ordered_json::array({{{"input", input}, {"interpolation", m.interpolation},
+                                                                {"output", output}}})},
+                             {"channels", channels}};
+        return ordered_json::array({anim});
+    }
 };
 
 std::vector<std::uint8_t> encode_levels(const std::vector<Mesh>& levels, const GlbOptions& options,
@@ -424,7 +530,8 @@ std::vector<std::uint8_t> encode_levels(const std::vector<Mesh>& levels, const G
 }
 
 std::vector<std::uint8_t> encode_shared(const SharedLodBuffers& shared, const GlbOptions& options,
-                                        GlbResult* result, Progress* progress, const std::string& where) {
+                                        GlbResult* result, Progress* progress, const std::string& where,
+                                        const GlbMorphTargets* morph = nullptr) {
     const std::size_t triangles = shared.indices.size() / 3;
     if (!shared.face_materials.empty() && shared.face_materials.size() != triangles)
         throw_error(Error::Kind::invalid, where, "face_materials size differs from the triangle count");
@@ -444,6 +551,7 @@ std::vector<std::uint8_t> encode_shared(const SharedLodBuffers& shared, const Gl
     sources[0].mesh = &shared.vertices;
     GlbBuilder builder(options, progress);
     builder.set_where(where);
+    builder.set_morph(morph);
     return builder.build(std::move(sources), specs, result);
 }
 
@@ -477,6 +585,18 @@ GlbResult write_glb(const SharedLodBuffers& shared, const GlbOptions& options, c
                     Progress* progress) {
     GlbResult result;
     const auto bytes = encode_shared(shared, options, &result, progress, path);
+    return write_bytes(bytes, std::move(result), path);
+}
+
+std::vector<std::uint8_t> encode_glb(const SharedLodBuffers& shared, const GlbOptions& options,
+                                     const GlbMorphTargets& morph, GlbResult* result, Progress* progress) {
+    return encode_shared(shared, options, result, progress, "<glb>", &morph);
+}
+
+GlbResult write_glb(const SharedLodBuffers& shared, const GlbOptions& options, const GlbMorphTargets& morph,
+                    const std::string& path, Progress* progress) {
+    GlbResult result;
+    const auto bytes = encode_shared(shared, options, &result, progress, path, &morph);
     return write_bytes(bytes, std::move(result), path);
 }
 

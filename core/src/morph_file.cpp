@@ -11,6 +11,7 @@
 
 #include "lodforge/atomic_file.h"
 #include "lodforge/error.h"
+#include "morph_quantize.h"
 
 #include <algorithm>
 #include <cmath>
@@ -32,33 +33,6 @@ std::uint64_t fnv1a(const std::uint8_t* p, std::size_t n) {
         h *= 1099511628211ull;
     }
     return h;
-}
-
-// Octahedral mapping of a unit vector to two values in [-1, 1].
-void oct_encode(Vec3f n, std::int16_t out[2]) {
-    const float s = std::fabs(n.x) + std::fabs(n.y) + std::fabs(n.z);
-    float u = s > 0 ? n.x / s : 0.f, v = s > 0 ? n.y / s : 0.f;
-    if (n.z < 0) {
-        const float a = (1.f - std::fabs(v)) * (u >= 0 ? 1.f : -1.f);
-        const float b = (1.f - std::fabs(u)) * (v >= 0 ? 1.f : -1.f);
-        u = a;
-        v = b;
-    }
-    out[0] = static_cast<std::int16_t>(std::lround(std::clamp(u, -1.f, 1.f) * 32767.f));
-    out[1] = static_cast<std::int16_t>(std::lround(std::clamp(v, -1.f, 1.f) * 32767.f));
-}
-
-Vec3f oct_decode(std::int16_t a, std::int16_t b) {
-    const float u = std::max(float(a) / 32767.f, -1.f), v = std::max(float(b) / 32767.f, -1.f);
-    Vec3f n{u, v, 1.f - std::fabs(u) - std::fabs(v)};
-    if (n.z < 0) {
-        const float x = (1.f - std::fabs(v)) * (u >= 0 ? 1.f : -1.f);
-        const float y = (1.f - std::fabs(u)) * (v >= 0 ? 1.f : -1.f);
-        n.x = x;
-        n.y = y;
-    }
-    const float len = length(n);
-    return len > 0 ? n * (1.f / len) : Vec3f{0, 0, 1};
 }
 
 class Writer {

@@ -7,6 +7,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <array>
 #include <filesystem>
 
 namespace {
@@ -88,4 +90,81 @@ TEST(CliMorph, ErrorsNameTheFileAndExitOne) {
     EXPECT_NE(run_cli("morph extract x --t 2 --lod 0.5 -o y.ply").exit_code, 0);
     EXPECT_EQ(run_cli("morph --help").exit_code, 0);
     EXPECT_EQ(run_cli("morph build --help").exit_code, 0);
+}
+
+TEST(CliMorph, BuildWithGltfWritesTheGlbAndTheMorphStripsNextToIt) {
+    lodforge::test::ScratchDir dir("cli-morph-export");
+    const std::string glb = dir.file("sphere.glb");
+    auto r = run_cli("morph build " + quoted(sphere()) + " -o " + quoted(dir.file("s.lfmorph")) +
+                     " --frames 4 --close-seams --levels 0.5,0.1 --gltf " + quoted(glb));
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    EXPECT_TRUE(contains(r.out, "3 levels, 3 morph targets each, animated")) << r.out;
+    EXPECT_TRUE(std::filesystem::exists(dir.file("sphere.lfmstrips")));
+    const auto v = lodforge::test::run_command(std::string(LODFORGE_GLTF_VALIDATE) + " " + quoted(glb) + " 2>&1");
+    EXPECT_EQ(v.exit_code, 0) << v.out;
+    // --strips alone, and the per-frame order refused before anything is written
+    r = run_cli("morph build " + quoted(horse()) + " -o " + quoted(dir.file("h.lfmorph")) + " --frames 3 --levels 0.5 --strips " +
+                quoted(dir.file("h.lfmstrips")));
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    EXPECT_TRUE(std::filesystem::exists(dir.file("h.lfmstrips")));
+    r = run_cli("morph build " + quoted(sphere()) + " -o " + quoted(dir.file("p.lfmorph")) +
+                " --frames 3 --close-seams --levels 0.5 --order per-frame --gltf " + quoted(dir.file("p.glb")));
+    EXPECT_EQ(r.exit_code, 1);
+    EXPECT_TRUE(contains(r.out, "one collapse order")) << r.out;
+    EXPECT_FALSE(std::filesystem::exists(dir.file("p.lfmorph")));
+    EXPECT_FALSE(std::filesystem::exists(dir.file("p.glb")));
+    // a glb that cannot be written: exit 1 naming it, and neither the .lfmorph nor the strips are left
+    const std::string nowhere = dir.file("missing-dir/x.glb");
+    r = run_cli("morph build " + quoted(sphere()) + " -o " + quoted(dir.file("q.lfmorph")) + " --frames 3 --close-seams " +
+                "--levels 0.5 --gltf " + quoted(nowhere) + " --strips " + quoted(dir.file("q.lfmstrips")));
+    EXPECT_EQ(r.exit_code, 1);
+    EXPECT_TRUE(contains(r.out, nowhere)) << r.out;
+    EXPECT_FALSE(std::filesystem::exists(dir.file("q.lfmorph")));
+    EXPECT_FALSE(std::filesystem::exists(dir.file("q.lfmstrips")));
+}
+
+// `morph extract` from the strips file (the runtime's set_frame + go_to_lod) writes the same triangles as
+// from the .lfmorph file (extract_morph), at several times and LOD factors.
+TEST(CliMorph, ExtractFromTheStripsFileEqualsExtractFromTheMorphFile) {
+    lodforge::test::ScratchDir dir("cli-morph-strips");
+    const std::string lfm = dir.file("h.lfmorph"), strips = dir.file("h.lfmstrips");
+    auto r = run_cli("morph build " + quoted(horse()) + " -o " + quoted(lfm) +
+                     " --frames 3 --levels 0.5,0.1 --encoding float --strips " + quoted(strips));
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    auto triangles = [](const lodforge::Mesh& m) {
+        std::vector<std::array<float, 9>> out;
+        for (std::size_t f = 0; f < m.triangle_count(); ++f) {
+            std::array<std::array<float, 3>, 3> c;
+            for (int k = 0; k < 3; ++k) {
+                const lodforge::Vec3f p = m.positions[m.indices[3 * f + std::size_t(k)]];
+                c[std::size_t(k)] = {p.x, p.y, p.z};
+            }
+            std::rotate(c.begin(), std::min_element(c.begin(), c.end()), c.end());
+            out.push_back({c[0][0], c[0][1], c[0][2], c[1][0], c[1][1], c[1][2], c[2][0], c[2][1], c[2][2]});
+        }
+        std::sort(out.begin(), out.end());
+        return out;
+    };
+    for (const char* args : {"--t 0 --lod 1", "--t 0.4 --lod 0.3", "--t 1 --lod 0"}) {
+        r = run_cli("morph extract " + quoted(lfm) + " " + args + " -o " + quoted(dir.file("a.ply")));
+        ASSERT_EQ(r.exit_code, 0) << r.out;
+        r = run_cli("morph extract " + quoted(strips) + " " + args + " -o " + quoted(dir.file("b.ply")));
+        ASSERT_EQ(r.exit_code, 0) << r.out;
+        const auto a = triangles(lodforge::read_mesh(dir.file("a.ply")));
+        EXPECT_GT(a.size(), 100u);
+        EXPECT_EQ(a, triangles(lodforge::read_mesh(dir.file("b.ply")))) << args;
+    }
+    r = run_cli("morph info " + quoted(strips) + " --json", false);
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["format"], "lfmstrips");
+    EXPECT_EQ(j["frames"], 3);
+    EXPECT_EQ(j["encoding"], "float");
+    EXPECT_EQ(j["triangles"], 16843);
+    EXPECT_LE(j["coarsest_triangles"].get<int>(), 1685);
+    // a damaged strips file: exit 1 naming it
+    std::filesystem::resize_file(strips, std::filesystem::file_size(strips) - 5);
+    r = run_cli("morph extract " + quoted(strips) + " --t 0.5 --lod 0.5 -o " + quoted(dir.file("c.ply")));
+    EXPECT_EQ(r.exit_code, 1);
+    EXPECT_TRUE(contains(r.out, "lodforge: error: " + strips)) << r.out;
 }

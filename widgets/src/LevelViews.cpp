@@ -20,6 +20,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace lodforge::widgets {
 
@@ -268,7 +269,32 @@ std::shared_ptr<const MeshScene> LevelViews::sceneOf(int level) const {
     return levels_[std::size_t(level)].scene;
 }
 
+void LevelViews::setInspection(const QObject* owner, std::shared_ptr<const MeshScene> scene,
+                               std::shared_ptr<const MeshScene> cells, const QString& label) {
+    if (inspection_.owner && inspection_.owner != owner) endInspection();
+    inspection_ = {owner, std::move(scene), std::move(cells), label};
+    refreshSingle();
+}
+
+void LevelViews::clearInspection(const QObject* owner) {
+    if (!owner || inspection_.owner != owner) return;
+    inspection_ = {};
+    refreshSingle();
+}
+
+void LevelViews::endInspection() {
+    const QObject* owner = inspection_.owner;
+    if (!owner) return;
+    inspection_ = {};
+    emit inspectionEnded(owner);
+}
+
 void LevelViews::showLevelIn(VtkView* view, int level) {
+    if (view == single_ && inspection_.owner && !heatmapVisible_) {
+        if (view->scene() != inspection_.scene) view->setScene(inspection_.scene, false);
+        view->setOverlayScene(inspection_.cells);
+        return;
+    }
     std::shared_ptr<const MeshScene> scene =
         view == single_ && showsContinuous() ? continuousScene_ : sceneOf(level);
     if (view->scene() != scene) view->setScene(std::move(scene), false);
@@ -281,6 +307,7 @@ bool LevelViews::hasCells() const {
 
 void LevelViews::setLevels(std::vector<LevelData> levels, bool resetCamera) {
     const bool sameCount = levels.size() == levels_.size();
+    endInspection();
     levels_ = std::move(levels);
     heatmaps_ = {};
     heatmapVisible_ = false;
@@ -350,6 +377,10 @@ void LevelViews::refreshSingle() {
     showLevelIn(single_, current_);
     // The original as loaded (textured), also beside a heat map: the swipe shows what the error field covers.
     single_->setCompareScene(compareVisible_ && current_ > 0 ? levels_.front().scene : nullptr);
+    if (inspection_.owner && !heatmapVisible_) {
+        singleLabel_->setText(inspection_.label);
+        return;
+    }
     if (showsContinuous()) {
         singleLabel_->setText(tr("Continuous LOD %1 · %2 triangles")
                                   .arg(continuousFactor(), 0, 'f', 3)
@@ -376,7 +407,9 @@ void LevelViews::setArrangement(Arrangement arrangement) {
 void LevelViews::setCurrentLevel(int level) {
     level = std::clamp(level, 0, std::max(0, levelCount() - 1));
     continuousActive_ = false;  // choosing a stored level leaves the continuous view
-    if (level == current_ && single_->scene() == sceneOf(level)) return;
+    const bool inspecting = inspection_.owner != nullptr;
+    endInspection();
+    if (level == current_ && single_->scene() == sceneOf(level) && !inspecting) return;
     current_ = level;
     {
         const QSignalBlocker block(slider_);
@@ -426,6 +459,7 @@ void LevelViews::setViewOptions(const ViewOptions& options) {
     options_ = options;
     single_->setViewOptions(options);
     for (const Tile& t : tiles_) t.view->setViewOptions(options);
+    emit viewOptionsChanged(options);
 }
 
 void LevelViews::resetView() {
@@ -453,12 +487,14 @@ QImage LevelViews::levelImage(int level, QSize size) {
         const int previous = current_;
         const bool compare = compareVisible_;
         const bool continuous = continuousActive_;
+        const Inspection inspection = std::exchange(inspection_, {});
         compareVisible_ = false;
         setCurrentLevel(level);
         image = single_->grabFramebuffer();
         compareVisible_ = compare;
         setCurrentLevel(previous);
         continuousActive_ = continuous;
+        inspection_ = inspection;
         refreshSingle();
     }
     if (image.isNull()) return image;

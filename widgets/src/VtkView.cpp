@@ -5,6 +5,8 @@
 #include "lodforge/heatmap.h"
 
 #include <vtkActor.h>
+#include <vtkBillboardTextActor3D.h>
+#include <vtkCellArray.h>
 #include <vtkCallbackCommand.h>
 #include <vtkCamera.h>
 #include <vtkCellPicker.h>
@@ -18,6 +20,7 @@
 #include <vtkOpenGLState.h>
 #include <vtkPlane.h>
 #include <vtkPlaneCollection.h>
+#include <vtkPoints.h>
 #include <vtkPointData.h>
 #include <vtkPolyDataMapper.h>
 #include <vtkProperty.h>
@@ -176,6 +179,9 @@ struct VtkView::Private {
     vtkSmartPointer<vtkPolyDataMapper> overlayMapper;
     void applyOverlayOptions();
 
+    vtkSmartPointer<vtkActor> markerActor;
+    std::vector<vtkSmartPointer<vtkBillboardTextActor3D>> markerLabels;
+
     vtkSmartPointer<vtkCamera> ownCamera;
     vtkSmartPointer<vtkTexture> checker;
     vtkNew<vtkLookupTable> lut;
@@ -185,6 +191,7 @@ struct VtkView::Private {
     vtkNew<vtkCellPicker> picker;
     QTimer hoverTimer;
     QPoint hoverPosition;
+    std::optional<QPointF> pressPosition;  // of a left press, for clicked()
 };
 
 std::vector<VtkView::Private::Actor> VtkView::Private::makeActors(const MeshScene& meshScene) {
@@ -489,6 +496,90 @@ std::optional<double> VtkView::scalarAt(QPoint position) {
     return std::max(0.0, value);
 }
 
+std::optional<std::array<double, 3>> VtkView::surfacePointAt(QPoint position) {
+    if (!d->scene || !d->window->GetReadyForRendering()) return std::nullopt;
+    const qreal ratio = devicePixelRatioF();
+    const double x = position.x() * ratio;
+    const double y = d->window->GetSize()[1] - 1 - position.y() * ratio;
+    if (!d->picker->Pick(x, y, 0.0, d->renderer) || d->picker->GetCellId() < 0) return std::nullopt;
+    const double* p = d->picker->GetPickPosition();
+    return std::array<double, 3>{p[0], p[1], p[2]};
+}
+
+VtkView::ViewCamera VtkView::viewCamera() const {
+    vtkCamera* camera = d->renderer->GetActiveCamera();
+    ViewCamera out;
+    camera->GetPosition(out.position.data());
+    camera->GetFocalPoint(out.focalPoint.data());
+    camera->GetViewUp(out.viewUp.data());
+    out.viewAngle = camera->GetViewAngle();
+    return out;
+}
+
+void VtkView::setViewCamera(const ViewCamera& c) {
+    vtkCamera* camera = d->renderer->GetActiveCamera();
+    camera->SetPosition(c.position.data());
+    camera->SetFocalPoint(c.focalPoint.data());
+    camera->SetViewUp(c.viewUp.data());
+    camera->SetViewAngle(c.viewAngle);
+    camera->OrthogonalizeViewUp();
+    d->renderer->ResetCameraClippingRange();
+    update();
+    emit cameraChanged();
+}
+
+void VtkView::setMarkers(const std::vector<ViewMarker>& markers) {
+    if (d->markerActor) d->renderer->RemoveActor(d->markerActor);
+    d->markerActor = nullptr;
+    for (const auto& label : d->markerLabels) d->renderer->RemoveActor(label);
+    d->markerLabels.clear();
+    if (!markers.empty()) {
+        vtkNew<vtkPoints> points;
+        vtkNew<vtkCellArray> verts;
+        vtkNew<vtkUnsignedCharArray> colors;
+        colors->SetNumberOfComponents(3);
+        for (const ViewMarker& m : markers) {
+            const vtkIdType id = points->InsertNextPoint(m.position.data());
+            verts->InsertNextCell(1, &id);
+            const unsigned char rgb[3] = {static_cast<unsigned char>(m.color.red()),
+                                          static_cast<unsigned char>(m.color.green()),
+                                          static_cast<unsigned char>(m.color.blue())};
+            colors->InsertNextTypedTuple(rgb);
+
+            auto label = vtkSmartPointer<vtkBillboardTextActor3D>::New();
+            label->SetInput(m.label.toUtf8().constData());
+            label->SetPosition(m.position[0], m.position[1], m.position[2]);
+            label->SetDisplayOffset(9, 9);
+            label->PickableOff();
+            vtkTextProperty* text = label->GetTextProperty();
+            text->SetFontSize(16);
+            text->BoldOn();
+            text->ShadowOn();
+            text->SetColor(m.color.redF(), m.color.greenF(), m.color.blueF());
+            d->renderer->AddActor(label);
+            d->markerLabels.push_back(label);
+        }
+        vtkNew<vtkPolyData> polyData;
+        polyData->SetPoints(points);
+        polyData->SetVerts(verts);
+        polyData->GetPointData()->SetScalars(colors);
+        vtkNew<vtkPolyDataMapper> mapper;
+        mapper->SetInputData(polyData);
+        mapper->SetColorModeToDirectScalars();
+        d->markerActor = vtkSmartPointer<vtkActor>::New();
+        d->markerActor->SetMapper(mapper);
+        d->markerActor->PickableOff();
+        vtkProperty* property = d->markerActor->GetProperty();
+        property->SetRepresentationToPoints();
+        property->RenderPointsAsSpheresOn();
+        property->SetPointSize(14.f);
+        d->renderer->AddActor(d->markerActor);
+    }
+    update();
+}
+
+std::size_t VtkView::markerCount() const { return d->markerLabels.size(); }
+
 void VtkView::pickHover() {
     if (const std::optional<double> value = scalarAt(d->hoverPosition)) {
         emit scalarHovered(*value);
@@ -682,6 +773,8 @@ unsigned long releaseEvent(Qt::MouseButton button) {
 }  // namespace
 
 void VtkView::mousePressEvent(QMouseEvent* event) {
+    d->pressPosition.reset();
+    if (event->button() == Qt::LeftButton) d->pressPosition = event->position();
     setEventInformation(d->interactor, this, event->position(), event->modifiers());
     if (const unsigned long id = pressEvent(event->button()); id != vtkCommand::NoEvent) d->interactor->InvokeEvent(id);
     event->accept();
@@ -698,6 +791,10 @@ void VtkView::mouseReleaseEvent(QMouseEvent* event) {
     setEventInformation(d->interactor, this, event->position(), event->modifiers());
     if (const unsigned long id = releaseEvent(event->button()); id != vtkCommand::NoEvent) d->interactor->InvokeEvent(id);
     event->accept();
+    if (event->button() == Qt::LeftButton && d->pressPosition &&
+        (event->position() - *d->pressPosition).manhattanLength() <= 4)
+        emit clicked(event->position().toPoint());
+    d->pressPosition.reset();
 }
 
 void VtkView::mouseMoveEvent(QMouseEvent* event) {

@@ -68,4 +68,30 @@ GlbResult write_glb(const std::vector<Mesh>& levels, const GlbOptions& options, 
 GlbResult write_glb(const SharedLodBuffers& shared, const GlbOptions& options, const std::string& path,
                     Progress* progress = nullptr);
 
+// Morph targets and a weights animation for the levels of a shared buffer (docs/morph.md, "glTF
+// export"). Every level's primitives get the same targets (accessors over the level's vertex prefix),
+// every level's mesh the same default weights, and the animation drives the weights of every level's
+// node, so whichever level MSFT_lod shows plays the same motion. Without this argument the output is
+// byte-for-byte what it was before morph targets existed.
+struct GlbMorphTargets {
+    std::vector<std::string> names;                   // per target (mesh extras.targetNames); may be empty
+    std::vector<std::vector<Vec3f>> position_deltas;  // [target][shared vertex], at least one target
+    std::vector<std::vector<Vec3f>> normal_deltas;    // [target][shared vertex], or empty
+    std::vector<float> default_weights;               // per target; empty = zeros
+    // Weights animation, written when key_times is not empty: increasing times in seconds and the
+    // weights at each key ([key][target]); interpolation "LINEAR" or "STEP".
+    std::vector<float> key_times;
+    std::vector<std::vector<float>> key_weights;
+    std::string interpolation = "LINEAR";
+    std::string animation_name = "morph";
+};
+
+// As encode_glb(shared, ...) with morph targets. Error(invalid) for targets or keys whose sizes do not
+// match the vertex buffer, the target count or each other, or non-finite values.
+std::vector<std::uint8_t> encode_glb(const SharedLodBuffers& shared, const GlbOptions& options,
+                                     const GlbMorphTargets& morph, GlbResult* result = nullptr,
+                                     Progress* progress = nullptr);
+GlbResult write_glb(const SharedLodBuffers& shared, const GlbOptions& options, const GlbMorphTargets& morph,
+                    const std::string& path, Progress* progress = nullptr);
+
 }  // namespace lodforge

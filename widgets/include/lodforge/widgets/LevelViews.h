@@ -95,6 +95,15 @@ public:
     QLabel* continuousLabel() const { return continuousLabel_; }
     QCheckBox* stripColorsBox() const { return stripColors_; }
 
+    // An inspection view in the single view, owned by a panel (the MC octree's priority slider, the
+    // octree's view-dependent cut): `scene` with `cells` as its overlay and `label` above it, until its
+    // owner clears it, a stored level is chosen or new levels arrive (then inspectionEnded). Side by side
+    // and the heat map show the stored levels.
+    void setInspection(const QObject* owner, std::shared_ptr<const MeshScene> scene,
+                       std::shared_ptr<const MeshScene> cells, const QString& label);
+    void clearInspection(const QObject* owner);
+    const QObject* inspectionOwner() const { return inspection_.owner; }
+
     // "LOD 2 · 1,464 triangles · error 0.42 % (0.0061)"; "Original · 5,856 triangles".
     QString levelLabelText(int level) const;
 
@@ -105,6 +114,8 @@ signals:
     void currentLevelChanged(int level);
     // The heat map value under the cursor, as text for the status bar; empty when it left the surface.
     void hoverText(const QString& text);
+    void inspectionEnded(const QObject* owner);
+    void viewOptionsChanged(const lodforge::widgets::ViewOptions& options);
 
 private:
     struct Tile {
@@ -122,6 +133,14 @@ private:
     void setupContinuous();
     void showContinuous();
     bool showsContinuous() const;
+    void endInspection();
+
+    struct Inspection {
+        const QObject* owner = nullptr;
+        std::shared_ptr<const MeshScene> scene, cells;
+        QString label;
+    };
+    Inspection inspection_;
 
     QStackedWidget* stack_ = nullptr;
     QWidget* singlePage_ = nullptr;

@@ -9,19 +9,31 @@
 // [0, scalarRange()], a scalar bar, and the value under the cursor (scalarHovered). A compare scene
 // splits the view: the compare scene left of the split position, the scene right of it, both in the
 // same camera (a swipe between the original and a level). An overlay scene (the structure's cells) is
-// drawn as coloured lines over whatever is shown.
+// drawn as coloured lines over whatever is shown. Markers (numbered points, e.g. landmarks) are drawn as
+// spheres with their labels over the scene.
 #pragma once
 
 #include "lodforge/widgets/ViewOptions.h"
 
+#include <QColor>
 #include <QOpenGLWidget>
+#include <QString>
 
+#include <array>
 #include <memory>
 #include <optional>
+#include <vector>
 
 namespace lodforge::widgets {
 
 class MeshScene;
+
+// A point drawn over the scene (model coordinates) as a sphere of a few pixels with a text label.
+struct ViewMarker {
+    std::array<double, 3> position{};
+    QString label;
+    QColor color;
+};
 
 class VtkView : public QOpenGLWidget {
     Q_OBJECT
@@ -71,6 +83,23 @@ public:
     // Whether an overlay is drawn now (a scene is set and the options show cells).
     bool overlayVisible() const;
 
+    // The camera (shared or own) in model units; setViewCamera moves it and emits cameraChanged.
+    struct ViewCamera {
+        std::array<double, 3> position{0, 0, 1};
+        std::array<double, 3> focalPoint{0, 0, 0};
+        std::array<double, 3> viewUp{0, 1, 0};
+        double viewAngle = 30;  // vertical field of view, degrees
+    };
+    ViewCamera viewCamera() const;
+    void setViewCamera(const ViewCamera& camera);
+
+    // Markers over the scene (replacing the previous ones; empty: none). Not picked, not framed.
+    void setMarkers(const std::vector<ViewMarker>& markers);
+    std::size_t markerCount() const;
+    // The point of the scene's surface under `position` (widget coordinates), in model coordinates;
+    // nothing where no surface is.
+    std::optional<std::array<double, 3>> surfacePointAt(QPoint position);
+
     // Frames rendered since construction; tests and screenshots wait for it to move.
     quint64 frameCount() const;
 
@@ -83,6 +112,8 @@ signals:
     // The heat map value under the mouse; hoverLeft when the cursor leaves the surface.
     void scalarHovered(double value);
     void hoverLeft();
+    // A left click without a drag (press and release within a few pixels), widget coordinates.
+    void clicked(QPoint position);
 
 protected:
     void initializeGL() override;
