@@ -4,14 +4,17 @@
 // a coarse frame shows viridis and is exactly zero at full detail; a .lfmorph file opens the same; a
 // broken one fails with its name; Cancel stops a build. Landmark picking: a simulated click on mesh A
 // picks the vertex under the cursor, pairs are numbered markers in both views, undo/clear work, and the
-// saved file round-trips through the core reader; the supermesh action stays disabled until connected.
+// saved file round-trips through the core reader; Build supermesh on an open mesh fails naming it, and on
+// Spot and a sphere builds the two-shape morph, whose t = 0 and t = 1 frames differ.
 #include "MainWindow.h"
 #include "PixelStats.h"
 #include "StudioSession.h"
+#include "support/icosphere.h"
 
 #include "lodforge/error.h"
 #include "lodforge/landmarks.h"
 #include "lodforge/morph_file.h"
+#include "lodforge/mesh_io.h"
 #include "lodforge/morph_lod.h"
 #include "lodforge/widgets/LandmarkPicker.h"
 #include "lodforge/widgets/MorphPanel.h"
@@ -92,6 +95,7 @@ private slots:
     void lfmorphFileBrokenFileAndCancel();
     void gltfMorphTargetsPlay();
     void landmarkPickingRoundTrips();
+    void supermeshOfSpotAndASpherePlays();
 
 private:
     bool openMorph(const QString& path, QString* message = nullptr);
@@ -357,11 +361,10 @@ void MorphStudioTest::landmarkPickingRoundTrips() {
     panel_->showLandmarks();
     LandmarkPicker* picker = panel_->landmarkPicker();
     QVERIFY(picker->isVisible());
-    // The supermesh action exists, disabled, and says why.
+    // The supermesh action waits for two meshes and a pair.
     QPushButton* build = picker->buildSupermeshButton();
-    QVERIFY(!MorphPanel::supermeshBuilderConnected());
+    QVERIFY(MorphPanel::supermeshBuilderConnected());
     QVERIFY(!build->isEnabled());
-    QVERIFY2(build->toolTip().contains(QStringLiteral("Not available yet")), qPrintable(build->toolTip()));
 
     QSignalSpy loaded(picker, &LandmarkPicker::meshLoaded);
     picker->openMesh(Side::a, spotPath);
@@ -409,13 +412,21 @@ void MorphStudioTest::landmarkPickingRoundTrips() {
     const int yellowBefore = yellowPixels(before), yellowAfter = yellowPixels(freshFrame(viewA));
     qInfo("marker pixels: %d before, %d after", yellowBefore, yellowAfter);
     QVERIFY(yellowAfter > yellowBefore + 30);
-    QVERIFY(!build->isEnabled());  // still not connected
-    // The hook itself refuses rather than pretending to build.
+    // B (a horse keyframe) is open: Build supermesh runs and fails with the file's name and the reason;
+    // the horse on screen stays.
+    QVERIFY(build->isEnabled());
+    QSignalSpy built(panel_, &MorphPanel::morphLoaded);
+    build->click();
+    QVERIFY(built.wait(60000));
+    QVERIFY(!built.at(0).at(0).toBool());
+    const QString error = built.at(0).at(1).toString();
+    qInfo("supermesh of Spot and a horse frame: %s", qPrintable(error));
+    QVERIFY2(error.contains(QStringLiteral("0001.obj")) && error.contains(QStringLiteral("border")), qPrintable(error));
     try {
-        (void)MorphPanel::build_supermesh(*a, *b, picker->landmarks(), nullptr);
-        QFAIL("build_supermesh returned a mesh without a core builder");
+        (void)MorphPanel::build_supermesh(*a, *b, picker->landmarks(), "spot.obj", "0001.obj", nullptr);
+        QFAIL("build_supermesh accepted an open mesh");
     } catch (const lodforge::Error& e) {
-        QCOMPARE(e.kind(), lodforge::Error::Kind::unsupported);
+        QVERIFY2(std::string(e.what()).find("0001.obj") != std::string::npos, e.what());
     }
 
     // Saved through the core writer, read back by the core reader: the pairs as picked.
@@ -440,6 +451,58 @@ void MorphStudioTest::landmarkPickingRoundTrips() {
     QVERIFY2(why.contains(QStringLiteral("bad.json")), qPrintable(why));
     QVERIFY(picker->landmarks().pairs == expected);
     QVERIFY(!picker->loadLandmarks(tmp_.filePath(QStringLiteral("missing.json")), &why));
+}
+
+void MorphStudioTest::supermeshOfSpotAndASpherePlays() {
+    panel_->showLandmarks();
+    LandmarkPicker* picker = panel_->landmarkPicker();
+    // B: a sphere around Spot, written as a PLY the picker opens like any file.
+    const auto spot = std::make_shared<lodforge::Mesh>(lodforge::read_mesh(spotPath.toStdString()));
+    const lodforge::Vec3f centre = spot->bounds().center();
+    const QString ball = tmp_.filePath(QStringLiteral("ball.ply"));
+    lodforge::write_mesh(lodforge::test::icosphere(3, 0.5f, centre), ball.toStdString());
+    QSignalSpy loaded(picker, &LandmarkPicker::meshLoaded);
+    picker->openMesh(Side::a, spotPath);
+    picker->openMesh(Side::b, ball);
+    QVERIFY(QTest::qWaitFor([&] { return loaded.size() == 2; }, 60000));
+    const auto a = picker->mesh(Side::a);
+    const auto b = picker->mesh(Side::b);
+    QVERIFY(a && b);
+    // One pair: Spot's vertex furthest along +x and the sphere vertex in the same direction.
+    std::uint32_t va = 0, vb = 0;
+    for (std::uint32_t v = 0; v < a->vertex_count(); ++v)
+        if (a->positions[v].x > a->positions[va].x) va = v;
+    for (std::uint32_t v = 0; v < b->vertex_count(); ++v)
+        if (b->positions[v].x > b->positions[vb].x) vb = v;
+    QVERIFY(picker->pickVertex(Side::a, va));
+    QVERIFY(picker->pickVertex(Side::b, vb));
+    QPushButton* build = picker->buildSupermeshButton();
+    QVERIFY(build->isEnabled());
+    QSignalSpy built(panel_, &MorphPanel::morphLoaded);
+    build->click();
+    QVERIFY(built.wait(120000));
+    QVERIFY2(built.at(0).at(0).toBool(), qPrintable(built.at(0).at(1).toString()));
+    const auto data = panel_->data();
+    QVERIFY(data);
+    QCOMPARE(data->morph.frame_count(), std::size_t(2));
+    // Every point of both meshes is a vertex of the supermesh (plus the crossings).
+    QVERIFY(data->morph.vertex_count() > a->vertex_count() / 2 + b->vertex_count());
+    qInfo("supermesh: %zu vertices, %zu triangles", data->morph.vertex_count(), data->lod.triangles);
+
+    // The animation shows A at t = 0 and B at t = 1; F still lowers the triangle count.
+    QVERIFY(QTest::qWaitFor([&] { return !panel_->isBusy(); }, 5000));
+    panel_->setLodFactor(1.0);
+    panel_->setTime(0.0);
+    VtkView* view = panel_->view();
+    const QImage cow = freshFrame(view);
+    panel_->setTime(1.0);
+    const QImage sphere = freshFrame(view);
+    const double change = differingFraction(cow, sphere, viewBackgroundColor());
+    qInfo("supermesh: t 0 -> 1 changes %.1f%% of the drawn pixels", 100 * change);
+    QVERIFY2(change > 0.05, qPrintable(QString::number(change)));
+    const std::size_t full = panel_->triangleCount();
+    panel_->setLodFactor(0.0);
+    QVERIFY(panel_->triangleCount() < full);
 }
 
 int main(int argc, char* argv[]) {

@@ -3,6 +3,7 @@
 #include "lodforge/error.h"
 #include "lodforge/metrics.h"
 #include "lodforge/morph_file.h"
+#include "lodforge/supermesh.h"
 #include "lodforge/widgets/Job.h"
 #include "lodforge/widgets/LandmarkPicker.h"
 #include "lodforge/widgets/MeshScene.h"
@@ -35,17 +36,19 @@ int toSteps(double v) { return static_cast<int>(std::lround(v * MorphPanel::slid
 
 }  // namespace
 
-// --- Case (b) hook: connect the core supermesh builder here (see MorphPanel.h). ---------------------
-bool MorphPanel::supermeshBuilderConnected() { return false; }
+// --- Case (b): the core supermesh builder (supermesh.h) behind the landmark picker. ------------------
+bool MorphPanel::supermeshBuilderConnected() { return true; }
 
-MorphMesh MorphPanel::build_supermesh(const Mesh&, const Mesh&, const Landmarks&, Progress*) {
-    throw Error(Error::Kind::unsupported, supermeshUnavailableReason().toStdString());
+MorphMesh MorphPanel::build_supermesh(const Mesh& a, const Mesh& b, const Landmarks& landmarks,
+                                      const std::string& sourceA, const std::string& sourceB, Progress* progress) {
+    // The same builder and defaults as `lodforge morph build A B --landmarks L.json`.
+    SupermeshResult r = lodforge::build_supermesh(a, b, landmarks, {}, sourceA, sourceB, "the picked landmarks", progress);
+    r.morph.frame_names = {sourceA, sourceB};
+    return std::move(r.morph);
 }
 
 QString MorphPanel::supermeshUnavailableReason() {
-    return tr("Not available yet: the core supermesh builder for two genus-0 meshes (issue 8, case (b)) is "
-              "not connected to the studio (MorphPanel::build_supermesh). Save the landmarks and build with "
-              "lodforge morph build A B --landmarks L.json once it exists.");
+    return tr("Open mesh A and mesh B and pick at least one landmark pair first.");
 }
 // ------------------------------------------------------------------------------------------------
 
@@ -145,9 +148,9 @@ MorphPanel::MorphPanel(QWidget* parent) : QWidget(parent) {
 
     picker_ = new LandmarkPicker(this);
     picker_->setObjectName(QStringLiteral("landmarkPicker"));
-    picker_->setSupermeshAvailable(supermeshBuilderConnected(), supermeshBuilderConnected()
-                                                                    ? tr("Build the supermesh of A and B from the pairs and play it")
-                                                                    : supermeshUnavailableReason());
+    picker_->setSupermeshAvailable(supermeshBuilderConnected(),
+                                   tr("Build the supermesh of A and B from the pairs and play it (both must be "
+                                      "closed genus-0 meshes)"));
     connect(picker_, &LandmarkPicker::buildSupermeshRequested, this, &MorphPanel::buildSupermeshFromPicks);
     connect(picker_, &LandmarkPicker::message, this, &MorphPanel::logMessage);
     connect(picker_, &LandmarkPicker::meshLoaded, this, [this](LandmarkPicker::Side side, bool ok, const QString& m) {
@@ -222,10 +225,12 @@ void MorphPanel::buildSupermeshFromPicks() {
     const bool closeSeams = closeSeamsBox_->isChecked();
     const QString source = tr("supermesh of %1 and %2").arg(QFileInfo(picker_->meshPath(LandmarkPicker::Side::a)).fileName(),
                                                             QFileInfo(picker_->meshPath(LandmarkPicker::Side::b)).fileName());
-    startMorphJob(tr("Build supermesh"), source, [a, b, landmarks, closeSeams](MorphData& d, Progress* progress) {
+    const std::string sourceA = picker_->meshPath(LandmarkPicker::Side::a).toStdString();
+    const std::string sourceB = picker_->meshPath(LandmarkPicker::Side::b).toStdString();
+    startMorphJob(tr("Build supermesh"), source, [a, b, landmarks, closeSeams, sourceA, sourceB](MorphData& d, Progress* progress) {
         MorphLodParams params;
         params.simplify.preserve_seams = !closeSeams;
-        d.morph = build_supermesh(*a, *b, landmarks, progress);
+        d.morph = build_supermesh(*a, *b, landmarks, sourceA, sourceB, progress);
         d.lod = build_morph_lod(d.morph, params, progress);
     });
     showAnimation();

@@ -90,16 +90,14 @@ public:
     void showLandmarks();  // the Landmarks tab
     void showAnimation();  // the Animation tab
 
-    // --- Case (b) hook -----------------------------------------------------------------------------
-    // The supermesh of two genus-0 meshes aligned by landmark pairs (issue 8, case (b)), as a MorphMesh
-    // with two keyframes. The core builder is written on another branch; until it is connected here,
-    // supermeshBuilderConnected() is false, the Build supermesh button is disabled with a tooltip that
-    // says so, and build_supermesh throws Error(unsupported). To connect: call the core function in
-    // build_supermesh and return true from supermeshBuilderConnected(); the button then builds the LOD of
-    // the result and plays it like any other morph.
+    // --- Case (b) ----------------------------------------------------------------------------------
+    // The supermesh of two genus-0 meshes aligned by landmark pairs (issue 8, case (b); supermesh.h), as
+    // a MorphMesh with two keyframes, built with the CLI's defaults; sources name the files in errors.
+    // The Build supermesh button then builds its LOD and plays it like any other morph.
     static bool supermeshBuilderConnected();
     static lodforge::MorphMesh build_supermesh(const lodforge::Mesh& a, const lodforge::Mesh& b,
-                                               const lodforge::Landmarks& landmarks, lodforge::Progress* progress);
+                                               const lodforge::Landmarks& landmarks, const std::string& sourceA,
+                                               const std::string& sourceB, lodforge::Progress* progress);
     static QString supermeshUnavailableReason();
 
 signals:
