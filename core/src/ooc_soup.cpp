@@ -24,6 +24,7 @@
 #include <algorithm>
 #include <atomic>
 #include <bit>
+#include <cmath>
 #include <filesystem>
 #include <system_error>
 
@@ -37,6 +38,7 @@ namespace {
 constexpr char kSoupMagic[8] = {'L', 'F', 'S', 'O', 'U', 'P', '0', '1'};
 constexpr std::uint32_t kSoupVersion = 1;
 constexpr std::size_t kSoupHeaderBytes = 64;
+constexpr std::uint32_t kWedgeFlag = 8;  // texcoords are per face corner (wedges), docs/octree.md
 
 struct SoupHeader {
     char magic[8];
@@ -175,9 +177,11 @@ public:
             spill_.add(buckets_ == 1 ? 0 : ooc::mix64(key) % buckets_, &key);
         }
     }
-    std::vector<std::uint64_t> odd_non_manifold(Progress* progress, double from, double to) {
+    // The odd non-manifold edges; `border` receives the edges used exactly once. Both sorted.
+    std::vector<std::uint64_t> odd_non_manifold(Progress* progress, double from, double to, std::vector<std::uint64_t>& border) {
         spill_.finish();
         std::vector<std::uint64_t> out, keys, tmp_keys;
+        border.clear();
         if (!enabled_) return out;
         std::vector<char> tmp;
         for (std::size_t b = 0; b < buckets_; ++b) {
@@ -193,11 +197,14 @@ public:
                 std::size_t j = i + 1;
                 while (j < keys.size() && keys[j] == keys[i]) ++j;
                 const std::size_t c = j - i;
-                if (c >= 3 && (c & 1u)) out.push_back((keys[i] >> shift_) << 32 | (keys[i] & ((std::uint64_t{1} << shift_) - 1)));
+                const std::uint64_t edge = (keys[i] >> shift_) << 32 | (keys[i] & ((std::uint64_t{1} << shift_) - 1));
+                if (c == 1) border.push_back(edge);
+                else if (c >= 3 && (c & 1u)) out.push_back(edge);
                 i = j;
             }
         }
         std::sort(out.begin(), out.end());
+        std::sort(border.begin(), border.end());
         return out;
     }
 
@@ -231,7 +238,7 @@ void write_header(File& f, const SoupResult& r) {
     SoupHeader h{};
     std::memcpy(h.magic, kSoupMagic, 8);
     h.version = kSoupVersion;
-    h.layout = r.layout.flags();
+    h.layout = r.layout.flags() | (r.wedge_texcoords ? kWedgeFlag : 0u);
     h.triangles = r.triangles;
     h.vertices = r.vertices;
     const float b[6] = {r.bounds.min.x, r.bounds.min.y, r.bounds.min.z, r.bounds.max.x, r.bounds.max.y, r.bounds.max.z};
@@ -344,7 +351,8 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
     const PlyVertexAttributes attrs = reader.vertex_attributes();
     SoupResult r;
     r.path = soup_path;
-    r.layout = {attrs.normals, attrs.colors, attrs.texcoords};
+    r.wedge_texcoords = reader.has_corner_texcoords();
+    r.layout = {attrs.normals, attrs.colors, attrs.texcoords || r.wedge_texcoords};
     r.vertices = reader.vertex_count();
     if (r.vertices == 0) throw_error(Error::Kind::invalid, ply_path, "no vertices");
     if (r.vertices >= 0xffffffffull)
@@ -363,6 +371,16 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
     constexpr std::size_t kFaceChunk = 32768;
     VertexChunks chunks(L, kVertexChunk);
     PlyFaceChunk faces;
+    // A wedge (face-corner) texcoord replaces the vertex's; a face with an empty list keeps the vertex's
+    // own u v (zero when the vertex element has none).
+    const std::size_t uv_at = L.texcoord_offset();
+    std::vector<float> wedge(floats);
+    auto set_wedge = [&](float* record, const Vec2f& uv) {
+        if (!std::isnan(uv.x)) {
+            record[uv_at] = uv.x;
+            record[uv_at + 1] = uv.y;
+        }
+    };
 
     const std::uint64_t expected_edges = 3 * std::max<std::uint64_t>(header.elements[face_element].count, 1);
     const std::string edges_path = (fs::path(soup_path).parent_path() / "edges.tmp").string();
@@ -382,7 +400,16 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
                     faces.clear();
                     reader.read_faces(kFaceChunk, faces);
                     r.skipped_faces += faces.skipped_faces;
-                    for (std::uint32_t id : faces.indices) out.corner(id, &vertices[static_cast<std::size_t>(id) * floats]);
+                    if (r.wedge_texcoords) {
+                        for (std::size_t c = 0; c < faces.indices.size(); ++c) {
+                            const std::uint32_t id = faces.indices[c];
+                            std::memcpy(wedge.data(), &vertices[static_cast<std::size_t>(id) * floats], vrec);
+                            set_wedge(wedge.data(), faces.corner_texcoords[c]);
+                            out.corner(id, wedge.data());
+                        }
+                    } else {
+                        for (std::uint32_t id : faces.indices) out.corner(id, &vertices[static_cast<std::size_t>(id) * floats]);
+                    }
                     for (std::size_t t = 0; t < faces.triangle_count(); ++t) edges.add_triangle(&faces.indices[3 * t]);
                     r.triangles += faces.triangle_count();
                 } else {
@@ -393,7 +420,7 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
             if (r.triangles == 0) throw_error(Error::Kind::invalid, ply_path, "no triangles");
             out.finish(r);
             std::vector<float>().swap(vertices);
-            r.odd_non_manifold_edges = edges.odd_non_manifold(progress, 0.9, 1.0);
+            r.odd_non_manifold_edges = edges.odd_non_manifold(progress, 0.9, 1.0, r.border_edges);
             r.temp_bytes_peak = out.bytes();
         } catch (...) {
             std::error_code ignored;
@@ -420,7 +447,7 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
     try {
         const std::uint64_t range = std::max<std::uint64_t>(1024, static_cast<std::uint64_t>(0.4 * budget) / vrec);
         const std::size_t ranges = static_cast<std::size_t>((r.vertices + range - 1) / range);
-        const std::size_t ref_bytes = 12;
+        const std::size_t ref_bytes = r.wedge_texcoords ? 20 : 12;  // vertex, corner[, wedge u v]
         auto buffer_for = [&](std::size_t buckets) {
             return std::clamp<std::size_t>(static_cast<std::size_t>(0.25 * budget) / std::max<std::size_t>(buckets, 1),
                                            4096, std::size_t{1} << 20);
@@ -440,10 +467,12 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
                     faces.clear();
                     reader.read_faces(kFaceChunk, faces);
                     r.skipped_faces += faces.skipped_faces;
-                    char rec[12];
-                    for (std::uint32_t id : faces.indices) {
+                    char rec[20];
+                    for (std::size_t c = 0; c < faces.indices.size(); ++c) {
+                        const std::uint32_t id = faces.indices[c];
                         std::memcpy(rec, &id, 4);
                         std::memcpy(rec + 4, &tail, 8);
+                        if (r.wedge_texcoords) std::memcpy(rec + 12, &faces.corner_texcoords[c], 8);
                         refs.add(id / range, rec);
                         ++tail;
                     }
@@ -457,7 +486,7 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
             r.triangles = tail / 3;
             check_triangle_count(ply_path, r.triangles);
             if (r.triangles == 0) throw_error(Error::Kind::invalid, ply_path, "no triangles");
-            r.odd_non_manifold_edges = edges.odd_non_manifold(progress, 0.5, 0.55);
+            r.odd_non_manifold_edges = edges.odd_non_manifold(progress, 0.5, 0.55, r.border_edges);
 
             // Pass 2.
             const std::uint64_t chunk_corners =
@@ -485,6 +514,12 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
                             std::memcpy(rec.data(), &c, 8);
                             std::memcpy(rec.data() + 8, &id, 4);
                             std::memcpy(rec.data() + 12, &resident[static_cast<std::size_t>(id - first) * floats], vrec);
+                            if (r.wedge_texcoords) {
+                                Vec2f uv;
+                                std::memcpy(&uv, data + o + 12, 8);
+                                float* record = reinterpret_cast<float*>(rec.data() + 12);
+                                set_wedge(record, uv);
+                            }
                             placed.add(static_cast<std::size_t>(c / chunk_corners), rec.data());
                         }
                     });
@@ -537,6 +572,7 @@ SoupReader::SoupReader(const std::string& path) : path_(path) {
     if (std::memcmp(h.magic, kSoupMagic, 8) != 0 || h.version != kSoupVersion)
         throw_error(Error::Kind::format, path, "not a triangle soup of version 1");
     layout_ = VertexLayout::from_flags(h.layout);
+    wedge_texcoords_ = (h.layout & kWedgeFlag) != 0;
     triangles_ = h.triangles;
     vertices_ = h.vertices;
     bounds_.add({h.bounds[0], h.bounds[1], h.bounds[2]});
