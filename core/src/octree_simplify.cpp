@@ -23,6 +23,7 @@ namespace lodforge {
 namespace {
 
 constexpr std::uint32_t kNone = ~0u;
+constexpr std::uint64_t kClusterKey = std::uint64_t{1} << 62;  // with kRepresentativeKey: a cluster vertex
 
 double weight_or_floor(float w) { return std::max(static_cast<double>(w), 1e-4); }
 
@@ -43,6 +44,10 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> collapse_free_chains(
     const std::size_t n = input.vertex_count();
     auto is_free = [&](std::uint32_t a, std::uint32_t b) {
         const std::uint64_t ka = input.keys[a], kb = input.keys[b];
+        // Cluster vertices belong to one node's clustered component: edges between them (the border of
+        // a clustered component that had holes) are shared with nobody.
+        constexpr std::uint64_t cluster = kRepresentativeKey | kClusterKey;
+        if ((ka & cluster) == cluster && (kb & cluster) == cluster) return true;
         if ((ka | kb) & kRepresentativeKey) return false;
         if (border.input) {
             const std::uint64_t x = ka & 0xffffffffu, y = kb & 0xffffffffu;
@@ -148,7 +153,6 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> collapse_free_chains(
 // rest are kept with their multiplicity). The boundary of the clustered chain is the clustered boundary
 // of the component, zero, so no border edge appears; a component inside one grid cell vanishes.
 constexpr int kClosedGrid = 16;
-constexpr std::uint64_t kClusterKey = std::uint64_t{1} << 62;
 
 void cluster_closed(const NodeMesh& input, const std::vector<std::uint32_t>& closed, const float cell_min[3],
                     float cell_size, std::uint64_t representative_key, NodeMesh& out, NodeSimplifyStats& st) {
