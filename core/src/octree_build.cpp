@@ -24,6 +24,7 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <iterator>
 #include <memory>
 #include <system_error>
 
@@ -43,6 +44,7 @@ struct NodeResult {
     int height = 0;
     Bounds bounds;
     std::uint64_t triangles = 0;
+    std::vector<std::pair<std::uint64_t, std::uint64_t>> chords;  // free for the parent (sorted)
     explicit NodeResult(std::size_t dimension) : quadric(dimension) {}
 };
 
@@ -87,6 +89,8 @@ public:
         frame_.scale = root_size_;
         frame_.layout = layout_;
         frame_.weights = p.weights;
+        wedge_ = soup.wedge_texcoords;
+        uv_at_ = layout_.texcoord_offset();
         in_memory_limit_ = static_cast<std::uint64_t>(0.4 * static_cast<double>(p.memory_bytes)) / (tri_bytes_ + 16);
     }
 
@@ -110,7 +114,7 @@ public:
         ooc::AssetHeader h{};
         std::memcpy(h.magic, ooc::kAssetMagic, 8);
         h.version = ooc::kAssetVersion;
-        h.layout = layout_.flags();
+        h.layout = layout_.flags() | (wedge_ ? 8u : 0u);
         h.input_vertices = soup_.vertices;
         h.input_triangles = soup_.triangles;
         h.max_triangles = static_cast<std::uint32_t>(std::min<std::size_t>(p_.max_triangles, 0xffffffffu));
@@ -150,6 +154,15 @@ private:
         return {at, bytes.size()};
     }
 
+    // Wedge UVs split a vertex by its texcoord: the key is the input index with a 31-bit hash of the
+    // u v bits above it (bit 63 stays clear for representatives), so every node derives the same key for
+    // the same wedge and a UV seam becomes a pair of input border edges (docs/octree.md).
+    static std::uint64_t wedge_key(std::uint32_t vid, const float* uv) {
+        std::uint32_t bits[2];
+        std::memcpy(bits, uv, sizeof bits);
+        const std::uint64_t h = ooc::mix64(std::uint64_t{bits[0]} << 32 | bits[1]) & 0x7fffffffu;
+        return h << 32 | vid;
+    }
     const float* position(const std::byte* tri, int k) const {
         return reinterpret_cast<const float*>(tri + static_cast<std::size_t>(k) * corner_ + 4);
     }
@@ -291,10 +304,11 @@ private:
                 std::uint32_t vid;
                 std::memcpy(&vid, c, 4);
                 v[k] = reinterpret_cast<const float*>(c + 4);
+                const std::uint64_t key = wedge_ ? wedge_key(vid, v[k] + uv_at_) : vid;
                 bool inserted = false;
-                std::uint32_t& local = map.find_or_insert(vid, static_cast<std::uint32_t>(raw.keys.size()), inserted);
+                std::uint32_t& local = map.find_or_insert(key, static_cast<std::uint32_t>(raw.keys.size()), inserted);
                 if (inserted) {
-                    raw.keys.push_back(vid);
+                    raw.keys.push_back(key);
                     raw.vertices.insert(raw.vertices.end(), v[k], v[k] + f);
                     r.bounds.add({v[k][0], v[k][1], v[k][2]});
                 }
@@ -330,7 +344,13 @@ private:
             parts.push_back(&c.mesh);
         }
         NodeMesh merged = merge_node_meshes(parts);
-        for (NodeResult& c : children) c.mesh = NodeMesh();  // the parent's input is the merged copy
+        for (NodeResult& c : children) {
+            c.mesh = NodeMesh();  // the parent's input is the merged copy
+            r.chords.insert(r.chords.end(), c.chords.begin(), c.chords.end());
+            c.chords = {};
+        }
+        std::sort(r.chords.begin(), r.chords.end());
+        r.chords.erase(std::unique(r.chords.begin(), r.chords.end()), r.chords.end());
         simplify_into(id, merged, r);
         return r;
     }
@@ -339,8 +359,18 @@ private:
         NodeSimplifyStats st;
         OctreeNode& d = nodes_[id];
         const Clock::time_point t0 = Clock::now();
+        NodeBorderEdges border;
+        border.input = &soup_.border_edges;
+        border.chords = &r.chords;
         r.mesh = simplify_node(input, r.quadric, frame_, d.cell_min, d.cell_size, kRepresentativeKey | id,
-                               &soup_.odd_non_manifold_edges, &st);
+                               &soup_.odd_non_manifold_edges, &st, &border);
+        if (!st.chords.empty()) {
+            std::vector<std::pair<std::uint64_t, std::uint64_t>> all;
+            all.reserve(r.chords.size() + st.chords.size());
+            std::merge(r.chords.begin(), r.chords.end(), st.chords.begin(), st.chords.end(), std::back_inserter(all));
+            all.erase(std::unique(all.begin(), all.end()), all.end());
+            r.chords.swap(all);
+        }
         simplify_seconds_ += seconds_since(t0);
         closed_components_ += st.closed_components;
         if (d.is_leaf()) degenerate_ += st.degenerate_dropped;
@@ -382,6 +412,8 @@ private:
     float root_min_[3] = {0, 0, 0};
     float root_size_ = 1;
     QuadricFrame frame_;
+    bool wedge_ = false;
+    std::size_t uv_at_ = 0;
     std::uint64_t in_memory_limit_ = 0;
     std::vector<OctreeNode> nodes_;
     std::uint64_t offset_ = 0;
@@ -417,9 +449,6 @@ OctreeBuildResult build_octree(const std::string& input_ply, const std::string& 
     }
     OctreeStore store(asset_path, 0);
     result.stats = store.stats();
-    if (result.closed_components)
-        result.warnings.push_back(std::to_string(result.closed_components) +
-                                  " closed component(s) had no boundary edge in their node and were kept unchanged there");
     if (result.oversized_leaves)
         result.warnings.push_back(std::to_string(result.oversized_leaves) +
                                   " leaf node(s) at the maximum depth hold more than max-triangles");

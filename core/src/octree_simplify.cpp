@@ -15,6 +15,7 @@
 #include <Eigen/Dense>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numeric>
 
@@ -22,11 +23,233 @@ namespace lodforge {
 namespace {
 
 constexpr std::uint32_t kNone = ~0u;
+constexpr std::uint64_t kClusterKey = std::uint64_t{1} << 62;  // with kRepresentativeKey: a cluster vertex
 
 double weight_or_floor(float w) { return std::max(static_cast<double>(w), 1e-4); }
 
 double texcoord_weight(const SimplifyWeights& w) {
     return weight_or_floor(!w.texcoord_sets.empty() ? w.texcoord_sets[0] : w.texcoord);
+}
+
+
+// Chains of free edges (input border edges, and chords earlier nodes made of them) are shared with no
+// other node, so a node may replace each maximal chain by two chords through its middle vertex between its
+// pinned ends: vertices
+// that touch a kept edge that is not free, or where free edges branch. Every vertex keeps as many
+// kept uses coming in as going out, so the fan stays paired; a loop of free edges with no pinned vertex
+// (a hole wholly inside the node) is dropped, which fills the hole. docs/octree.md, "Coarse levels".
+std::vector<std::pair<std::uint32_t, std::uint32_t>> collapse_free_chains(
+    const NodeMesh& input, const std::vector<std::pair<std::uint32_t, std::uint32_t>>& kept, const NodeBorderEdges& border,
+    float cell_size, NodeSimplifyStats& st) {
+    const std::size_t n = input.vertex_count();
+    auto is_free = [&](std::uint32_t a, std::uint32_t b) {
+        const std::uint64_t ka = input.keys[a], kb = input.keys[b];
+        // Cluster vertices belong to one node's clustered component: edges between them (the border of
+        // a clustered component that had holes) are shared with nobody.
+        constexpr std::uint64_t cluster = kRepresentativeKey | kClusterKey;
+        if ((ka & cluster) == cluster && (kb & cluster) == cluster) return true;
+        if ((ka | kb) & kRepresentativeKey) return false;
+        if (border.input) {
+            const std::uint64_t x = ka & 0xffffffffu, y = kb & 0xffffffffu;
+            const std::uint64_t key = x < y ? (x << 32 | y) : (y << 32 | x);
+            if (std::binary_search(border.input->begin(), border.input->end(), key)) return true;
+        }
+        if (border.chords) {
+            const std::pair<std::uint64_t, std::uint64_t> c{std::min(ka, kb), std::max(ka, kb)};
+            if (std::binary_search(border.chords->begin(), border.chords->end(), c)) return true;
+        }
+        return false;
+    };
+    std::vector<std::uint8_t> free(kept.size());
+    std::vector<std::uint32_t> free_in(n, 0), free_out(n, 0);
+    std::vector<std::uint8_t> pinned(n, 0);
+    std::vector<std::uint32_t> next_use(n, kNone);  // the free use leaving an unpinned vertex
+    bool any = false;
+    for (std::size_t i = 0; i < kept.size(); ++i) {
+        const auto [a, b] = kept[i];
+        free[i] = is_free(a, b);
+        if (!free[i]) {
+            pinned[a] = pinned[b] = 1;
+            continue;
+        }
+        any = true;
+        ++free_out[a];
+        ++free_in[b];
+        next_use[a] = static_cast<std::uint32_t>(i);
+    }
+    if (!any) return kept;
+    for (std::size_t v = 0; v < n; ++v)
+        if (free_in[v] != 1 || free_out[v] != 1) pinned[v] = 1;
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> out;
+    out.reserve(kept.size());
+    std::vector<std::uint8_t> done(kept.size(), 0);
+    std::vector<std::uint32_t> chain;  // vertices of the chain being walked
+    auto chord = [&](std::uint32_t a, std::uint32_t b) {
+        out.emplace_back(a, b);
+        st.chords.emplace_back(std::min(input.keys[a], input.keys[b]), std::max(input.keys[a], input.keys[b]));
+    };
+    auto walk = [&](std::size_t i) {
+        chain.assign({kept[i].first});
+        done[i] = 1;
+        std::uint32_t end = kept[i].second;
+        while (!pinned[end] && end != chain.front()) {
+            chain.push_back(end);
+            const std::uint32_t u = next_use[end];
+            done[u] = 1;
+            end = kept[u].second;
+        }
+        return end;
+    };
+    for (std::size_t i = 0; i < kept.size(); ++i) {
+        if (!free[i]) {
+            out.push_back(kept[i]);
+            continue;
+        }
+        if (done[i] || !pinned[kept[i].first]) continue;
+        // From a pinned vertex to the next: a→m→d through the chain's middle vertex m. The chord ends
+        // are never joined by an input edge elsewhere (m's triangles all lie in this node), so a chord
+        // cannot merge with a real edge in a coarser node.
+        const std::uint32_t end = walk(i);
+        const std::uint32_t a = chain.front();
+        if (a == end) continue;  // a loop through one pinned vertex: in and out vanish together
+        if (chain.size() <= 2) {
+            for (std::size_t k = 0; k < chain.size(); ++k) out.emplace_back(chain[k], k + 1 < chain.size() ? chain[k + 1] : end);
+            continue;
+        }
+        const std::uint32_t m = chain[chain.size() / 2];
+        chord(a, m);
+        chord(m, end);
+    }
+    // Loops of unpinned vertices: a hole or an outer border wholly inside the node. Small ones (within
+    // one 16th of the cell) are dropped, which fills the hole; larger ones keep kLoopVertices vertices.
+    constexpr std::size_t kLoopVertices = 8;
+    for (std::size_t i = 0; i < kept.size(); ++i) {
+        if (!free[i] || done[i]) continue;
+        walk(i);
+        float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+        for (std::uint32_t v : chain)
+            for (int a = 0; a < 3; ++a) {
+                lo[a] = std::min(lo[a], input.vertex(v)[a]);
+                hi[a] = std::max(hi[a], input.vertex(v)[a]);
+            }
+        const float extent = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
+        if (extent < cell_size / 16) continue;
+        if (chain.size() <= kLoopVertices) {
+            for (std::size_t k = 0; k < chain.size(); ++k) out.emplace_back(chain[k], chain[(k + 1) % chain.size()]);
+            continue;
+        }
+        for (std::size_t k = 0; k < kLoopVertices; ++k)
+            chord(chain[k * chain.size() / kLoopVertices], chain[(k + 1) % kLoopVertices * chain.size() / kLoopVertices]);
+    }
+    st.free_uses_removed += kept.size() - out.size();
+    std::sort(st.chords.begin(), st.chords.end());
+    st.chords.erase(std::unique(st.chords.begin(), st.chords.end()), st.chords.end());
+    return out;
+}
+
+// Components with no boundary edge in the node touch no other node, so they may be simplified freely
+// as long as they stay closed: vertex clustering on a grid of kClosedGrid³ cells over the node cell,
+// keeping the clustered triangles as an oriented chain (opposite copies of one cell triple cancel, the
+// rest are kept with their multiplicity). The boundary of the clustered chain is the clustered boundary
+// of the component, zero, so no border edge appears; a component inside one grid cell vanishes.
+constexpr int kClosedGrid = 16;
+
+void cluster_closed(const NodeMesh& input, const std::vector<std::uint32_t>& closed, const float cell_min[3],
+                    float cell_size, std::uint64_t representative_key, NodeMesh& out, NodeSimplifyStats& st) {
+    const std::size_t f = input.layout.floats();
+    const std::uint32_t* idx = input.indices.data();
+    auto cell_of = [&](std::uint32_t v) {
+        const float* p = input.vertex(v);
+        std::uint32_t c = 0;
+        for (int a = 2; a >= 0; --a) {
+            const double x = (static_cast<double>(p[a]) - cell_min[a]) / cell_size * kClosedGrid;
+            const int i = std::clamp(static_cast<int>(std::floor(x)), 0, kClosedGrid - 1);
+            c = c * kClosedGrid + static_cast<std::uint32_t>(i);
+        }
+        return c;
+    };
+    std::vector<std::uint32_t> cell(input.vertex_count(), kNone);
+    for (std::uint32_t t : closed)
+        for (int k = 0; k < 3; ++k)
+            if (cell[idx[3 * t + k]] == kNone) cell[idx[3 * t + k]] = cell_of(idx[3 * t + k]);
+    // Net multiplicity per cell triple: +1 for a triangle in the triple's sorted cyclic order, −1 reversed.
+    ooc::FlatMap slot(closed.size() + 16);
+    std::vector<std::array<std::uint32_t, 3>> triples;
+    std::vector<std::int32_t> net;
+    for (std::uint32_t t : closed) {
+        std::array<std::uint32_t, 3> c{cell[idx[3 * t]], cell[idx[3 * t + 1]], cell[idx[3 * t + 2]]};
+        if (c[0] == c[1] || c[1] == c[2] || c[0] == c[2]) continue;
+        // Rotate the smallest first; then the order of the other two is the orientation.
+        while (c[0] > c[1] || c[0] > c[2]) std::rotate(c.begin(), c.begin() + 1, c.end());
+        const bool forward = c[1] < c[2];
+        if (!forward) std::swap(c[1], c[2]);
+        const std::uint64_t key = std::uint64_t{c[0]} << 24 | std::uint64_t{c[1]} << 12 | c[2];
+        bool inserted = false;
+        const std::uint32_t s = slot.find_or_insert(key, static_cast<std::uint32_t>(triples.size()), inserted);
+        if (inserted) {
+            triples.push_back(c);
+            net.push_back(0);
+        }
+        net[s] += forward ? 1 : -1;
+    }
+    // Cluster vertices: the mean record of the component vertices in the cell.
+    std::vector<double> sum;
+    std::vector<std::uint32_t> count;
+    ooc::FlatMap vertex_of(64);
+    auto cluster_vertex = [&](std::uint32_t c) {
+        bool inserted = false;
+        const std::uint32_t v = vertex_of.find_or_insert(c, static_cast<std::uint32_t>(count.size()), inserted);
+        if (inserted) {
+            count.push_back(0);
+            sum.resize(sum.size() + f, 0.0);
+        }
+        return v;
+    };
+    for (std::size_t s = 0; s < triples.size(); ++s)
+        if (net[s] != 0)
+            for (std::uint32_t c : triples[s]) cluster_vertex(c);
+    std::vector<std::uint8_t> seen(input.vertex_count(), 0);
+    for (std::uint32_t t : closed)
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t v = idx[3 * t + k];
+            if (seen[v]) continue;
+            seen[v] = 1;
+            const std::uint32_t* c = vertex_of.find(cell[v]);
+            if (!c) continue;
+            ++count[*c];
+            for (std::size_t j = 0; j < f; ++j) sum[*c * f + j] += input.vertex(v)[j];
+        }
+    const std::uint32_t base = static_cast<std::uint32_t>(out.keys.size());
+    std::vector<std::uint32_t> cell_id(count.size());
+    vertex_of.for_each([&](std::uint64_t c, std::uint32_t v) { cell_id[v] = static_cast<std::uint32_t>(c); });
+    for (std::size_t v = 0; v < count.size(); ++v) {
+        std::vector<float> r(f);
+        for (std::size_t j = 0; j < f; ++j) r[j] = static_cast<float>(sum[v * f + j] / std::max<std::uint32_t>(count[v], 1));
+        if (input.layout.normals) {
+            float* nrm = &r[input.layout.normal_offset()];
+            const float len = std::sqrt(nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]);
+            if (len > 0)
+                for (int a = 0; a < 3; ++a) nrm[a] /= len;
+        }
+        out.keys.push_back(representative_key | kClusterKey | (std::uint64_t{cell_id[v]} + 1) << 32);
+        out.vertices.insert(out.vertices.end(), r.begin(), r.end());
+    }
+    std::size_t emitted = 0;
+    for (std::size_t s = 0; s < triples.size(); ++s) {
+        if (net[s] == 0) continue;
+        const std::array<std::uint32_t, 3>& c = triples[s];
+        const std::uint32_t a = base + *vertex_of.find(c[0]), b = base + *vertex_of.find(c[1]), d = base + *vertex_of.find(c[2]);
+        for (std::int32_t m = 0; m < std::abs(net[s]); ++m) {
+            out.indices.push_back(a);
+            out.indices.push_back(net[s] > 0 ? b : d);
+            out.indices.push_back(net[s] > 0 ? d : b);
+            ++emitted;
+        }
+    }
+    st.closed_triangles_in += closed.size();
+    st.closed_triangles_out += emitted;
+    // Every cluster vertex lies within one grid cell of the surface it stands for.
+    st.error = std::max(st.error, static_cast<double>(cell_size) / kClosedGrid);
 }
 
 }  // namespace
@@ -119,7 +342,8 @@ Vec3d clamped_minimizer(const Quadric& q, Vec3d around, const double lo[3], cons
 
 NodeMesh simplify_node(const NodeMesh& input, const NodeQuadric& quadric, const QuadricFrame& frame,
                        const float cell_min[3], float cell_size, std::uint64_t representative_key,
-                       const std::vector<std::uint64_t>* odd_non_manifold_edges, NodeSimplifyStats* stats) {
+                       const std::vector<std::uint64_t>* odd_non_manifold_edges, NodeSimplifyStats* stats,
+                       const NodeBorderEdges* border) {
     NodeSimplifyStats local_stats;
     NodeSimplifyStats& st = stats ? *stats : local_stats;
     st = {};
@@ -160,7 +384,9 @@ NodeMesh simplify_node(const NodeMesh& input, const NodeQuadric& quadric, const 
             for (int k = 0; k < 3; ++k) {
                 const std::uint64_t ka = input.keys[idx[3 * t + k]], kb = input.keys[idx[3 * t + (k + 1) % 3]];
                 if ((ka | kb) & kRepresentativeKey) continue;
-                const std::uint64_t key = ka < kb ? (ka << 32 | kb) : (kb << 32 | ka);
+                // The low 32 bits are the input vertex (above them: a wedge UV hash, octree_build.cpp).
+                const std::uint64_t a = ka & 0xffffffffu, b = kb & 0xffffffffu;
+                const std::uint64_t key = a < b ? (a << 32 | b) : (b << 32 | a);
                 if (std::binary_search(odd_non_manifold_edges->begin(), odd_non_manifold_edges->end(), key))
                     keep_all[edge_of[3 * t + k]] = 1;
             }
@@ -212,6 +438,7 @@ NodeMesh simplify_node(const NodeMesh& input, const NodeQuadric& quadric, const 
         return remap[v];
     };
 
+    std::vector<float> rep;
     if (any_boundary) {
         // The representative: pseudo-inverse solve of the generalized quadric (attributes eliminated)
         // around the mean vertex, so flat and straight nodes stay put instead of flying off.
@@ -234,7 +461,7 @@ NodeMesh simplify_node(const NodeMesh& input, const NodeQuadric& quadric, const 
             hi[a] = lo[a] + cell_size / frame.scale;
         }
         const Vec3d p = clamped_minimizer(total, {xbar(0), xbar(1), xbar(2)}, lo, hi);
-        std::vector<float> rep(f);
+        rep.assign(f, 0.f);
         rep[0] = static_cast<float>(p.x * frame.scale + frame.origin.x);
         rep[1] = static_cast<float>(p.y * frame.scale + frame.origin.y);
         rep[2] = static_cast<float>(p.z * frame.scale + frame.origin.z);
@@ -277,11 +504,12 @@ NodeMesh simplify_node(const NodeMesh& input, const NodeQuadric& quadric, const 
                 for (int a = 0; a < 2; ++a) rep[r++] = static_cast<float>(s[j++] / w);
             }
         }
-        out.keys.push_back(representative_key);
-        out.vertices.insert(out.vertices.end(), rep.begin(), rep.end());
         if (quadric.geometry.weight > 0)
             st.error = std::sqrt(quadric.geometry.evaluate(p) / quadric.geometry.weight) * frame.scale;
     }
+    // Kept boundary uses (a→b, in triangle order) and the closed components' triangles.
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> kept;
+    std::vector<std::uint32_t> closed;
     std::vector<std::uint8_t> counted(n, 0);
     for (std::size_t t = 0; t < tris; ++t) {
         if (degenerate(t)) continue;
@@ -291,18 +519,44 @@ NodeMesh simplify_node(const NodeMesh& input, const NodeQuadric& quadric, const 
                 counted[root] = 1;
                 ++st.closed_components;
             }
-            for (int k = 0; k < 3; ++k) out.indices.push_back(use(idx[3 * t + k]));
+            closed.push_back(static_cast<std::uint32_t>(t));
             continue;
         }
         for (int k = 0; k < 3; ++k) {
             const std::uint32_t a = idx[3 * t + k], b = idx[3 * t + (k + 1) % 3];
-            if (!take(3 * t + k, a, b)) continue;
-            // The edge keeps its direction in its source triangle, so the fan faces the same way.
+            if (take(3 * t + k, a, b)) kept.emplace_back(a, b);
+        }
+    }
+    if (border && (border->input || border->chords) && !kept.empty()) {
+        kept = collapse_free_chains(input, kept, *border, cell_size, st);
+        // A component whose boundary was all free and is gone (an almost closed model whose holes were
+        // filled) shares nothing with another node: it is clustered like a closed one.
+        std::vector<std::uint8_t> alive(n, 0);
+        for (const auto& [a, b] : kept) alive[sets.find(a)] = 1;
+        for (std::size_t t = 0; t < tris; ++t) {
+            if (degenerate(t)) continue;
+            const std::uint32_t root = sets.find(idx[3 * t]);
+            if (has_boundary[root] && !alive[root]) closed.push_back(static_cast<std::uint32_t>(t));
+        }
+    }
+
+    // The fan: the edge keeps its direction in its source triangle, so the fan faces the same way.
+    if (!kept.empty()) {
+        out.keys.push_back(representative_key);
+        out.vertices.insert(out.vertices.end(), rep.begin(), rep.end());
+        for (const auto& [a, b] : kept) {
             out.indices.push_back(use(a));
             out.indices.push_back(use(b));
             out.indices.push_back(0);
-            ++st.boundary_edges;
         }
+    }
+    st.boundary_edges = kept.size();
+    if (!closed.empty()) {
+        if (border && border->cluster_closed)
+            cluster_closed(input, closed, cell_min, cell_size, representative_key, out, st);
+        else
+            for (std::uint32_t t : closed)
+                for (int k = 0; k < 3; ++k) out.indices.push_back(use(idx[3 * t + k]));
     }
     return out;
 }

@@ -60,6 +60,7 @@ OctreeStore::OctreeStore(const std::string& path, std::size_t cache_bytes) : pat
         corrupt(path, "node table does not fit the file");
     header_.version = h.version;
     header_.layout = VertexLayout::from_flags(h.layout);
+    header_.wedge_texcoords = (h.layout & 8u) != 0;
     header_.input_vertices = h.input_vertices;
     header_.input_triangles = h.input_triangles;
     header_.max_triangles = h.max_triangles;

@@ -24,6 +24,12 @@
 #include <algorithm>
 #include <atomic>
 #include <bit>
+#include <condition_variable>
+#include <deque>
+#include <exception>
+#include <mutex>
+#include <thread>
+#include <cmath>
 #include <filesystem>
 #include <system_error>
 
@@ -37,6 +43,7 @@ namespace {
 constexpr char kSoupMagic[8] = {'L', 'F', 'S', 'O', 'U', 'P', '0', '1'};
 constexpr std::uint32_t kSoupVersion = 1;
 constexpr std::size_t kSoupHeaderBytes = 64;
+constexpr std::uint32_t kWedgeFlag = 8;  // texcoords are per face corner (wedges), docs/octree.md
 
 struct SoupHeader {
     char magic[8];
@@ -163,7 +170,7 @@ class EdgeCounter {
 public:
     EdgeCounter(const std::string& path, std::uint64_t vertices, std::uint64_t expected_edges, std::size_t budget, bool enabled)
         : enabled_(enabled), shift_(std::max<int>(1, static_cast<int>(std::bit_width(vertices)))), buckets_(static_cast<std::size_t>(std::max<std::uint64_t>(
-              1, (expected_edges * 16 + static_cast<std::uint64_t>(0.3 * budget) - 1) / static_cast<std::uint64_t>(0.3 * budget)))),
+              2, (expected_edges * 16 + static_cast<std::uint64_t>(0.15 * budget) - 1) / static_cast<std::uint64_t>(0.15 * budget)))),
           spill_(path, buckets_, 8,
                  std::clamp<std::size_t>(static_cast<std::size_t>(0.1 * budget) / buckets_, 4096, std::size_t{1} << 20)) {}
     void add_triangle(const std::uint32_t* v) {
@@ -175,29 +182,65 @@ public:
             spill_.add(buckets_ == 1 ? 0 : ooc::mix64(key) % buckets_, &key);
         }
     }
-    std::vector<std::uint64_t> odd_non_manifold(Progress* progress, double from, double to) {
+    // The odd non-manifold edges; `border` receives the edges used exactly once. Both sorted.
+    std::vector<std::uint64_t> odd_non_manifold(Progress* progress, double from, double to, std::vector<std::uint64_t>& border) {
         spill_.finish();
-        std::vector<std::uint64_t> out, keys, tmp_keys;
+        std::vector<std::uint64_t> out;
+        border.clear();
         if (!enabled_) return out;
-        std::vector<char> tmp;
-        for (std::size_t b = 0; b < buckets_; ++b) {
-            check_progress(progress, from + (to - from) * static_cast<double>(b) / buckets_, "soup: counting edges");
-            keys.clear();
-            spill_.for_each_block(b, tmp, [&](const char* data, std::size_t bytes) {
-                const std::size_t at = keys.size();
-                keys.resize(at + bytes / 8);
-                std::memcpy(&keys[at], data, bytes);
-            });
-            radix_sort(keys, tmp_keys);
-            for (std::size_t i = 0; i < keys.size();) {
-                std::size_t j = i + 1;
-                while (j < keys.size() && keys[j] == keys[i]) ++j;
-                const std::size_t c = j - i;
-                if (c >= 3 && (c & 1u)) out.push_back((keys[i] >> shift_) << 32 | (keys[i] & ((std::uint64_t{1} << shift_) - 1)));
-                i = j;
+        // Two threads take alternate buckets (each bucket with its sort buffer fits in 15 % of the
+        // budget, so both together stay within the 30 % the single-threaded version used).
+        struct Part {
+            std::vector<std::uint64_t> odd, border;
+        } parts[2];
+        std::atomic<bool> stop{false};
+        auto work = [&](int t) {
+            std::vector<std::uint64_t> keys, tmp_keys;
+            std::vector<char> tmp;
+            for (std::size_t b = static_cast<std::size_t>(t); b < buckets_ && !stop; b += 2) {
+                if (t == 0) check_progress(progress, from + (to - from) * static_cast<double>(b) / buckets_, "soup: counting edges");
+                keys.clear();
+                spill_.for_each_block(b, tmp, [&](const char* data, std::size_t bytes) {
+                    const std::size_t at = keys.size();
+                    keys.resize(at + bytes / 8);
+                    std::memcpy(&keys[at], data, bytes);
+                });
+                radix_sort(keys, tmp_keys);
+                for (std::size_t i = 0; i < keys.size();) {
+                    std::size_t j = i + 1;
+                    while (j < keys.size() && keys[j] == keys[i]) ++j;
+                    const std::size_t c = j - i;
+                    const std::uint64_t edge = (keys[i] >> shift_) << 32 | (keys[i] & ((std::uint64_t{1} << shift_) - 1));
+                    if (c == 1) parts[t].border.push_back(edge);
+                    else if (c >= 3 && (c & 1u)) parts[t].odd.push_back(edge);
+                    i = j;
+                }
             }
+        };
+        std::exception_ptr helper_error;
+        std::thread helper([&] {
+            try {
+                work(1);
+            } catch (...) {
+                helper_error = std::current_exception();
+                stop = true;
+            }
+        });
+        try {
+            work(0);
+        } catch (...) {
+            stop = true;
+            helper.join();
+            throw;
+        }
+        helper.join();
+        if (helper_error) std::rethrow_exception(helper_error);
+        for (Part& p : parts) {
+            out.insert(out.end(), p.odd.begin(), p.odd.end());
+            border.insert(border.end(), p.border.begin(), p.border.end());
         }
         std::sort(out.begin(), out.end());
+        std::sort(border.begin(), border.end());
         return out;
     }
 
@@ -227,11 +270,79 @@ private:
     BucketSpill spill_;
 };
 
+// Runs an EdgeCounter on a second thread, fed the face chunks in file order (so the spill, and
+// everything after it, is the same as single-threaded), at most two chunks queued. The counter's
+// radix keys cost about as much as parsing, so overlapping the two is the cheapest use of a second core.
+class EdgeWorker {
+public:
+    EdgeWorker(EdgeCounter& counter, bool enabled) : counter_(counter), enabled_(enabled) {
+        if (enabled_) thread_ = std::thread([this] { run(); });
+    }
+    ~EdgeWorker() { stop(); }
+    EdgeWorker(const EdgeWorker&) = delete;
+    EdgeWorker& operator=(const EdgeWorker&) = delete;
+
+    void push(const std::vector<std::uint32_t>& indices) {
+        if (!enabled_) return;
+        std::unique_lock lock(mutex_);
+        changed_.wait(lock, [&] { return queue_.size() < 2 || error_; });
+        if (error_) std::rethrow_exception(error_);
+        queue_.push_back(indices);
+        changed_.notify_all();
+    }
+    // Waits for the queue to drain; rethrows what the counter threw.
+    void finish() {
+        stop();
+        if (error_) std::rethrow_exception(error_);
+    }
+
+private:
+    void stop() {
+        if (!thread_.joinable()) return;
+        {
+            std::lock_guard lock(mutex_);
+            stopping_ = true;
+        }
+        changed_.notify_all();
+        thread_.join();
+    }
+    void run() {
+        for (;;) {
+            std::vector<std::uint32_t> chunk;
+            {
+                std::unique_lock lock(mutex_);
+                changed_.wait(lock, [&] { return !queue_.empty() || stopping_; });
+                if (queue_.empty()) return;
+                chunk = std::move(queue_.front());
+                queue_.pop_front();
+            }
+            changed_.notify_all();
+            try {
+                for (std::size_t t = 0; t + 2 < chunk.size(); t += 3) counter_.add_triangle(&chunk[t]);
+            } catch (...) {
+                std::lock_guard lock(mutex_);
+                error_ = std::current_exception();
+                queue_.clear();
+                changed_.notify_all();
+                return;
+            }
+        }
+    }
+    EdgeCounter& counter_;
+    bool enabled_;
+    std::mutex mutex_;
+    std::condition_variable changed_;
+    std::deque<std::vector<std::uint32_t>> queue_;
+    bool stopping_ = false;
+    std::exception_ptr error_;
+    std::thread thread_;
+};
+
 void write_header(File& f, const SoupResult& r) {
     SoupHeader h{};
     std::memcpy(h.magic, kSoupMagic, 8);
     h.version = kSoupVersion;
-    h.layout = r.layout.flags();
+    h.layout = r.layout.flags() | (r.wedge_texcoords ? kWedgeFlag : 0u);
     h.triangles = r.triangles;
     h.vertices = r.vertices;
     const float b[6] = {r.bounds.min.x, r.bounds.min.y, r.bounds.min.z, r.bounds.max.x, r.bounds.max.y, r.bounds.max.z};
@@ -344,7 +455,8 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
     const PlyVertexAttributes attrs = reader.vertex_attributes();
     SoupResult r;
     r.path = soup_path;
-    r.layout = {attrs.normals, attrs.colors, attrs.texcoords};
+    r.wedge_texcoords = reader.has_corner_texcoords();
+    r.layout = {attrs.normals, attrs.colors, attrs.texcoords || r.wedge_texcoords};
     r.vertices = reader.vertex_count();
     if (r.vertices == 0) throw_error(Error::Kind::invalid, ply_path, "no vertices");
     if (r.vertices >= 0xffffffffull)
@@ -363,6 +475,16 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
     constexpr std::size_t kFaceChunk = 32768;
     VertexChunks chunks(L, kVertexChunk);
     PlyFaceChunk faces;
+    // A wedge (face-corner) texcoord replaces the vertex's; a face with an empty list keeps the vertex's
+    // own u v (zero when the vertex element has none).
+    const std::size_t uv_at = L.texcoord_offset();
+    std::vector<float> wedge(floats);
+    auto set_wedge = [&](float* record, const Vec2f& uv) {
+        if (!std::isnan(uv.x)) {
+            record[uv_at] = uv.x;
+            record[uv_at + 1] = uv.y;
+        }
+    };
 
     const std::uint64_t expected_edges = 3 * std::max<std::uint64_t>(header.elements[face_element].count, 1);
     const std::string edges_path = (fs::path(soup_path).parent_path() / "edges.tmp").string();
@@ -370,6 +492,7 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
         std::vector<float> vertices(static_cast<std::size_t>(r.vertices) * floats);
         SoupWriter out(soup_path, L);
         EdgeCounter edges(edges_path, r.vertices, expected_edges, budget, params.count_edges);
+        EdgeWorker edge_worker(edges, params.count_edges);
         std::uint64_t loaded = 0;
         try {
             while (reader.current_element()) {
@@ -382,8 +505,17 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
                     faces.clear();
                     reader.read_faces(kFaceChunk, faces);
                     r.skipped_faces += faces.skipped_faces;
-                    for (std::uint32_t id : faces.indices) out.corner(id, &vertices[static_cast<std::size_t>(id) * floats]);
-                    for (std::size_t t = 0; t < faces.triangle_count(); ++t) edges.add_triangle(&faces.indices[3 * t]);
+                    edge_worker.push(faces.indices);
+                    if (r.wedge_texcoords) {
+                        for (std::size_t c = 0; c < faces.indices.size(); ++c) {
+                            const std::uint32_t id = faces.indices[c];
+                            std::memcpy(wedge.data(), &vertices[static_cast<std::size_t>(id) * floats], vrec);
+                            set_wedge(wedge.data(), faces.corner_texcoords[c]);
+                            out.corner(id, wedge.data());
+                        }
+                    } else {
+                        for (std::uint32_t id : faces.indices) out.corner(id, &vertices[static_cast<std::size_t>(id) * floats]);
+                    }
                     r.triangles += faces.triangle_count();
                 } else {
                     reader.skip_element();
@@ -393,7 +525,8 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
             if (r.triangles == 0) throw_error(Error::Kind::invalid, ply_path, "no triangles");
             out.finish(r);
             std::vector<float>().swap(vertices);
-            r.odd_non_manifold_edges = edges.odd_non_manifold(progress, 0.9, 1.0);
+            edge_worker.finish();
+            r.odd_non_manifold_edges = edges.odd_non_manifold(progress, 0.9, 1.0, r.border_edges);
             r.temp_bytes_peak = out.bytes();
         } catch (...) {
             std::error_code ignored;
@@ -420,7 +553,7 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
     try {
         const std::uint64_t range = std::max<std::uint64_t>(1024, static_cast<std::uint64_t>(0.4 * budget) / vrec);
         const std::size_t ranges = static_cast<std::size_t>((r.vertices + range - 1) / range);
-        const std::size_t ref_bytes = 12;
+        const std::size_t ref_bytes = r.wedge_texcoords ? 20 : 12;  // vertex, corner[, wedge u v]
         auto buffer_for = [&](std::size_t buckets) {
             return std::clamp<std::size_t>(static_cast<std::size_t>(0.25 * budget) / std::max<std::size_t>(buckets, 1),
                                            4096, std::size_t{1} << 20);
@@ -431,6 +564,7 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
             SequentialWriter vertex_file(vertex_path, 1 << 20);
             BucketSpill refs(refs_path, ranges, ref_bytes, buffer_for(ranges));
             EdgeCounter edges(edges_path, r.vertices, expected_edges, budget, params.count_edges);
+            EdgeWorker edge_worker(edges, params.count_edges);
             while (reader.current_element()) {
                 check_progress(progress, 0.5 * static_cast<double>(reader.position()) / file_size, "soup: reading");
                 if (reader.at_vertices()) {
@@ -440,24 +574,27 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
                     faces.clear();
                     reader.read_faces(kFaceChunk, faces);
                     r.skipped_faces += faces.skipped_faces;
-                    char rec[12];
-                    for (std::uint32_t id : faces.indices) {
+                    edge_worker.push(faces.indices);
+                    char rec[20];
+                    for (std::size_t c = 0; c < faces.indices.size(); ++c) {
+                        const std::uint32_t id = faces.indices[c];
                         std::memcpy(rec, &id, 4);
                         std::memcpy(rec + 4, &tail, 8);
+                        if (r.wedge_texcoords) std::memcpy(rec + 12, &faces.corner_texcoords[c], 8);
                         refs.add(id / range, rec);
                         ++tail;
                     }
-                    for (std::size_t t = 0; t < faces.triangle_count(); ++t) edges.add_triangle(&faces.indices[3 * t]);
                 } else {
                     reader.skip_element();
                 }
             }
             vertex_file.close();
             refs.finish();
+            edge_worker.finish();
             r.triangles = tail / 3;
             check_triangle_count(ply_path, r.triangles);
             if (r.triangles == 0) throw_error(Error::Kind::invalid, ply_path, "no triangles");
-            r.odd_non_manifold_edges = edges.odd_non_manifold(progress, 0.5, 0.55);
+            r.odd_non_manifold_edges = edges.odd_non_manifold(progress, 0.5, 0.55, r.border_edges);
 
             // Pass 2.
             const std::uint64_t chunk_corners =
@@ -485,6 +622,12 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
                             std::memcpy(rec.data(), &c, 8);
                             std::memcpy(rec.data() + 8, &id, 4);
                             std::memcpy(rec.data() + 12, &resident[static_cast<std::size_t>(id - first) * floats], vrec);
+                            if (r.wedge_texcoords) {
+                                Vec2f uv;
+                                std::memcpy(&uv, data + o + 12, 8);
+                                float* record = reinterpret_cast<float*>(rec.data() + 12);
+                                set_wedge(record, uv);
+                            }
                             placed.add(static_cast<std::size_t>(c / chunk_corners), rec.data());
                         }
                     });
@@ -537,6 +680,7 @@ SoupReader::SoupReader(const std::string& path) : path_(path) {
     if (std::memcmp(h.magic, kSoupMagic, 8) != 0 || h.version != kSoupVersion)
         throw_error(Error::Kind::format, path, "not a triangle soup of version 1");
     layout_ = VertexLayout::from_flags(h.layout);
+    wedge_texcoords_ = (h.layout & kWedgeFlag) != 0;
     triangles_ = h.triangles;
     vertices_ = h.vertices;
     bounds_.add({h.bounds[0], h.bounds[1], h.bounds[2]});

@@ -9,6 +9,8 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <map>
 
 namespace lodforge {
 namespace {
@@ -94,6 +96,75 @@ TEST(OocSoup, FacesBeforeVerticesTakeTheExternalPath) {
     EXPECT_TRUE(r.external);
     EXPECT_EQ(r.triangles, 3u);  // the quad is fanned
     expect_soup_matches(ply, r);
+}
+
+// The wedge (face-corner) texcoords of a MeshLab PLY, straight from the reader.
+std::vector<Vec2f> corner_texcoords_of(const std::string& ply) {
+    PlyReader reader(ply);
+    PlyFaceChunk faces;
+    while (reader.current_element()) {
+        if (reader.at_faces()) reader.read_faces(1 << 20, faces);
+        else reader.skip_element();
+    }
+    return faces.corner_texcoords;
+}
+
+std::string file_text(const std::string& path) {
+    std::ifstream f(path, std::ios::binary);
+    return {std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
+}
+
+TEST(OocSoup, WedgeTexcoordsTravelWithTheirCornerOnBothPaths) {
+    ScratchDir dir("soup-wedge");
+    const std::string ply = shared_data("tex-ply-wedge-uv/laurana500.ply");
+    const SoupResult r = convert_to_soup(ply, dir.file("soup"));
+    EXPECT_FALSE(r.external);
+    ASSERT_TRUE(r.wedge_texcoords);
+    ASSERT_TRUE(r.layout.texcoords);
+    const std::vector<Vec2f> uv = corner_texcoords_of(ply);
+    ASSERT_EQ(uv.size(), 3 * r.triangles);
+    SoupReader reader(r.path);
+    EXPECT_TRUE(reader.wedge_texcoords());
+    std::vector<std::byte> buf;
+    ASSERT_EQ(reader.read(r.triangles, buf), r.triangles);
+    const std::size_t cb = soup_corner_bytes(r.layout);
+    std::size_t mismatches = 0, seams = 0;
+    std::map<std::uint32_t, Vec2f> first_uv;
+    for (std::size_t c = 0; c < uv.size(); ++c) {
+        std::uint32_t id;
+        float f[2];
+        std::memcpy(&id, buf.data() + c * cb, 4);
+        std::memcpy(f, buf.data() + c * cb + 4 + 4 * r.layout.texcoord_offset(), 8);
+        mismatches += !(f[0] == uv[c].x && f[1] == uv[c].y);
+        const auto [it, fresh] = first_uv.emplace(id, uv[c]);
+        seams += !fresh && !(it->second == uv[c]);
+    }
+    EXPECT_EQ(mismatches, 0u);
+    EXPECT_GT(seams, 0u);  // the file has real seams: one vertex, several UVs
+
+    // The same file with the faces first takes the external sort, which must give the same bytes.
+    const std::string text = file_text(ply);
+    const std::size_t body = text.find("end_header\n") + 11;
+    std::vector<std::string> lines;
+    for (std::size_t at = body; at < text.size();) {
+        const std::size_t end = text.find('\n', at);
+        lines.push_back(text.substr(at, end - at + 1));
+        at = end == std::string::npos ? text.size() : end + 1;
+    }
+    ASSERT_GE(lines.size(), 266u + 494u);
+    const std::string reordered = dir.file("faces_first.ply");
+    {
+        std::ofstream f(reordered, std::ios::binary);
+        f << "ply\nformat ascii 1.0\nelement face 494\nproperty list uchar int vertex_indices\n"
+             "property list uchar float texcoord\nelement vertex 266\nproperty float x\nproperty float y\n"
+             "property float z\nend_header\n";
+        for (std::size_t i = 266; i < 266 + 494; ++i) f << lines[i];
+        for (std::size_t i = 0; i < 266; ++i) f << lines[i];
+    }
+    const SoupResult e = convert_to_soup(reordered, dir.file("soup-external"));
+    EXPECT_TRUE(e.external);
+    EXPECT_TRUE(e.wedge_texcoords);
+    EXPECT_EQ(file_text(e.path), file_text(r.path));
 }
 
 TEST(OocSoup, TruncatedAndLyingInputsStopWithTheFileName) {

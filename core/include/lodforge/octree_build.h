@@ -39,7 +39,7 @@ struct OctreeBuildResult {
     double build_seconds = 0;    // soup → octree + every node simplified + asset written
     double simplify_seconds = 0; // the part of build_seconds spent in the node operator
     std::uint64_t split_passes = 0;       // nodes split by streaming over a temporary file
-    std::uint64_t closed_components = 0;  // components kept unchanged (no boundary edge in their node)
+    std::uint64_t closed_components = 0;  // components without a boundary edge in their node (clustered), per node
     std::uint64_t degenerate_triangles = 0;  // input triangles with a repeated vertex (in no simplified mesh)
     std::size_t oversized_leaves = 0;     // leaves at max_depth holding more than max_triangles
     std::vector<std::string> warnings;

@@ -18,12 +18,14 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 namespace lodforge {
 
-// Vertex identity shared by all nodes of an asset: input vertices keep their PLY index; the
-// representative vertex of node n is kRepresentativeKey | n.
+// Vertex identity shared by all nodes of an asset: input vertices keep their PLY index (with wedge UVs,
+// a UV hash in bits 32-62 above it); the representative vertex of node n is kRepresentativeKey | n, the
+// cluster vertices of its clustered closed components kRepresentativeKey | 1 << 62 | (cell + 1) << 32 | n.
 constexpr std::uint64_t kRepresentativeKey = std::uint64_t{1} << 63;
 
 // An indexed mesh of one node at one level. Vertices carry `layout.floats()` floats each (position
@@ -77,21 +79,38 @@ struct NodeQuadric {
 // Used for node representatives and for OoCS cells (Lindstrom 2000).
 Vec3d clamped_minimizer(const Quadric& q, Vec3d around, const double lo[3], const double hi[3]);
 
+// What a node may simplify beyond the document's operator (docs/octree.md, "Coarse levels"): edges no
+// other node shares. Chains of free edges are replaced by one chord between their pinned ends, and
+// closed components (no boundary edge in the node) are vertex-clustered instead of copied.
+struct NodeBorderEdges {
+    // Input border edges (one use in the whole input), sorted keys min << 32 | max of input vertex ids
+    // (SoupResult::border_edges).
+    const std::vector<std::uint64_t>* input = nullptr;
+    // Chords the node's descendants made (NodeSimplifyStats::chords, merged), sorted (min key, max key).
+    const std::vector<std::pair<std::uint64_t, std::uint64_t>>* chords = nullptr;
+    bool cluster_closed = true;
+};
+
 struct NodeSimplifyStats {
     std::size_t boundary_edges = 0;      // kept directed edge uses (= fan triangles)
-    std::size_t closed_components = 0;   // components with no boundary edge, kept unchanged
+    std::size_t closed_components = 0;   // components with no boundary edge (clustered, or kept unchanged)
+    std::size_t closed_triangles_in = 0, closed_triangles_out = 0;  // of those components, when clustered
+    std::size_t free_uses_removed = 0;   // free boundary uses replaced by chords or dropped with their loop
+    std::vector<std::pair<std::uint64_t, std::uint64_t>> chords;  // made here (sorted): free for the parent
     std::size_t degenerate_dropped = 0;  // input triangles with a repeated vertex
     double error = 0;                    // RMS plane distance of the representative, model units
 };
 
 // The operator. `cell_min`/`cell_size` are the node's cell in model units (the representative is
 // clamped into it). A connected component of `input` without boundary edges (a closed surface wholly
-// inside the node, or a closed model at the root) is copied unchanged rather than lost.
+// inside the node, or a closed model at the root) is copied unchanged rather than lost, or, with
+// `border` (cluster_closed), clustered on a 16³ grid over the cell into a closed chain.
+// With `border`, chains of free edges shrink to chords (NodeBorderEdges).
 // `odd_non_manifold_edges` (sorted keys min << 32 | max of input vertex ids, SoupResult) are kept with
 // all their uses.
 NodeMesh simplify_node(const NodeMesh& input, const NodeQuadric& quadric, const QuadricFrame& frame,
                        const float cell_min[3], float cell_size, std::uint64_t representative_key,
                        const std::vector<std::uint64_t>* odd_non_manifold_edges = nullptr,
-                       NodeSimplifyStats* stats = nullptr);
+                       NodeSimplifyStats* stats = nullptr, const NodeBorderEdges* border = nullptr);
 
 }  // namespace lodforge

@@ -32,7 +32,7 @@ struct OctreeNode {
     std::uint8_t child_mask = 0;    // bit i: octant i (x = bit 0, y = bit 1, z = bit 2) has a child
     std::uint8_t depth = 0;         // root 0
     std::uint8_t height = 0;        // leaf 0
-    std::uint8_t flags = 0;         // bit 0: some component kept unchanged (closed, no boundary)
+    std::uint8_t flags = 0;         // bit 0: some component had no boundary edge (closed; clustered)
     std::uint32_t parent = 0;       // ~0 for the root
     std::uint32_t reserved = 0;
     float cell_min[3] = {0, 0, 0};  // the node's cube (model units)
@@ -55,6 +55,8 @@ static_assert(sizeof(OctreeNode) == 112);
 struct OctreeHeader {
     std::uint32_t version = 1;
     VertexLayout layout;
+    // Texcoords are wedge UVs (layout flag 8): a vertex key's bits 32-62 then hash its u v (docs/octree.md).
+    bool wedge_texcoords = false;
     std::uint64_t input_vertices = 0;
     std::uint64_t input_triangles = 0;
     std::uint32_t max_triangles = 0;  // the build knobs

@@ -73,6 +73,9 @@ struct SoupResult {
     std::uint64_t triangles = 0;
     std::uint64_t vertices = 0;  // as stored in the PLY
     VertexLayout layout;
+    // The texcoords are the face's wedge (per-corner) UVs, not the vertex's: one input vertex may then
+    // carry different records in different triangles (split by UV in the octree, docs/octree.md).
+    bool wedge_texcoords = false;
     Bounds bounds;                // of the vertices the triangles use
     bool external = false;        // false: the vertex table fitted in memory (one pass)
     int passes = 1;               // passes over the data (1, or 3 for the external path)
@@ -81,6 +84,9 @@ struct SoupResult {
     // Edges (min vertex << 32 | max vertex) used by an odd number ≥ 3 of non-degenerate triangles,
     // sorted: the octree keeps every use of these in every node mesh (docs/octree.md).
     std::vector<std::uint64_t> odd_non_manifold_edges;
+    // Edges used by exactly one non-degenerate triangle (the input's borders), same keys, sorted: shared
+    // with no other node, so coarse levels may simplify them (docs/octree.md, "Coarse levels").
+    std::vector<std::uint64_t> border_edges;
 };
 
 // Throws Error(io / format / invalid) for unreadable, malformed or unusable input (no triangles, no
@@ -101,6 +107,7 @@ public:
     std::uint64_t triangles() const { return triangles_; }
     std::uint64_t vertices() const { return vertices_; }
     const Bounds& bounds() const { return bounds_; }
+    bool wedge_texcoords() const { return wedge_texcoords_; }
     std::uint64_t position() const { return next_; }  // triangles read so far
     // Reads up to max_triangles records into `out` (resized); returns how many (0 at the end).
     std::size_t read(std::size_t max_triangles, std::vector<std::byte>& out);
@@ -110,6 +117,7 @@ private:
     int fd_ = -1;
     std::string path_;
     VertexLayout layout_;
+    bool wedge_texcoords_ = false;
     std::uint64_t triangles_ = 0, vertices_ = 0, next_ = 0;
     Bounds bounds_;
 };
