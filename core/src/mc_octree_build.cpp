@@ -666,7 +666,7 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
             if (n.child_mask & (1u << k)) children += area[n.first_child + std::uint32_t(c++)];
         tree.metric[ni] = static_cast<float>(children - area[ni]);
     }
-    mc::number_mc_octree(tree, maps, progress);
+    result.hidden_cuts = mc::number_mc_octree(tree, maps, progress);
 
     result.field_samples = field.size();
     result.warnings = tree.warnings;
