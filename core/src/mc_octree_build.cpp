@@ -303,7 +303,8 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
     kd.buildIndex();
     check_progress(progress, 0.05, "mcoctree: distance field");
     result.point_spacing = median_spacing(pc, kd);
-    if (result.point_spacing > h) {
+    const bool density_warned = result.point_spacing > h;
+    if (density_warned) {
         char buf[256];
         std::snprintf(buf, sizeof buf,
                       "the cube size %.4g is below the typical point spacing %.4g: the resolution exceeds the data "
@@ -385,10 +386,90 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
     if (leaves.empty())
         throw_error(Error::Kind::invalid, input_name, "no surface: the signed distance never changes sign");
 
-    // The octree and its vertices, built until closed: a crossing at a coarse level lies on a leaf edge
-    // (D5 in docs/mcoctree.md) whose four leaf cubes must exist, or the coarse level would have a hole
-    // there. Zero-set pieces the flood did not reach (bubbles near scan holes) are flooded and the tree
-    // rebuilt; on clean input the first pass is the only one.
+    // Closing the coarse levels before building anything (D2): a node's samples are the field at lattice
+    // points, whichever of its children exist, so the coarse crossings are known from the set of nodes
+    // alone. Each new leaf adds its missing ancestors; each new ancestor's crossings descend (D5) to leaf
+    // edges whose four cubes must be examined; the flood from those may add leaves, and so on. Only the new
+    // nodes of a round are looked at, so the octree and its vertices are then built once.
+    {
+        const auto& subs = mc::sub_edges();
+        std::vector<KeyMap> present;
+        present.reserve(levels + 1);
+        for (std::uint32_t l = 0; l <= levels; ++l) present.emplace_back(l == 0 ? 16 : leaves.size() >> (2 * l));
+        std::vector<std::pair<std::uint32_t, std::uint64_t>> fresh;  // new coarse nodes: (level, packed x, y, z)
+        std::vector<std::uint64_t> sample_keys;
+        auto coarse_sample = [](std::uint32_t l, std::uint64_t node, int s) {
+            const std::uint32_t half = 1u << (l - 1);
+            const auto x = std::uint32_t(node & mc::max_lattice), y = std::uint32_t((node >> 17) & mc::max_lattice),
+                       z = std::uint32_t((node >> 34) & mc::max_lattice);
+            return pack((x << l) + std::uint32_t(s % 3) * half, (y << l) + std::uint32_t((s / 3) % 3) * half,
+                        (z << l) + std::uint32_t(s / 9) * half);
+        };
+        std::size_t seen = 0;
+        while (seen < leaves.size()) {
+            fresh.clear();
+            sample_keys.clear();
+            for (; seen < leaves.size(); ++seen) {
+                const TmpNode& leaf = leaves[seen];
+                for (std::uint32_t l = 1; l <= levels; ++l) {
+                    const std::uint64_t key = pack(leaf.x >> l, leaf.y >> l, leaf.z >> l);
+                    if (present[l].find(key) != none) break;
+                    present[l].insert(key, 0);
+                    fresh.emplace_back(l, key);
+                    for (int sm = 0; sm < 27; ++sm)
+                        if (sm != 13) sample_keys.push_back(coarse_sample(l, key, sm));
+                }
+            }
+            field.evaluate(sample_keys);  // in parallel; the descents below mostly find known values
+            frontier.clear();
+            for (const auto& [l, key] : fresh) {
+                std::uint32_t inside = 0;
+                for (int sm = 0; sm < 27; ++sm)
+                    if (sm != 13 && field.inside(coarse_sample(l, key, sm))) inside |= 1u << sm;
+                for (int e = 0; e < mc::sub_edge_count; ++e) {
+                    const mc::SubEdge& se = subs[e];
+                    const bool a_inside = (inside >> se.a) & 1u;
+                    if (a_inside == bool((inside >> se.b) & 1u)) continue;
+                    std::uint64_t a = coarse_sample(l, key, se.a);
+                    for (std::uint32_t k = se.length == 2 ? l : l - 1; k > 0; --k) {
+                        const std::uint64_t mid = a + (std::uint64_t(1u << (k - 1)) << (17 * se.axis));
+                        if (field.inside(mid) == a_inside) a = mid;
+                    }
+                    const int u = (se.axis + 1) % 3, v = (se.axis + 2) % 3;
+                    for (int c = 0; c < 4; ++c) {
+                        const int du = c & 1, dv = c >> 1;
+                        if ((du && ((a >> (17 * u)) & mc::max_lattice) == 0) ||
+                            (dv && ((a >> (17 * v)) & mc::max_lattice) == 0))
+                            continue;
+                        const std::uint64_t cube = a - std::uint64_t(du) * (std::uint64_t(1) << (17 * u)) -
+                                                   std::uint64_t(dv) * (std::uint64_t(1) << (17 * v));
+                        if (visited.find(cube) == none) {
+                            visited.insert(cube, 0);
+                            frontier.push_back(cube);
+                        }
+                    }
+                }
+            }
+            run_flood();
+        }
+    }
+
+    // The other sign of a resolution above the data density: more surface cubes than points, so most
+    // cubes get their corner values from points outside them (the spacing test above misses it where the
+    // sampling is uneven, e.g. the dragon at 512).
+    if (leaves.size() > pc.points.size() && !density_warned) {
+        char buf[256];
+        std::snprintf(buf, sizeof buf,
+                      "%zu surface cubes for %zu points: the resolution exceeds the data density, expect holes and "
+                      "bumps (a resolution near %zu or lower fits the data)",
+                      leaves.size(), pc.points.size(),
+                      static_cast<std::size_t>(std::max(1.0, std::floor(longest / h * std::sqrt(double(pc.points.size()) /
+                                                                                                 double(leaves.size()))))));
+        tree.warnings.push_back(buf);
+    }
+
+    // The octree and its vertices. The closing above makes the first pass the only one; the check at the
+    // end of a pass stays as a safety net (it rebuilds only if a required leaf cube was never examined).
     std::vector<std::vector<TmpNode>> lv;
     std::vector<std::size_t> offset;
     std::size_t node_count = 0;

@@ -11,6 +11,7 @@
 #include "mc_octree_internal.h"
 
 #include <algorithm>
+#include <cstring>
 
 namespace lodforge {
 
@@ -55,9 +56,14 @@ McOctreeExtractor::McOctreeExtractor(const McOctree& tree) : tree_(&tree) {
         } else {
             count = mc::triangulate(inside, refine, buf);
         }
+        // the sub-edges the triangles use: only their vertices are output (a refined node's other
+        // crossings lie on parts that are not split, and would be unreferenced vertices)
+        std::uint64_t used = 0;
+        for (int k = 0; k < 3 * count; ++k) used |= std::uint64_t(1) << buf[k];
         at = static_cast<std::uint32_t>(pool_.size());
         pool_.push_back(static_cast<std::uint8_t>(count));
         pool_.push_back(refine != 0);
+        for (int b = 0; b < 8; ++b) pool_.push_back(static_cast<std::uint8_t>(used >> (8 * b)));
         pool_.insert(pool_.end(), buf, buf + 3 * count);
         known.insert(key, at);
         return at;
@@ -156,12 +162,16 @@ const McExtraction& McOctreeExtractor::extract(std::size_t priority) {
             const int count = entry[0];
             r.transition_nodes += entry[1];
             if (count == 0) continue;
-            const std::uint8_t* edges = entry + 2;
-            // output index of every crossing sub-edge of the node (bits walked in order: no popcount)
+            std::uint64_t used_edges;
+            std::memcpy(&used_edges, entry + 2, 8);
+            const std::uint8_t* edges = entry + 10;
+            // output index of every sub-edge the triangles use (the crossings walked in order: no popcount)
             const std::uint32_t* ids = tree.vertex_ids.data() + n.first_vertex;
-            std::uint64_t cross = entry[1] ? n.crossings : (n.crossings & 0xfff);
-            for (; cross; cross &= cross - 1) {
+            const int top = 64 - std::countl_zero(used_edges);  // walk the crossings up to the last one used
+            const std::uint64_t below_top = top >= 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << top) - 1;
+            for (std::uint64_t cross = n.crossings & below_top; cross; cross &= cross - 1) {
                 const std::uint32_t v = *ids++;
+                if (!((used_edges >> std::countr_zero(cross)) & 1)) continue;
                 std::uint32_t* slot = remap + 2 * std::size_t(v);
                 if (slot[0] != gen) {
                     slot[0] = gen;

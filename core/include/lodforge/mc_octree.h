@@ -152,7 +152,7 @@ private:
     std::vector<std::uint32_t> priority_;  // dense copy of McNode::priority
     // Node i's triangulations: events_[first_event_[i] .. first_event_[i + 1]), each (rank << 32 | offset):
     // from `rank` expanded nodes on, the node is triangulated by the pool entry at `offset` (triangle count,
-    // whether refined, then sub-edge triples).
+    // whether refined, the 64-bit mask of the sub-edges used, then sub-edge triples).
     std::vector<std::uint32_t> first_event_;
     std::vector<std::uint64_t> events_;
     std::vector<std::uint8_t> pool_;
