@@ -119,11 +119,19 @@ public:
                    z = float((key >> 34) & mc::max_lattice);
         return {origin_.x + x * h_, origin_.y + y * h_, origin_.z + z * h_};
     }
-    // Evaluates every key not known yet (duplicates allowed), in parallel.
+    // Evaluates every key not known yet (duplicates allowed), in parallel. Duplicates and known keys are
+    // dropped through the blocks' bit masks (one look-up per key, mostly the cached last block), not by
+    // sorting: the keys come in flood order, which is spatially coherent already.
     void evaluate(std::vector<std::uint64_t>& keys) {
-        std::sort(keys.begin(), keys.end());
-        keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
-        keys.erase(std::remove_if(keys.begin(), keys.end(), [&](std::uint64_t k) { return known(k); }), keys.end());
+        std::size_t kept = 0;
+        for (const std::uint64_t k : keys) {
+            const std::uint32_t b = block_of(k, true);
+            const std::uint64_t bit = std::uint64_t(1) << local(k);
+            if ((valid_[b] | pending_[b]) & bit) continue;
+            pending_[b] |= bit;
+            keys[kept++] = k;
+        }
+        keys.resize(kept);
         scratch_d_.resize(keys.size());
         scratch_n_.resize(keys.size());
         parallel_for(keys.size(), threads_, [&](std::size_t b, std::size_t e) {
@@ -164,6 +172,7 @@ private:
             if (!create) return none;
             b = static_cast<std::uint32_t>(valid_.size());
             valid_.push_back(0);
+            pending_.push_back(0);
             dist_.resize(dist_.size() + 64);
             nearest_.resize(nearest_.size() + 64);
             blocks_.insert(bk, b);
@@ -172,15 +181,12 @@ private:
         last_block_ = b;
         return b;
     }
-    bool known(std::uint64_t key) {
-        const std::uint32_t b = block_of(key, false);
-        return b != none && (valid_[b] & (std::uint64_t(1) << local(key)));
-    }
     void store(std::uint64_t key, float d, std::uint32_t nearest) {
         const std::uint32_t b = block_of(key, true);
         dist_[b * 64 + local(key)] = d;
         nearest_[b * 64 + local(key)] = nearest;
         valid_[b] |= std::uint64_t(1) << local(key);
+        pending_[b] &= ~(std::uint64_t(1) << local(key));
     }
     void query(std::uint64_t key, float& d, std::uint32_t& nearest) const {
         const Vec3f v = world(key);
@@ -208,7 +214,8 @@ private:
     std::uint32_t grid_;
     unsigned threads_;
     KeyMap blocks_{1 << 12};
-    std::vector<std::uint64_t> valid_;  // per block: which of its 64 values are evaluated
+    std::vector<std::uint64_t> valid_;    // per block: which of its 64 values are evaluated
+    std::vector<std::uint64_t> pending_;  // per block: queued in the current evaluate()
     std::vector<float> dist_;
     std::vector<std::uint32_t> nearest_;
     std::vector<float> scratch_d_;
@@ -299,7 +306,7 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
     tree.input_points = pc.points.size();
     tree.origin = bounds.min - Vec3f{1, 1, 1} * static_cast<float>(pad * h);
 
-    KdTree kd(3, pc, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+    KdTree kd(3, pc, nanoflann::KDTreeSingleIndexAdaptorParams(32));
     kd.buildIndex();
     check_progress(progress, 0.05, "mcoctree: distance field");
     result.point_spacing = median_spacing(pc, kd);
@@ -709,15 +716,36 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
 
     // Same-level neighbours (faces and edges) for the seams.
     tree.neighbours.assign(node_count * mc::neighbour_slots, none);
-    for (std::size_t ni = 0; ni < node_count; ++ni) {
-        const McNode& n = tree.nodes[ni];
-        const std::int64_t size = std::int64_t(grid >> n.level);
-        for (int s = 0; s < mc::neighbour_slots; ++s) {
-            const auto o = mc::neighbour_offset(s);
-            const std::int64_t x = std::int64_t(n.x) + o[0], y = std::int64_t(n.y) + o[1], z = std::int64_t(n.z) + o[2];
-            if (x < 0 || y < 0 || z < 0 || x >= size || y >= size || z >= size) continue;
-            tree.neighbours[ni * mc::neighbour_slots + std::size_t(s)] =
-                maps[n.level].find(pack(std::uint32_t(x), std::uint32_t(y), std::uint32_t(z)));
+    // Top-down, from the parents' neighbours: the cube next to a child across a face or edge is a sibling
+    // or a child of the parent's neighbour in the directions that leave the parent (a face or an edge
+    // slot too), so no look-up in the level maps is needed. Nodes are stored parents first.
+    {
+        int slot_of[27];
+        for (int& v : slot_of) v = -1;
+        for (int sl = 0; sl < mc::neighbour_slots; ++sl) {
+            const auto o = mc::neighbour_offset(sl);
+            slot_of[(o[0] + 1) + 3 * (o[1] + 1) + 9 * (o[2] + 1)] = sl;
+        }
+        auto child_at = [&](std::uint32_t parent, int octant) -> std::uint32_t {
+            const McNode& pn = tree.nodes[parent];
+            if (!(pn.child_mask & (1u << octant))) return none;
+            return pn.first_child + static_cast<std::uint32_t>(std::popcount(unsigned(pn.child_mask) & ((1u << octant) - 1)));
+        };
+        for (std::size_t ni = 1; ni < node_count; ++ni) {
+            const McNode& n = tree.nodes[ni];
+            const std::uint32_t* parent_nb = &tree.neighbours[std::size_t(n.parent) * mc::neighbour_slots];
+            const std::int64_t size = std::int64_t(grid >> n.level);
+            for (int sl = 0; sl < mc::neighbour_slots; ++sl) {
+                const auto o = mc::neighbour_offset(sl);
+                const std::int64_t t[3] = {std::int64_t(n.x) + o[0], std::int64_t(n.y) + o[1], std::int64_t(n.z) + o[2]};
+                if (t[0] < 0 || t[1] < 0 || t[2] < 0 || t[0] >= size || t[1] >= size || t[2] >= size) continue;
+                const int octant = int(t[0] & 1) | int(t[1] & 1) << 1 | int(t[2] & 1) << 2;
+                const int po[3] = {int((t[0] >> 1) - std::int64_t(n.x >> 1)), int((t[1] >> 1) - std::int64_t(n.y >> 1)),
+                                   int((t[2] >> 1) - std::int64_t(n.z >> 1))};
+                std::uint32_t up = n.parent;
+                if (po[0] || po[1] || po[2]) up = parent_nb[slot_of[(po[0] + 1) + 3 * (po[1] + 1) + 9 * (po[2] + 1)]];
+                if (up != none) tree.neighbours[ni * mc::neighbour_slots + std::size_t(sl)] = child_at(up, octant);
+            }
         }
     }
 
