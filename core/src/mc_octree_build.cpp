@@ -306,7 +306,7 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
     tree.input_points = pc.points.size();
     tree.origin = bounds.min - Vec3f{1, 1, 1} * static_cast<float>(pad * h);
 
-    KdTree kd(3, pc, nanoflann::KDTreeSingleIndexAdaptorParams(32));
+    KdTree kd(3, pc, nanoflann::KDTreeSingleIndexAdaptorParams(16));
     kd.buildIndex();
     check_progress(progress, 0.05, "mcoctree: distance field");
     result.point_spacing = median_spacing(pc, kd);
