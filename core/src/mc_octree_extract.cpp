@@ -32,9 +32,14 @@ std::size_t mc_priority_for_triangles(const McOctree& tree, std::uint64_t triang
 McOctreeExtractor::McOctreeExtractor(const McOctree& tree) : tree_(&tree) {
     const std::size_t n = tree.nodes.size();
     remap_.assign(2 * tree.positions.size(), 0);  // (stamp, output index) pairs: one cache line per look-up
-    priority_.resize(n);
-    for (std::size_t i = 0; i < n; ++i) priority_[i] = tree.nodes[i].priority;
-    active_.assign((n + 63) / 64, 0);
+    std::vector<std::uint32_t> prio(n);
+    for (std::size_t i = 0; i < n; ++i) prio[i] = tree.nodes[i].priority;
+    lifetime_.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        const std::uint32_t parent = tree.nodes[i].parent;
+        const std::uint64_t p = parent == mc::none || parent >= n ? 0 : prio[parent];
+        lifetime_[i] = p << 32 | prio[i];
+    }
 
     // Every node's triangulations over its life in the cuts. A node is in the cut from its parent's
     // expansion (rank p) until its own (rank r); meanwhile its refinement only grows, by one slot each
@@ -75,7 +80,7 @@ McOctreeExtractor::McOctreeExtractor(const McOctree& tree) : tree_(&tree) {
     for (std::size_t i = 0; i < n; ++i) {
         first_event_[i] = static_cast<std::uint32_t>(events_.size());
         const McNode& node = tree.nodes[i];
-        const std::uint64_t p = node.parent == mc::none || node.parent >= n ? 0 : priority_[node.parent];
+        const std::uint64_t p = node.parent == mc::none || node.parent >= n ? 0 : prio[node.parent];
         if (node.level == 0) {  // leaves have no finer neighbours
             events_.push_back(p << 32 | entry(node.inside, 0));
             continue;
@@ -85,7 +90,7 @@ McOctreeExtractor::McOctreeExtractor(const McOctree& tree) : tree_(&tree) {
         for (int s = 0; s < mc::neighbour_slots; ++s) {
             const std::uint32_t nb = tree.neighbours[i * mc::neighbour_slots + std::size_t(s)];
             if (nb == mc::none || nb >= n) continue;
-            const std::uint32_t q = priority_[nb];
+            const std::uint32_t q = prio[nb];
             if (q <= p) refine |= bits[std::size_t(s)];
             else if (q < node.priority) later[m++] = {q, bits[std::size_t(s)]};
         }
@@ -123,71 +128,59 @@ const McExtraction& McOctreeExtractor::extract(std::size_t priority) {
     m.indices.resize(3 * std::min<std::uint64_t>(mc_triangles_at(tree, priority), 3 * tree.vertex_ids.size()));
     std::size_t used = 0;
     const bool colors = tree.has_colors();
-    const std::uint32_t* prio = priority_.data();
     const std::uint64_t rank = tree.cuts.empty() ? 0 : tree.cuts[priority];
     std::uint32_t* remap = remap_.data();
     const std::uint32_t gen = generation_;
 
-    // The cut: children of expanded nodes that are not expanded themselves (the root when none is).
-    // Marked in a bitmap and then walked in storage order (level by level, Morton order within a level),
-    // which keeps the node and vertex reads local; the priority order itself jumps all over the model.
-    std::fill(active_.begin(), active_.end(), 0);
-    auto mark = [&](std::uint32_t i) { active_[i >> 6] |= std::uint64_t(1) << (i & 63); };
-    if (rank == 0) {
-        if (!tree.nodes.empty()) mark(0);
-    } else {
-        for (std::size_t k = 0; k < rank; ++k) {
-            const McNode& p = tree.nodes[tree.order[k]];
-            const int children = std::popcount(unsigned(p.child_mask));
-            for (int c = 0; c < children; ++c) {
-                const std::uint32_t ci = p.first_child + static_cast<std::uint32_t>(c);
-                if (prio[ci] > rank) mark(ci);
-            }
-        }
-    }
+    // The cut: the nodes whose parent is expanded (rank p <= rank; the root has p = 0) and which are not
+    // expanded themselves (rank < r). One sequential pass over (p, r) pairs in storage order (level by
+    // level, Morton order within a level): the node, event and vertex-index reads then go forwards too,
+    // where walking the priority order would jump all over the model.
     const std::uint64_t* events = events_.data();
     const std::uint32_t* first_event = first_event_.data();
     const std::uint8_t* pool = pool_.data();
+    const std::uint64_t* life = lifetime_.data();
     std::uint32_t vid[mc::sub_edge_count];
-    for (std::size_t w = 0; w < active_.size(); ++w) {
-        for (std::uint64_t word = active_[w]; word; word &= word - 1) {
-            const auto node = static_cast<std::uint32_t>(w * 64 + std::size_t(std::countr_zero(word)));
-            const McNode& n = tree.nodes[node];
-            ++r.active_nodes;
-            // the last triangulation whose rank is reached (the first one always is: the parent's)
-            std::uint32_t e = first_event[node];
-            const std::uint32_t last = first_event[node + 1] - 1;
-            while (e < last && (events[e + 1] >> 32) <= rank) ++e;
-            const std::uint8_t* entry = pool + std::uint32_t(events[e]);
-            const int count = entry[0];
-            r.transition_nodes += entry[1];
-            if (count == 0) continue;
-            std::uint64_t used_edges;
-            std::memcpy(&used_edges, entry + 2, 8);
-            const std::uint8_t* edges = entry + 10;
-            // output index of every sub-edge the triangles use (the crossings walked in order: no popcount)
-            const std::uint32_t* ids = tree.vertex_ids.data() + n.first_vertex;
-            const int top = 64 - std::countl_zero(used_edges);  // walk the crossings up to the last one used
-            const std::uint64_t below_top = top >= 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << top) - 1;
-            for (std::uint64_t cross = n.crossings & below_top; cross; cross &= cross - 1) {
-                const std::uint32_t v = *ids++;
-                if (!((used_edges >> std::countr_zero(cross)) & 1)) continue;
-                std::uint32_t* slot = remap + 2 * std::size_t(v);
-                if (slot[0] != gen) {
-                    slot[0] = gen;
-                    slot[1] = static_cast<std::uint32_t>(m.positions.size());
-                    m.positions.push_back(tree.positions[v]);
-                    m.normals.push_back(tree.normals[v]);
-                    if (colors) m.colors.push_back(tree.colors[v]);
-                }
-                vid[std::countr_zero(cross)] = slot[1];
+    const std::size_t node_count = lifetime_.size();
+    for (std::size_t ni = 0; ni < node_count; ++ni) {
+        const std::uint64_t span = life[ni];
+        if ((span >> 32) > rank || std::uint32_t(span) <= rank) continue;
+        const auto node = static_cast<std::uint32_t>(ni);
+        const McNode& n = tree.nodes[node];
+        ++r.active_nodes;
+        // the last triangulation whose rank is reached (the first one always is: the parent's)
+        std::uint32_t e = first_event[node];
+        const std::uint32_t last = first_event[node + 1] - 1;
+        while (e < last && (events[e + 1] >> 32) <= rank) ++e;
+        const std::uint8_t* entry = pool + std::uint32_t(events[e]);
+        const int count = entry[0];
+        r.transition_nodes += entry[1];
+        if (count == 0) continue;
+        std::uint64_t used_edges;
+        std::memcpy(&used_edges, entry + 2, 8);
+        const std::uint8_t* edges = entry + 10;
+        // output index of every sub-edge the triangles use (the crossings walked in order: no popcount)
+        const std::uint32_t* ids = tree.vertex_ids.data() + n.first_vertex;
+        const int top = 64 - std::countl_zero(used_edges);  // walk the crossings up to the last one used
+        const std::uint64_t below_top = top >= 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << top) - 1;
+        for (std::uint64_t cross = n.crossings & below_top; cross; cross &= cross - 1) {
+            const std::uint32_t v = *ids++;
+            if (!((used_edges >> std::countr_zero(cross)) & 1)) continue;
+            std::uint32_t* slot = remap + 2 * std::size_t(v);
+            if (slot[0] != gen) {
+                slot[0] = gen;
+                slot[1] = static_cast<std::uint32_t>(m.positions.size());
+                m.positions.push_back(tree.positions[v]);
+                m.normals.push_back(tree.normals[v]);
+                if (colors) m.colors.push_back(tree.colors[v]);
             }
-            if (used + std::size_t(3 * count) > m.indices.size())
-                m.indices.resize(std::max(2 * m.indices.size(), used + std::size_t(3 * count)));
-            std::uint32_t* out = m.indices.data() + used;
-            for (int k = 0; k < 3 * count; ++k) out[k] = vid[edges[k]];
-            used += std::size_t(3 * count);
+            vid[std::countr_zero(cross)] = slot[1];
         }
+        if (used + std::size_t(3 * count) > m.indices.size())
+            m.indices.resize(std::max(2 * m.indices.size(), used + std::size_t(3 * count)));
+        std::uint32_t* out = m.indices.data() + used;
+        for (int k = 0; k < 3 * count; ++k) out[k] = vid[edges[k]];
+        used += std::size_t(3 * count);
     }
     m.indices.resize(used);
     return r;

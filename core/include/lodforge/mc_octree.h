@@ -148,8 +148,8 @@ private:
     const McOctree* tree_;
     McExtraction result_;
     std::vector<std::uint32_t> remap_;     // per tree vertex: stamp, output index
-    std::vector<std::uint64_t> active_;    // bitmap of the nodes in the cut
-    std::vector<std::uint32_t> priority_;  // dense copy of McNode::priority
+    // per node: parent's priority << 32 | own priority; in the cut at rank R when parent's <= R < own
+    std::vector<std::uint64_t> lifetime_;
     // Node i's triangulations: events_[first_event_[i] .. first_event_[i + 1]), each (rank << 32 | offset):
     // from `rank` expanded nodes on, the node is triangulated by the pool entry at `offset` (triangle count,
     // whether refined, the 64-bit mask of the sub-edges used, then sub-edge triples).
