@@ -685,7 +685,11 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
             }
         }
         if (frontier.empty() || pass >= 32) break;
+        // With a band, the cube diagonal to a kept one across a crossing edge may sit behind a dropped
+        // face neighbour and was never examined; it is usually dropped too, and then the tree stands.
+        const std::size_t kept = leaves.size();
         run_flood();
+        if (leaves.size() == kept) break;
     }
 
     // Renumber the vertices in the order the leaves (Morton order) first use them, so an extraction reads
