@@ -32,6 +32,7 @@ std::size_t mc_priority_for_triangles(const McOctree& tree, std::uint64_t triang
 McOctreeExtractor::McOctreeExtractor(const McOctree& tree) : tree_(&tree) {
     const std::size_t n = tree.nodes.size();
     remap_.assign(2 * tree.positions.size(), 0);  // (stamp, output index) pairs: one cache line per look-up
+    emitted_.resize(tree.positions.size());
     std::vector<std::uint32_t> prio(n);
     for (std::size_t i = 0; i < n; ++i) prio[i] = tree.nodes[i].priority;
     lifetime_.resize(n);
@@ -130,6 +131,10 @@ const McExtraction& McOctreeExtractor::extract(std::size_t priority) {
     const bool colors = tree.has_colors();
     const std::uint64_t rank = tree.cuts.empty() ? 0 : tree.cuts[priority];
     std::uint32_t* remap = remap_.data();
+    // Output vertices are numbered in the loop and copied after it: the loop then stores one index per new
+    // vertex instead of growing three arrays (a cut never outputs a tree vertex twice, so V bounds it).
+    std::uint32_t* emitted = emitted_.data();
+    std::uint32_t vertex_count = 0;
     const std::uint32_t gen = generation_;
 
     // The cut: the nodes whose parent is expanded (rank p <= rank; the root has p = 0) and which are not
@@ -169,10 +174,8 @@ const McExtraction& McOctreeExtractor::extract(std::size_t priority) {
             std::uint32_t* slot = remap + 2 * std::size_t(v);
             if (slot[0] != gen) {
                 slot[0] = gen;
-                slot[1] = static_cast<std::uint32_t>(m.positions.size());
-                m.positions.push_back(tree.positions[v]);
-                m.normals.push_back(tree.normals[v]);
-                if (colors) m.colors.push_back(tree.colors[v]);
+                slot[1] = vertex_count;
+                emitted[vertex_count++] = v;
             }
             vid[std::countr_zero(cross)] = slot[1];
         }
@@ -183,6 +186,15 @@ const McExtraction& McOctreeExtractor::extract(std::size_t priority) {
         used += std::size_t(3 * count);
     }
     m.indices.resize(used);
+    m.positions.resize(vertex_count);
+    m.normals.resize(vertex_count);
+    if (colors) m.colors.resize(vertex_count);
+    for (std::uint32_t k = 0; k < vertex_count; ++k) {
+        const std::uint32_t v = emitted[k];
+        m.positions[k] = tree.positions[v];
+        m.normals[k] = tree.normals[v];
+        if (colors) m.colors[k] = tree.colors[v];
+    }
     return r;
 }
 

@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 using namespace lodforge;
 
 namespace {
@@ -73,6 +75,13 @@ void check_levels(const Case& c, std::size_t resolution, std::size_t extract_eve
         ASSERT_EQ(tris, t.triangle_counts[i]) << "priority " << i;
         ASSERT_GE(tris, previous) << "priority " << i;
         previous = tris;
+        // every output vertex is used by a triangle (seam nodes output only the crossings they use)
+        std::vector<bool> referenced(e.mesh.positions.size(), false);
+        for (const std::uint32_t v : e.mesh.indices) referenced[v] = true;
+        ASSERT_EQ(std::count(referenced.begin(), referenced.end(), false), 0) << "priority " << i;
+        if (c.points.has_colors()) {
+            ASSERT_EQ(e.mesh.colors.size(), e.mesh.positions.size()) << "priority " << i;
+        }
         if (c.closed && (checked % watertight_every == 0 || i == t.max_priority())) {
             const auto w = lodforge::test::check_watertight(e.mesh);
             EXPECT_EQ(w.border_edges, 0u) << "priority " << i;

@@ -148,6 +148,7 @@ private:
     const McOctree* tree_;
     McExtraction result_;
     std::vector<std::uint32_t> remap_;     // per tree vertex: stamp, output index
+    std::vector<std::uint32_t> emitted_;   // tree vertex of each output vertex (sized for all of them)
     // per node: parent's priority << 32 | own priority; in the cut at rank R when parent's <= R < own
     std::vector<std::uint64_t> lifetime_;
     // Node i's triangulations: events_[first_event_[i] .. first_event_[i + 1]), each (rank << 32 | offset):
