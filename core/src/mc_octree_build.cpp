@@ -119,11 +119,19 @@ public:
                    z = float((key >> 34) & mc::max_lattice);
         return {origin_.x + x * h_, origin_.y + y * h_, origin_.z + z * h_};
     }
-    // Evaluates every key not known yet (duplicates allowed), in parallel.
+    // Evaluates every key not known yet (duplicates allowed), in parallel. Duplicates and known keys are
+    // dropped through the blocks' bit masks (one look-up per key, mostly the cached last block), not by
+    // sorting: the keys come in flood order, which is spatially coherent already.
     void evaluate(std::vector<std::uint64_t>& keys) {
-        std::sort(keys.begin(), keys.end());
-        keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
-        keys.erase(std::remove_if(keys.begin(), keys.end(), [&](std::uint64_t k) { return known(k); }), keys.end());
+        std::size_t kept = 0;
+        for (const std::uint64_t k : keys) {
+            const std::uint32_t b = block_of(k, true);
+            const std::uint64_t bit = std::uint64_t(1) << local(k);
+            if ((valid_[b] | pending_[b]) & bit) continue;
+            pending_[b] |= bit;
+            keys[kept++] = k;
+        }
+        keys.resize(kept);
         scratch_d_.resize(keys.size());
         scratch_n_.resize(keys.size());
         parallel_for(keys.size(), threads_, [&](std::size_t b, std::size_t e) {
@@ -164,6 +172,7 @@ private:
             if (!create) return none;
             b = static_cast<std::uint32_t>(valid_.size());
             valid_.push_back(0);
+            pending_.push_back(0);
             dist_.resize(dist_.size() + 64);
             nearest_.resize(nearest_.size() + 64);
             blocks_.insert(bk, b);
@@ -172,15 +181,12 @@ private:
         last_block_ = b;
         return b;
     }
-    bool known(std::uint64_t key) {
-        const std::uint32_t b = block_of(key, false);
-        return b != none && (valid_[b] & (std::uint64_t(1) << local(key)));
-    }
     void store(std::uint64_t key, float d, std::uint32_t nearest) {
         const std::uint32_t b = block_of(key, true);
         dist_[b * 64 + local(key)] = d;
         nearest_[b * 64 + local(key)] = nearest;
         valid_[b] |= std::uint64_t(1) << local(key);
+        pending_[b] &= ~(std::uint64_t(1) << local(key));
     }
     void query(std::uint64_t key, float& d, std::uint32_t& nearest) const {
         const Vec3f v = world(key);
@@ -208,7 +214,8 @@ private:
     std::uint32_t grid_;
     unsigned threads_;
     KeyMap blocks_{1 << 12};
-    std::vector<std::uint64_t> valid_;  // per block: which of its 64 values are evaluated
+    std::vector<std::uint64_t> valid_;    // per block: which of its 64 values are evaluated
+    std::vector<std::uint64_t> pending_;  // per block: queued in the current evaluate()
     std::vector<float> dist_;
     std::vector<std::uint32_t> nearest_;
     std::vector<float> scratch_d_;
@@ -303,7 +310,8 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
     kd.buildIndex();
     check_progress(progress, 0.05, "mcoctree: distance field");
     result.point_spacing = median_spacing(pc, kd);
-    if (result.point_spacing > h) {
+    const bool density_warned = result.point_spacing > h;
+    if (density_warned) {
         char buf[256];
         std::snprintf(buf, sizeof buf,
                       "the cube size %.4g is below the typical point spacing %.4g: the resolution exceeds the data "
@@ -385,10 +393,90 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
     if (leaves.empty())
         throw_error(Error::Kind::invalid, input_name, "no surface: the signed distance never changes sign");
 
-    // The octree and its vertices, built until closed: a crossing at a coarse level lies on a leaf edge
-    // (D5 in docs/mcoctree.md) whose four leaf cubes must exist, or the coarse level would have a hole
-    // there. Zero-set pieces the flood did not reach (bubbles near scan holes) are flooded and the tree
-    // rebuilt; on clean input the first pass is the only one.
+    // Closing the coarse levels before building anything (D2): a node's samples are the field at lattice
+    // points, whichever of its children exist, so the coarse crossings are known from the set of nodes
+    // alone. Each new leaf adds its missing ancestors; each new ancestor's crossings descend (D5) to leaf
+    // edges whose four cubes must be examined; the flood from those may add leaves, and so on. Only the new
+    // nodes of a round are looked at, so the octree and its vertices are then built once.
+    {
+        const auto& subs = mc::sub_edges();
+        std::vector<KeyMap> present;
+        present.reserve(levels + 1);
+        for (std::uint32_t l = 0; l <= levels; ++l) present.emplace_back(l == 0 ? 16 : leaves.size() >> (2 * l));
+        std::vector<std::pair<std::uint32_t, std::uint64_t>> fresh;  // new coarse nodes: (level, packed x, y, z)
+        std::vector<std::uint64_t> sample_keys;
+        auto coarse_sample = [](std::uint32_t l, std::uint64_t node, int s) {
+            const std::uint32_t half = 1u << (l - 1);
+            const auto x = std::uint32_t(node & mc::max_lattice), y = std::uint32_t((node >> 17) & mc::max_lattice),
+                       z = std::uint32_t((node >> 34) & mc::max_lattice);
+            return pack((x << l) + std::uint32_t(s % 3) * half, (y << l) + std::uint32_t((s / 3) % 3) * half,
+                        (z << l) + std::uint32_t(s / 9) * half);
+        };
+        std::size_t seen = 0;
+        while (seen < leaves.size()) {
+            fresh.clear();
+            sample_keys.clear();
+            for (; seen < leaves.size(); ++seen) {
+                const TmpNode& leaf = leaves[seen];
+                for (std::uint32_t l = 1; l <= levels; ++l) {
+                    const std::uint64_t key = pack(leaf.x >> l, leaf.y >> l, leaf.z >> l);
+                    if (present[l].find(key) != none) break;
+                    present[l].insert(key, 0);
+                    fresh.emplace_back(l, key);
+                    for (int sm = 0; sm < 27; ++sm)
+                        if (sm != 13) sample_keys.push_back(coarse_sample(l, key, sm));
+                }
+            }
+            field.evaluate(sample_keys);  // in parallel; the descents below mostly find known values
+            frontier.clear();
+            for (const auto& [l, key] : fresh) {
+                std::uint32_t inside = 0;
+                for (int sm = 0; sm < 27; ++sm)
+                    if (sm != 13 && field.inside(coarse_sample(l, key, sm))) inside |= 1u << sm;
+                for (int e = 0; e < mc::sub_edge_count; ++e) {
+                    const mc::SubEdge& se = subs[e];
+                    const bool a_inside = (inside >> se.a) & 1u;
+                    if (a_inside == bool((inside >> se.b) & 1u)) continue;
+                    std::uint64_t a = coarse_sample(l, key, se.a);
+                    for (std::uint32_t k = se.length == 2 ? l : l - 1; k > 0; --k) {
+                        const std::uint64_t mid = a + (std::uint64_t(1u << (k - 1)) << (17 * se.axis));
+                        if (field.inside(mid) == a_inside) a = mid;
+                    }
+                    const int u = (se.axis + 1) % 3, v = (se.axis + 2) % 3;
+                    for (int c = 0; c < 4; ++c) {
+                        const int du = c & 1, dv = c >> 1;
+                        if ((du && ((a >> (17 * u)) & mc::max_lattice) == 0) ||
+                            (dv && ((a >> (17 * v)) & mc::max_lattice) == 0))
+                            continue;
+                        const std::uint64_t cube = a - std::uint64_t(du) * (std::uint64_t(1) << (17 * u)) -
+                                                   std::uint64_t(dv) * (std::uint64_t(1) << (17 * v));
+                        if (visited.find(cube) == none) {
+                            visited.insert(cube, 0);
+                            frontier.push_back(cube);
+                        }
+                    }
+                }
+            }
+            run_flood();
+        }
+    }
+
+    // The other sign of a resolution above the data density: more surface cubes than points, so most
+    // cubes get their corner values from points outside them (the spacing test above misses it where the
+    // sampling is uneven, e.g. the dragon at 512).
+    if (leaves.size() > pc.points.size() && !density_warned) {
+        char buf[256];
+        std::snprintf(buf, sizeof buf,
+                      "%zu surface cubes for %zu points: the resolution exceeds the data density, expect holes and "
+                      "bumps (a resolution near %zu or lower fits the data)",
+                      leaves.size(), pc.points.size(),
+                      static_cast<std::size_t>(std::max(1.0, std::floor(longest / h * std::sqrt(double(pc.points.size()) /
+                                                                                                 double(leaves.size()))))));
+        tree.warnings.push_back(buf);
+    }
+
+    // The octree and its vertices. The closing above makes the first pass the only one; the check at the
+    // end of a pass stays as a safety net (it rebuilds only if a required leaf cube was never examined).
     std::vector<std::vector<TmpNode>> lv;
     std::vector<std::size_t> offset;
     std::size_t node_count = 0;
@@ -597,7 +685,11 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
             }
         }
         if (frontier.empty() || pass >= 32) break;
+        // With a band, the cube diagonal to a kept one across a crossing edge may sit behind a dropped
+        // face neighbour and was never examined; it is usually dropped too, and then the tree stands.
+        const std::size_t kept = leaves.size();
         run_flood();
+        if (leaves.size() == kept) break;
     }
 
     // Renumber the vertices in the order the leaves (Morton order) first use them, so an extraction reads
@@ -628,15 +720,36 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
 
     // Same-level neighbours (faces and edges) for the seams.
     tree.neighbours.assign(node_count * mc::neighbour_slots, none);
-    for (std::size_t ni = 0; ni < node_count; ++ni) {
-        const McNode& n = tree.nodes[ni];
-        const std::int64_t size = std::int64_t(grid >> n.level);
-        for (int s = 0; s < mc::neighbour_slots; ++s) {
-            const auto o = mc::neighbour_offset(s);
-            const std::int64_t x = std::int64_t(n.x) + o[0], y = std::int64_t(n.y) + o[1], z = std::int64_t(n.z) + o[2];
-            if (x < 0 || y < 0 || z < 0 || x >= size || y >= size || z >= size) continue;
-            tree.neighbours[ni * mc::neighbour_slots + std::size_t(s)] =
-                maps[n.level].find(pack(std::uint32_t(x), std::uint32_t(y), std::uint32_t(z)));
+    // Top-down, from the parents' neighbours: the cube next to a child across a face or edge is a sibling
+    // or a child of the parent's neighbour in the directions that leave the parent (a face or an edge
+    // slot too), so no look-up in the level maps is needed. Nodes are stored parents first.
+    {
+        int slot_of[27];
+        for (int& v : slot_of) v = -1;
+        for (int sl = 0; sl < mc::neighbour_slots; ++sl) {
+            const auto o = mc::neighbour_offset(sl);
+            slot_of[(o[0] + 1) + 3 * (o[1] + 1) + 9 * (o[2] + 1)] = sl;
+        }
+        auto child_at = [&](std::uint32_t parent, int octant) -> std::uint32_t {
+            const McNode& pn = tree.nodes[parent];
+            if (!(pn.child_mask & (1u << octant))) return none;
+            return pn.first_child + static_cast<std::uint32_t>(std::popcount(unsigned(pn.child_mask) & ((1u << octant) - 1)));
+        };
+        for (std::size_t ni = 1; ni < node_count; ++ni) {
+            const McNode& n = tree.nodes[ni];
+            const std::uint32_t* parent_nb = &tree.neighbours[std::size_t(n.parent) * mc::neighbour_slots];
+            const std::int64_t size = std::int64_t(grid >> n.level);
+            for (int sl = 0; sl < mc::neighbour_slots; ++sl) {
+                const auto o = mc::neighbour_offset(sl);
+                const std::int64_t t[3] = {std::int64_t(n.x) + o[0], std::int64_t(n.y) + o[1], std::int64_t(n.z) + o[2]};
+                if (t[0] < 0 || t[1] < 0 || t[2] < 0 || t[0] >= size || t[1] >= size || t[2] >= size) continue;
+                const int octant = int(t[0] & 1) | int(t[1] & 1) << 1 | int(t[2] & 1) << 2;
+                const int po[3] = {int((t[0] >> 1) - std::int64_t(n.x >> 1)), int((t[1] >> 1) - std::int64_t(n.y >> 1)),
+                                   int((t[2] >> 1) - std::int64_t(n.z >> 1))};
+                std::uint32_t up = n.parent;
+                if (po[0] || po[1] || po[2]) up = parent_nb[slot_of[(po[0] + 1) + 3 * (po[1] + 1) + 9 * (po[2] + 1)]];
+                if (up != none) tree.neighbours[ni * mc::neighbour_slots + std::size_t(sl)] = child_at(up, octant);
+            }
         }
     }
 
@@ -666,7 +779,7 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
             if (n.child_mask & (1u << k)) children += area[n.first_child + std::uint32_t(c++)];
         tree.metric[ni] = static_cast<float>(children - area[ni]);
     }
-    mc::number_mc_octree(tree, maps, progress);
+    result.hidden_cuts = mc::number_mc_octree(tree, maps, progress);
 
     result.field_samples = field.size();
     result.warnings = tree.warnings;

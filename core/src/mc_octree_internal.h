@@ -138,8 +138,9 @@ inline int node_triangle_count(const McOctree& tree, std::uint32_t node, std::ui
     return count;
 }
 
-// Numbers the internal nodes by priority and fills order, metric-driven heap, and triangle_counts
-// (mc_octree_priority.cpp). `level_maps[l]` maps packed node coordinates at level l to node indices.
-void number_mc_octree(McOctree& tree, const std::vector<KeyMap>& level_maps, Progress* progress);
+// Numbers the internal nodes by priority and fills order, cuts and triangle_counts (mc_octree_priority.cpp).
+// `level_maps[l]` maps packed node coordinates at level l to node indices. Returns the number of cuts of
+// the expansion sequence that are not priority levels (a later cut has fewer triangles).
+std::size_t number_mc_octree(McOctree& tree, const std::vector<KeyMap>& level_maps, Progress* progress);
 
 }  // namespace lodforge::mc

@@ -15,7 +15,7 @@ namespace lodforge {
 namespace {
 
 constexpr char magic[8] = {'L', 'F', 'M', 'C', 'O', '\r', '\n', '\x1a'};
-constexpr std::uint32_t version = 1;
+constexpr std::uint32_t version = 2;  // 2: priority levels (cuts), non-decreasing triangle table
 constexpr std::size_t node_bytes = 40;
 
 std::uint64_t fnv1a(const std::uint8_t* p, std::size_t n) {
@@ -128,7 +128,13 @@ void validate_mc_octree(const McOctree& t, const std::string& file) {
     if (t.order.size() != internal) bad(file, "priority order length");
     for (std::size_t k = 0; k < t.order.size(); ++k)
         if (t.order[k] >= n || t.nodes[t.order[k]].priority != k + 1) bad(file, "priority order entry " + std::to_string(k));
-    if (t.triangle_counts.size() != t.order.size() + 1) bad(file, "triangle count table length");
+    if (t.cuts.empty() || t.cuts.back() != t.order.size()) bad(file, "priority levels do not end with every node expanded");
+    for (std::size_t i = 1; i < t.cuts.size(); ++i)
+        if (t.cuts[i] <= t.cuts[i - 1]) bad(file, "priority level " + std::to_string(i) + " does not expand more nodes");
+    if (t.triangle_counts.size() != t.cuts.size()) bad(file, "triangle count table length");
+    for (std::size_t i = 1; i < t.triangle_counts.size(); ++i)
+        if (t.triangle_counts[i] < t.triangle_counts[i - 1])
+            bad(file, "triangle count of priority " + std::to_string(i) + " decreases");
 }
 
 void write_mc_octree(const McOctree& t, const std::string& path, Progress* progress) {
@@ -144,6 +150,7 @@ void write_mc_octree(const McOctree& t, const std::string& path, Progress* progr
     w.put(std::uint64_t(t.nodes.size()));
     w.put(std::uint64_t(t.vertex_ids.size()));
     w.put(std::uint64_t(t.order.size()));
+    w.put(std::uint64_t(t.cuts.size()));
     w.put(std::uint64_t(t.warnings.size()));
     w.put_array(t.positions);
     w.put_array(t.normals);
@@ -157,6 +164,7 @@ void write_mc_octree(const McOctree& t, const std::string& path, Progress* progr
     w.put_array(t.vertex_ids);
     w.put_array(t.neighbours);
     w.put_array(t.order);
+    w.put_array(t.cuts);
     w.put_array(t.triangle_counts);
     w.put_array(t.metric);
     for (const std::string& s : t.warnings) {
@@ -205,7 +213,7 @@ McOctree read_mc_octree(const std::string& path, Progress* progress) {
     t.input_points = static_cast<std::size_t>(r.get<std::uint64_t>("header"));
     const auto vertices = r.get<std::uint64_t>("header"), nodes = r.get<std::uint64_t>("header"),
                ids = r.get<std::uint64_t>("header"), order = r.get<std::uint64_t>("header"),
-               warnings = r.get<std::uint64_t>("header");
+               cuts = r.get<std::uint64_t>("header"), warnings = r.get<std::uint64_t>("header");
     r.get_array(t.positions, vertices, "positions");
     r.get_array(t.normals, vertices, "normals");
     if (flags & 1) r.get_array(t.colors, vertices, "colours");
@@ -224,8 +232,8 @@ McOctree read_mc_octree(const std::string& path, Progress* progress) {
     if (nodes > body.size()) r.truncated("neighbours");
     r.get_array(t.neighbours, nodes * mc::neighbour_slots, "neighbours");
     r.get_array(t.order, order, "priority order");
-    if (order + 1 == 0) r.truncated("triangle counts");
-    r.get_array(t.triangle_counts, order + 1, "triangle counts");
+    r.get_array(t.cuts, cuts, "priority levels");
+    r.get_array(t.triangle_counts, cuts, "triangle counts");
     r.get_array(t.metric, nodes, "metric");
     if (warnings > body.size()) r.truncated("warnings");
     for (std::uint64_t i = 0; i < warnings; ++i) {

@@ -12,6 +12,7 @@
 #include "lodforge/error.h"
 #include "mc_octree_internal.h"
 
+#include <algorithm>
 #include <cmath>
 #include <queue>
 
@@ -26,7 +27,7 @@ struct Entry {
 
 }  // namespace
 
-void number_mc_octree(McOctree& tree, const std::vector<KeyMap>& maps, Progress* progress) {
+std::size_t number_mc_octree(McOctree& tree, const std::vector<KeyMap>& maps, Progress* progress) {
     const std::size_t n = tree.nodes.size();
     const std::uint32_t grid = 1u << tree.levels;
     std::vector<std::uint8_t> blockers(n, 0);
@@ -34,6 +35,10 @@ void number_mc_octree(McOctree& tree, const std::vector<KeyMap>& maps, Progress*
     std::priority_queue<Entry> heap;
     tree.order.clear();
     tree.triangle_counts.clear();
+    tree.cuts.clear();
+    // sequence[k] = triangles after the first k expansions (the node granularity, before choosing levels)
+    std::vector<std::uint64_t> sequence;
+    sequence.reserve(n / 2 + 1);
     for (McNode& node : tree.nodes) node.priority = none;
 
     // offset (dx, dy, dz) -> neighbour slot for faces and edges; corners (-1) go through the level's map
@@ -63,7 +68,7 @@ void number_mc_octree(McOctree& tree, const std::vector<KeyMap>& maps, Progress*
 
     std::uint64_t total = node_triangle_count(tree, 0, 0, seams);
     triangles[0] = static_cast<std::uint32_t>(total);
-    tree.triangle_counts.push_back(total);
+    sequence.push_back(total);
     push(0);
     std::size_t numbered = 0, internal = 0;
     for (const McNode& node : tree.nodes) internal += node.level > 0;
@@ -121,11 +126,32 @@ void number_mc_octree(McOctree& tree, const std::vector<KeyMap>& maps, Progress*
                         triangles[m] = now;
                     }
                 }
-        tree.triangle_counts.push_back(total);
+        sequence.push_back(total);
     }
     if (numbered != internal)
         throw Error(Error::Kind::invalid, "mcoctree: priority numbering stopped early (" + std::to_string(numbered) +
                                               " of " + std::to_string(internal) + " nodes)");
+    // Priority levels (docs/mcoctree.md, D10): a longest subsequence of the cuts along which the triangle
+    // count never decreases, ending with the last cut (every leaf). Patience sorting, O(n log n); only cuts
+    // with at most the last cut's count can precede it.
+    const std::size_t last = sequence.size() - 1;
+    std::vector<std::uint32_t> tails, before(sequence.size(), none);  // tails[l]: best end of a chain of l + 1
+    for (std::size_t k = 0; k < last; ++k) {
+        if (sequence[k] > sequence[last]) continue;
+        const auto at = std::upper_bound(tails.begin(), tails.end(), sequence[k],
+                                         [&](std::uint64_t v, std::uint32_t t) { return v < sequence[t]; });
+        before[k] = at == tails.begin() ? none : *(at - 1);
+        if (at == tails.end()) tails.push_back(static_cast<std::uint32_t>(k));
+        else *at = static_cast<std::uint32_t>(k);
+    }
+    std::vector<std::uint32_t> chain = {static_cast<std::uint32_t>(last)};
+    for (std::uint32_t k = tails.empty() ? none : tails.back(); k != none; k = before[k]) chain.push_back(k);
+    std::reverse(chain.begin(), chain.end());
+    for (const std::uint32_t k : chain) {
+        tree.cuts.push_back(k);
+        tree.triangle_counts.push_back(sequence[k]);
+    }
+    return sequence.size() - tree.cuts.size();
 }
 
 }  // namespace lodforge::mc

@@ -154,4 +154,23 @@ TEST(McOctreeBuild, WarnsWhenTheResolutionExceedsTheDensity) {
     EXPECT_NE(r.warnings[0].find("exceeds the data density"), std::string::npos);
     p.resolution = 8;
     EXPECT_TRUE(build_mc_octree(lodforge::test::sphere_points(500), p).warnings.empty());
+
+    // Uneven sampling (the bunny's scan): the median spacing is below the cube size, but there are more
+    // surface cubes than points, so most cubes hold none; that is warned about too.
+    const Mesh bunny = read_mesh(lodforge::test::shared_data("scan-bunny/bun_zipper.ply"));
+    auto density_warning = [&](std::size_t resolution) {
+        McOctreeParams q;
+        q.resolution = resolution;
+        const McOctreeBuildResult b = build_mc_octree(bunny, q);
+        for (const std::string& w : b.warnings)
+            if (w.find("exceeds the data density") != std::string::npos) {
+                EXPECT_NE(w.find("surface cubes for"), std::string::npos) << w;
+                EXPECT_GT(b.leaf_cubes, b.tree.input_points);
+                return true;
+            }
+        EXPECT_LE(b.leaf_cubes, b.tree.input_points);
+        return false;
+    };
+    EXPECT_FALSE(density_warning(64));
+    EXPECT_TRUE(density_warning(100));
 }

@@ -40,6 +40,7 @@ TEST(McOctreeIo, RoundTripKeepsEverything) {
     EXPECT_EQ(r.positions, t.positions);
     EXPECT_EQ(r.colors, t.colors);
     EXPECT_EQ(r.order, t.order);
+    EXPECT_EQ(r.cuts, t.cuts);
     EXPECT_EQ(r.triangle_counts, t.triangle_counts);
     EXPECT_EQ(r.vertex_ids, t.vertex_ids);
     const McExtraction a = extract_mc_octree(t, t.max_priority() / 2), b = extract_mc_octree(r, r.max_priority() / 2);
@@ -90,6 +91,12 @@ TEST(McOctreeIo, StructuralChecksCatchLyingTables) {
     McOctree c = t;
     std::swap(c.order[0], c.order[1]);
     EXPECT_THROW(validate_mc_octree(c, "t"), Error);
+    McOctree d = t;  // a decreasing table would break the budget inverse's binary search
+    d.triangle_counts[d.triangle_counts.size() / 2] = d.triangle_counts.back() + 1;
+    EXPECT_THROW(validate_mc_octree(d, "t"), Error);
+    McOctree e = t;
+    e.cuts.back() -= 1;  // the last level must expand every node
+    EXPECT_THROW(validate_mc_octree(e, "t"), Error);
 }
 
 TEST(McOctreeIo, ALyingTriangleTableCannotOverflowTheExtraction) {

@@ -7,8 +7,9 @@
 //   McOctreeExtractor ex(tree);
 //   const Mesh& m = ex.extract(ex.priority_for_triangles(50000)).mesh;
 //
-// Priority index i (0 .. tree.max_priority()) means "the first i internal nodes of the priority order are
-// expanded": 0 is the root alone, max_priority() is every leaf. The extracted mesh is closed wherever the
+// Priority index i (0 .. tree.max_priority()) means "the first tree.cuts[i] internal nodes of the priority
+// order are expanded": 0 is the root alone, max_priority() is every leaf. The triangle count is
+// non-decreasing in i (the cuts of the order that a later cut undercuts are not levels; docs/mcoctree.md). The extracted mesh is closed wherever the
 // leaf surface is (no border edges, no T-junctions: vertices are shared by index between levels).
 #pragma once
 
@@ -73,13 +74,16 @@ struct McOctree {
     // 18 same-level neighbours per node (6 faces, then 12 edges, mc_tables.h order); UINT32_MAX = none.
     std::vector<std::uint32_t> neighbours;
     std::vector<std::uint32_t> order;    // order[k] = node with priority k + 1
-    // triangle_counts[i] = triangles of the mesh extracted at priority i (size order.size() + 1).
+    // Priority levels: cuts[i] = how many nodes of `order` are expanded at priority i (strictly increasing,
+    // cuts[0] = 0, cuts.back() = order.size()).
+    std::vector<std::uint32_t> cuts;
+    // triangle_counts[i] = triangles of the mesh extracted at priority i (size cuts.size(), non-decreasing).
     std::vector<std::uint64_t> triangle_counts;
     std::vector<float> metric;           // per internal node: area of the children's surface - own area
 
     std::vector<std::string> warnings;   // e.g. resolution above the data density
 
-    std::size_t max_priority() const { return order.size(); }
+    std::size_t max_priority() const { return cuts.empty() ? 0 : cuts.size() - 1; }
     std::size_t leaf_count() const;
     bool has_colors() const { return !colors.empty(); }
 };
@@ -90,6 +94,7 @@ struct McOctreeBuildResult {
     std::size_t field_samples = 0;     // distance-field evaluations (kd-tree queries)
     std::size_t dropped_far_cubes = 0; // crossing cubes dropped by the band rule (surface ends there)
     double point_spacing = 0;          // median distance of an input point to its nearest neighbour
+    std::size_t hidden_cuts = 0;       // cuts of the order that are not levels (a later cut has fewer triangles)
     std::vector<std::string> warnings; // same as tree.warnings
 };
 
@@ -119,12 +124,9 @@ struct McExtraction {
     std::size_t transition_nodes = 0; // of which have finer neighbours (re-triangulated for the seams)
 };
 
-namespace mc {
-class SeamCache;
-}
-
-// Extraction with reusable scratch space (a vertex remap stamped per call, the seam triangulations met so
-// far), for sliders and benchmarks. The tree must outlive the extractor. Not thread-safe.
+// Extraction with reusable scratch space (a vertex remap stamped per call) and, built once per tree, every
+// node's triangulations over its life in the cuts (the seams its neighbours bring, in priority order), so an
+// extraction is table look-ups and copies only. The tree must outlive the extractor. Not thread-safe.
 class McOctreeExtractor {
 public:
     explicit McOctreeExtractor(const McOctree& tree);
@@ -146,10 +148,15 @@ private:
     const McOctree* tree_;
     McExtraction result_;
     std::vector<std::uint32_t> remap_;     // per tree vertex: stamp, output index
-    std::vector<std::uint64_t> active_;    // bitmap of the nodes in the cut
-    std::vector<std::uint32_t> priority_;  // dense copy of McNode::priority (cache-friendly seam checks)
-    std::vector<std::uint32_t> first_seam_; // smallest neighbour priority (no seam below it)
-    std::unique_ptr<mc::SeamCache> seams_;
+    std::vector<std::uint32_t> emitted_;   // tree vertex of each output vertex (sized for all of them)
+    // per node: parent's priority << 32 | own priority; in the cut at rank R when parent's <= R < own
+    std::vector<std::uint64_t> lifetime_;
+    // Node i's triangulations: events_[first_event_[i] .. first_event_[i + 1]), each (rank << 32 | offset):
+    // from `rank` expanded nodes on, the node is triangulated by the pool entry at `offset` (triangle count,
+    // whether refined, the 64-bit mask of the sub-edges used, then sub-edge triples).
+    std::vector<std::uint32_t> first_event_;
+    std::vector<std::uint64_t> events_;
+    std::vector<std::uint8_t> pool_;
     std::uint32_t generation_ = 0;
 };
 
