@@ -9,10 +9,12 @@
 //
 //   lodforge_bench_simplify [--quick] [--models dragon,bunny,frag,duck,bottle] [--ratios 0.5,0.1,0.01]
 //                           [--reps N] [--samples N] [--no-vtk] [--no-openmesh] [--openmesh-dragon-all]
+//                           [--greedy]
 //
 // --quick: dragon and bunny at 10 % only, without OpenMesh. OpenMesh runs on the full dragon at 10 % only
 // (it takes ~20 s per level) unless --openmesh-dragon-all. With --reps N > 1 the time is the median of N
-// runs of each method (errors are measured on the last run).
+// runs of each method (errors are measured on the last run). --greedy adds lodforge's heap schedule
+// (SimplifyParams::Schedule::greedy, the engine before the round schedule) as a method.
 
 #include "bench_util.h"
 #include "lodforge/error.h"
@@ -88,9 +90,11 @@ Mesh with_indices(const Mesh& in, std::vector<std::uint32_t> indices) {
     return m;
 }
 
-Outcome run_lodforge(const Mesh& in, float ratio, bool attributes) {
+Outcome run_lodforge(const Mesh& in, float ratio, bool attributes,
+                     SimplifyParams::Schedule schedule = SimplifyParams::Schedule::passes) {
     SimplifyParams p;
     p.target_ratio = ratio;
+    p.schedule = schedule;
     if (!attributes) {
         p.weights.normal = 0;
         p.weights.color = 0;
@@ -237,7 +241,7 @@ int main(int argc, char** argv) {
     std::vector<float> ratios = {0.5f, 0.1f, 0.01f};
     int reps = 1;
     std::size_t samples = 0;
-    bool vtk = true, openmesh = true, openmesh_dragon_all = false;
+    bool vtk = true, openmesh = true, openmesh_dragon_all = false, greedy = false;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         auto next = [&]() -> std::string {
@@ -264,12 +268,14 @@ int main(int argc, char** argv) {
             vtk = false;
         } else if (a == "--no-openmesh") {
             openmesh = false;
+        } else if (a == "--greedy") {
+            greedy = true;
         } else if (a == "--openmesh-dragon-all") {
             openmesh_dragon_all = true;
         } else {
             std::fprintf(stderr,
                          "usage: %s [--quick] [--models dragon,bunny,frag,duck,bottle] [--ratios 0.5,0.1,0.01] "
-                         "[--reps N] [--samples N] [--no-vtk] [--no-openmesh] [--openmesh-dragon-all]\n",
+                         "[--reps N] [--samples N] [--no-vtk] [--no-openmesh] [--openmesh-dragon-all] [--greedy]\n",
                          argv[0]);
             return 2;
         }
@@ -299,6 +305,10 @@ int main(int argc, char** argv) {
             std::vector<Method> methods;
             methods.push_back({"lodforge geometry", [&] { return run_lodforge(in, r, false); }});
             if (has_attributes) methods.push_back({"lodforge attributes", [&] { return run_lodforge(in, r, true); }});
+            if (greedy)
+                methods.push_back({"lodforge geometry, greedy heap", [&] {
+                                       return run_lodforge(in, r, false, SimplifyParams::Schedule::greedy);
+                                   }});
             methods.push_back({"meshopt_simplify 0.18", [&] { return run_meshopt(in, r); }});
 #ifdef LODFORGE_BENCH_HAVE_OPENMESH
             if (openmesh && (key != "dragon" || r == 0.1f || openmesh_dragon_all))
