@@ -9,10 +9,14 @@
 //    1999 (memory-efficient attribute quadrics per wedge, seams as wedges of one point);
 //  - T. Dey, H. Edelsbrunner et al., "Topology Preserving Edge Contraction", 1999 (link condition).
 //
-// Layout: flat arrays. Faces keep their input index and store wedge (vertex) ids; each point has a list of
-// its faces that grows by merging on collapse. Every point has one entry in an indexed binary heap: its
-// cheapest outgoing collapse. A collapse u → v re-evaluates v and, around v, only what changed (the edge
-// to v, or everything for a point whose best target was u or v), so no stale entries are ever popped.
+//  - A. Kapoulkine, meshoptimizer's simplifier (2016-, MIT): rounds of independent cheapest-first
+//    collapses over a sorted candidate list, adjacency rebuilt between rounds, seam edges constrained.
+//
+// Layout: flat arrays. Faces keep their input index and store wedge (vertex) ids. Default schedule
+// (passes, see run_passes): point → faces as a CSR rebuilt after each round; every point's cheapest
+// outgoing collapse is costed once, re-costed only when its neighbourhood changed. Greedy schedule: each
+// point has a list of its faces that grows by merging on collapse and one entry in an indexed binary heap;
+// a collapse u → v re-evaluates v and, around v, only what changed.
 #include "lodforge/simplify.h"
 
 #include "lodforge/error.h"
@@ -21,7 +25,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <numeric>
+#include <span>
 #include <string>
 #include <unordered_map>
 
@@ -345,13 +351,21 @@ public:
 private:
     void setup();
     void classify_points();
+    void add_edge_plane(std::uint32_t p, std::uint32_t q);
+    bool is_seam_edge(std::uint32_t p, std::uint32_t q) const;
     std::uint32_t point(std::uint32_t wedge) const { return pid_[wedge]; }
     const double* attr(std::uint32_t wedge) const { return &attrs_[wedge * dims_]; }
     std::uint32_t material(std::uint32_t face) const {
         return mesh_.face_materials.empty() ? 0 : mesh_.face_materials[face];
     }
-    // Lists hold live faces only: collapse() removes dead faces from every list that had them.
-    const std::vector<std::uint32_t>& faces_of(std::uint32_t p) const { return pfaces_[p]; }
+    // Faces of p. Greedy: per-point lists holding live faces only (collapse_greedy() removes dead faces
+    // from every list that had them). Passes: a CSR rebuilt after every pass, exact for every point the
+    // running pass has not locked (see run_passes()).
+    std::span<const std::uint32_t> faces_of(std::uint32_t p) const {
+        if (!greedy_) return {csr_faces_.data() + csr_begin_[p], csr_begin_[p + 1] - csr_begin_[p]};
+        return {pfaces_[p].data(), pfaces_[p].size()};
+    }
+    void build_csr();
     void neighbours(std::uint32_t p, std::vector<std::uint32_t>& out);
     // The greedy order jumps across the mesh, so most of a collapse's points and faces are cold: their
     // loads are issued together ahead of use instead of one miss after another.
@@ -375,7 +389,12 @@ private:
     bool frames_valid(std::uint32_t u, std::uint32_t v) const;
     bool valid(std::uint32_t u, std::uint32_t v, const Plan& plan);
     void collapse(std::uint32_t u, std::uint32_t v, const Plan& plan);
+    std::uint32_t cheapest(std::uint32_t p, double& cost);
+    std::uint32_t cheapest_valid(std::uint32_t p, std::uint32_t rejected, double& cost);
+    void run_greedy(std::size_t target, double limit, double& max_cost);
+    void run_passes(std::size_t target, double limit, double& max_cost);
     void update_best(std::uint32_t p);
+    void report(std::size_t target);
     void reroute(std::uint32_t u, std::uint32_t rejected);
     void after_collapse(std::uint32_t u, std::uint32_t v);
 
@@ -406,15 +425,30 @@ private:
     std::vector<std::uint32_t> corners_;      // per face, wedges
     std::vector<std::uint32_t> fpt_;          // per face, points (pid_ of corners_, kept in step)
     std::vector<std::uint8_t> face_alive_;
-    std::vector<std::vector<std::uint32_t>> pfaces_;
+    bool greedy_ = false;
+    std::vector<std::vector<std::uint32_t>> pfaces_;          // greedy schedule
+    std::vector<std::uint32_t> csr_begin_, csr_faces_;         // pass schedule
     std::vector<std::uint32_t> wedge_begin_, wedge_list_;  // point → its wedges (CSR)
     std::vector<std::uint8_t> point_alive_;
     AttributeQuadrics aq_;
     std::size_t dims_ = 0;
+    bool plain_ = false;  // no attribute cost, no materials, no extra frames, half-edge placement
     std::vector<double> attrs_;               // per wedge, weighted attribute vector
     PointHeap heap_;
     std::size_t alive_faces_ = 0;
-    std::vector<std::uint32_t> scratch_a_, scratch_b_, scratch_n_, ring_;
+    std::size_t start_faces_ = 0;
+    std::vector<std::uint32_t> scratch_a_, scratch_b_, scratch_n_, ring_, scratch_fill_;
+    // Stamped membership marks (no clearing between uses): neighbours() dedupes with seen_, valid()
+    // marks v's ring in in_ring_.
+    std::vector<std::uint32_t> seen_, in_ring_;
+    std::uint32_t seen_stamp_ = 0, ring_stamp_ = 0;
+    static std::uint32_t next_stamp(std::vector<std::uint32_t>& marks, std::uint32_t& stamp) {
+        if (++stamp == 0) {
+            std::fill(marks.begin(), marks.end(), 0u);
+            stamp = 1;
+        }
+        return stamp;
+    }
     std::vector<std::pair<double, std::uint32_t>> options_;
     std::size_t frames_ = 0;                  // extra frames
     std::vector<Quadric> frame_geo_;
@@ -454,18 +488,18 @@ void Simplifier::setup() {
     face_alive_ = initial_faces(mesh_, pid_);
     fpt_.resize(corners_.size());
     for (std::size_t i = 0; i < corners_.size(); ++i) fpt_[i] = pid_[corners_[i]];
-    std::vector<std::uint32_t> degree(points_, 0);
-    for (std::size_t f = 0; f < nf; ++f) {
-        if (!face_alive_[f]) continue;
-        const std::uint32_t a = pid_[corners_[3 * f]], bb = pid_[corners_[3 * f + 1]], c = pid_[corners_[3 * f + 2]];
-        ++alive_faces_;
-        ++degree[a]; ++degree[bb]; ++degree[c];
+    for (std::size_t f = 0; f < nf; ++f) alive_faces_ += face_alive_[f];
+    greedy_ = false;
+    build_csr();
+    if (params_.schedule == SimplifyParams::Schedule::greedy) {
+        pfaces_.resize(points_);
+        for (std::uint32_t p = 0; p < points_; ++p) {
+            const auto fs = faces_of(p);
+            pfaces_[p].assign(fs.begin(), fs.end());
+        }
+        greedy_ = true;
+        std::vector<std::uint32_t>().swap(csr_faces_);
     }
-    pfaces_.resize(points_);
-    for (std::size_t p = 0; p < points_; ++p) pfaces_[p].reserve(degree[p]);
-    for (std::uint32_t f = 0; f < nf; ++f)
-        if (face_alive_[f])
-            for (int k = 0; k < 3; ++k) pfaces_[pid_[corners_[3 * f + k]]].push_back(f);
 
     // Attributes, weighted so a difference of 1 costs like a deviation of `weight` diagonals.
     const auto& w = params_.weights;
@@ -509,8 +543,27 @@ void Simplifier::setup() {
                 aq_.add_triangle(c[k], p0, p1, p2, attr(c[0]), attr(c[1]), attr(c[2]), area);
     }
     point_alive_.assign(points_, 1);
+    plain_ = dims_ == 0 && mesh_.face_materials.empty() && params_.extra_frames.empty() &&
+             params_.placement == Placement::half_edge;
+    seen_.assign(points_, 0);
+    in_ring_.assign(points_, 0);
     heap_.reset(points_);
     if (!params_.extra_frames.empty()) setup_frames();
+}
+
+// Point → live faces (ascending face index), from the corners as they are now.
+void Simplifier::build_csr() {
+    csr_begin_.assign(points_ + 1, 0);
+    const std::size_t nf = face_alive_.size();
+    for (std::size_t f = 0; f < nf; ++f)
+        if (face_alive_[f])
+            for (int k = 0; k < 3; ++k) ++csr_begin_[fpt_[3 * f + k] + 1];
+    for (std::size_t p = 0; p < points_; ++p) csr_begin_[p + 1] += csr_begin_[p];
+    csr_faces_.resize(csr_begin_[points_]);
+    scratch_fill_.assign(csr_begin_.begin(), csr_begin_.end() - 1);
+    for (std::uint32_t f = 0; f < nf; ++f)
+        if (face_alive_[f])
+            for (int k = 0; k < 3; ++k) csr_faces_[scratch_fill_[fpt_[3 * f + k]]++] = f;
 }
 
 void Simplifier::setup_frames() {
@@ -582,7 +635,7 @@ double Simplifier::frames_cost(std::uint32_t u, std::uint32_t v, double geometri
 constexpr double kFrameMinDot = 0.0;
 bool Simplifier::frames_valid(std::uint32_t u, std::uint32_t v) const {
     const double min_dot = std::min(double(params_.min_normal_dot), kFrameMinDot);
-    for (std::uint32_t face : pfaces_[u]) {
+    for (std::uint32_t face : faces_of(u)) {
         const std::uint32_t* c = &fpt_[3 * face];
         if (c[0] == v || c[1] == v || c[2] == v) continue;
         for (std::size_t f = 0; f < frames_; ++f) {
@@ -607,12 +660,57 @@ bool Simplifier::frames_valid(std::uint32_t u, std::uint32_t v) const {
     return true;
 }
 
+// Constraint plane through edge pq, perpendicular to its (first) face (GH97 §6.1), weighted |pq|².
+void Simplifier::add_edge_plane(std::uint32_t p, std::uint32_t q) {
+    for (std::uint32_t f : faces_of(p)) {
+        const std::uint32_t* cc = &fpt_[3 * f];
+        if (cc[0] != q && cc[1] != q && cc[2] != q) continue;
+        const Vec3d a0 = pts_[cc[0]].pos, a1 = pts_[cc[1]].pos, a2 = pts_[cc[2]].pos;
+        const Vec3d n = crossd(sub(a1, a0), sub(a2, a0));
+        const Vec3d e = sub(pts_[q].pos, pts_[p].pos);
+        Vec3d m = crossd(e, n);
+        const double len = std::sqrt(dotd(m, m));
+        if (!(len > 0)) return;
+        m = {m.x / len, m.y / len, m.z / len};
+        Quadric bq = Quadric::from_plane(m, -dotd(m, pts_[p].pos), dotd(e, e));
+        bq.weight = 0;  // a constraint, not surface: it must not dilute the mean
+        pts_[p].geo += bq;
+        pts_[q].geo += bq;
+        if (frames_ > 0) add_frame_border_planes(p, q, f);
+        return;
+    }
+}
+
+// Edge pq (two faces) is a seam: the faces on either side use different wedges at p or at q (UV or
+// normal seams, and welded cracks of scans). Seams get the border constraint plane too, as
+// meshoptimizer does: a seam point only slides along its seam, and the plane keeps the seam's shape.
+bool Simplifier::is_seam_edge(std::uint32_t p, std::uint32_t q) const {
+    std::uint32_t wp = kNone, wq = kNone;
+    for (std::uint32_t f : faces_of(p)) {
+        const std::uint32_t* fp = &fpt_[3 * f];
+        const std::uint32_t* c = &corners_[3 * f];
+        std::uint32_t a = kNone, b = kNone;
+        for (int k = 0; k < 3; ++k) {
+            if (fp[k] == p) a = c[k];
+            else if (fp[k] == q) b = c[k];
+        }
+        if (b == kNone) continue;
+        if (wp == kNone) {
+            wp = a;
+            wq = b;
+        } else if (a != wp || b != wq) {
+            return true;
+        }
+    }
+    return false;
+}
+
 void Simplifier::classify_points() {
     // Neighbour counts per point: an edge with one face is a border edge, with more than two non-manifold.
     std::vector<std::pair<std::uint32_t, int>> counts;
     for (std::uint32_t p = 0; p < points_; ++p) {
         counts.clear();
-        for (std::uint32_t f : pfaces_[p])
+        for (std::uint32_t f : faces_of(p))
             for (int k = 0; k < 3; ++k) {
                 const std::uint32_t q = pid_[corners_[3 * f + k]];
                 if (q == p) continue;
@@ -623,28 +721,11 @@ void Simplifier::classify_points() {
         int border = 0;
         bool complex = false;
         for (const auto& [q, c] : counts) {
-            if (c == 1) {
+            if (c == 2 && q > p && !(pts_[p].one_wedge && pts_[q].one_wedge) && is_seam_edge(p, q)) {
+                add_edge_plane(p, q);
+            } else if (c == 1) {
                 ++border;
-                if (q > p) {
-                    // Border constraint plane through the edge, perpendicular to its face (GH97 §6.1).
-                    for (std::uint32_t f : pfaces_[p]) {
-                        const std::uint32_t* cc = &corners_[3 * f];
-                        if (pid_[cc[0]] != q && pid_[cc[1]] != q && pid_[cc[2]] != q) continue;
-                        const Vec3d a0 = pts_[pid_[cc[0]]].pos, a1 = pts_[pid_[cc[1]]].pos, a2 = pts_[pid_[cc[2]]].pos;
-                        const Vec3d n = crossd(sub(a1, a0), sub(a2, a0));
-                        const Vec3d e = sub(pts_[q].pos, pts_[p].pos);
-                        Vec3d m = crossd(e, n);
-                        const double len = std::sqrt(dotd(m, m));
-                        if (!(len > 0)) break;
-                        m = {m.x / len, m.y / len, m.z / len};
-                        Quadric bq = Quadric::from_plane(m, -dotd(m, pts_[p].pos), dotd(e, e));
-                        bq.weight = 0;  // a constraint, not surface: it must not dilute the mean
-                        pts_[p].geo += bq;
-                        pts_[q].geo += bq;
-                        if (frames_ > 0) add_frame_border_planes(p, q, f);
-                        break;
-                    }
-                }
+                if (q > p) add_edge_plane(p, q);
             } else if (c > 2) {
                 complex = true;
             }
@@ -661,12 +742,17 @@ void Simplifier::classify_points() {
 
 void Simplifier::neighbours(std::uint32_t p, std::vector<std::uint32_t>& out) {
     out.clear();
-    const auto& faces = faces_of(p);
+    const auto faces = faces_of(p);
     for (std::uint32_t f : faces) prefetch(&fpt_[3 * f]);
+    const std::uint32_t stamp = next_stamp(seen_, seen_stamp_);
+    seen_[p] = stamp;
     for (std::uint32_t f : faces)
         for (int k = 0; k < 3; ++k) {
             const std::uint32_t q = fpt_[3 * f + k];
-            if (q != p && std::find(out.begin(), out.end(), q) == out.end()) out.push_back(q);
+            if (seen_[q] != stamp) {
+                seen_[q] = stamp;
+                out.push_back(q);
+            }
         }
 }
 
@@ -771,9 +857,10 @@ bool Simplifier::valid(std::uint32_t u, std::uint32_t v, const Plan& plan) {
     // Link condition on points: the common neighbours of u and v are exactly the apexes of uv's faces.
     neighbours(u, scratch_a_);
     neighbours(v, scratch_b_);
+    const std::uint32_t ring = next_stamp(in_ring_, ring_stamp_);
+    for (std::uint32_t b : scratch_b_) in_ring_[b] = ring;
     int common = 0;
-    for (std::uint32_t a : scratch_a_)
-        if (std::find(scratch_b_.begin(), scratch_b_.end(), a) != scratch_b_.end()) ++common;
+    for (std::uint32_t a : scratch_a_) common += in_ring_[a] == ring;
     if (common != plan.edge_faces) return false;
 
     const double min_dot = params_.min_normal_dot;
@@ -797,7 +884,7 @@ bool Simplifier::valid(std::uint32_t u, std::uint32_t v, const Plan& plan) {
         if (!(l1 > 1e-12 * longest * longest)) return false;  // would become a needle or collapse
         return dotd(n0, n1) >= min_dot * std::sqrt(l0 * l1);
     };
-    for (std::uint32_t f : pfaces_[u]) {
+    for (std::uint32_t f : faces_of(u)) {
         const std::uint32_t* c = &fpt_[3 * f];
         const std::uint32_t a = c[0], b = c[1], cc = c[2];
         if (a == v || b == v || cc == v) continue;  // removed with the collapse
@@ -805,10 +892,9 @@ bool Simplifier::valid(std::uint32_t u, std::uint32_t v, const Plan& plan) {
         // A face whose other two points are both common neighbours may already exist around v
         // (tetrahedron-like configurations the vertex link test misses).
         const std::uint32_t o1 = a == u ? b : a, o2 = cc == u ? b : cc;
-        const bool c1 = std::find(scratch_b_.begin(), scratch_b_.end(), o1) != scratch_b_.end();
-        const bool c2 = std::find(scratch_b_.begin(), scratch_b_.end(), o2) != scratch_b_.end();
+        const bool c1 = in_ring_[o1] == ring, c2 = in_ring_[o2] == ring;
         if (c1 && c2) {
-            for (std::uint32_t g : pfaces_[v]) {
+            for (std::uint32_t g : faces_of(v)) {
                 const std::uint32_t* d = &fpt_[3 * g];
                 int hits = 0;
                 for (int k = 0; k < 3; ++k) hits += (d[k] == o1 || d[k] == o2);
@@ -817,7 +903,7 @@ bool Simplifier::valid(std::uint32_t u, std::uint32_t v, const Plan& plan) {
         }
     }
     if (params_.placement == Placement::optimal) {
-        for (std::uint32_t f : pfaces_[v]) {
+        for (std::uint32_t f : faces_of(v)) {
             const std::uint32_t* c = &fpt_[3 * f];
             if (c[0] == u || c[1] == u || c[2] == u) continue;
             if (!face_ok(f, v)) return false;
@@ -833,17 +919,17 @@ void Simplifier::collapse(std::uint32_t u, std::uint32_t v, const Plan& plan) {
             if (plan.wedge[i] == w) return plan.target[i];
         return plan.target[0];
     };
-    auto& fv = pfaces_[v];
-    for (std::uint32_t f : pfaces_[u]) {
+    for (std::uint32_t f : faces_of(u)) {
         std::uint32_t* c = &corners_[3 * f];
         std::uint32_t* fp = &fpt_[3 * f];
         if (fp[0] == v || fp[1] == v || fp[2] == v) {
             face_alive_[f] = 0;
             --alive_faces_;
-            for (int k = 0; k < 3; ++k) {
-                const std::uint32_t apex = fp[k];
-                if (apex != u && apex != v) std::erase(pfaces_[apex], f);
-            }
+            if (greedy_)
+                for (int k = 0; k < 3; ++k) {
+                    const std::uint32_t apex = fp[k];
+                    if (apex != u && apex != v) std::erase(pfaces_[apex], f);
+                }
             continue;
         }
         for (int k = 0; k < 3; ++k)
@@ -851,10 +937,12 @@ void Simplifier::collapse(std::uint32_t u, std::uint32_t v, const Plan& plan) {
                 c[k] = target_of(c[k]);
                 fp[k] = v;
             }
-        fv.push_back(f);
+        if (greedy_) pfaces_[v].push_back(f);
     }
-    std::vector<std::uint32_t>().swap(pfaces_[u]);
-    std::erase_if(fv, [&](std::uint32_t f) { return !face_alive_[f]; });
+    if (greedy_) {
+        std::vector<std::uint32_t>().swap(pfaces_[u]);
+        std::erase_if(pfaces_[v], [&](std::uint32_t f) { return !face_alive_[f]; });
+    }
 
     pts_[v].geo += pts_[u].geo;
     for (std::size_t f = 0; f < frames_; ++f) frame_geo_[v * frames_ + f] += frame_geo_[u * frames_ + f];
@@ -875,10 +963,38 @@ void Simplifier::collapse(std::uint32_t u, std::uint32_t v, const Plan& plan) {
 }
 
 // The cheapest outgoing collapse of p (validity is checked when it is popped).
-void Simplifier::update_best(std::uint32_t p) {
-    pts_[p].constrained = 0;
-    double best = std::numeric_limits<double>::infinity();
+std::uint32_t Simplifier::cheapest(std::uint32_t p, double& best) {
+    best = std::numeric_limits<double>::infinity();
     std::uint32_t to = kNone;
+    if (plain_ && pts_[p].kind == Kind::interior && pts_[p].one_wedge) {
+        // Geometry only, half-edge, one wedge: the cost is Q_p at the neighbour over p's area (what
+        // evaluate() computes without a face walk). The neighbours are read straight off the faces,
+        // twice each rather than deduplicated.
+        const Quadric& q = pts_[p].geo;
+        Plan plan;
+        const bool weighted = q.weight > 0;
+        const auto faces = faces_of(p);
+        for (std::uint32_t f : faces) prefetch(&fpt_[3 * f]);
+        for (std::uint32_t f : faces)
+            for (int k = 0; k < 3; ++k) prefetch_point(fpt_[3 * f + k]);
+        for (std::uint32_t f : faces)
+            for (int k = 0; k < 3; ++k) {
+                const std::uint32_t n = fpt_[3 * f + k];
+                if (n == p) continue;
+                double c;
+                if (pts_[n].one_wedge) {
+                    const double e = q.evaluate(pts_[n].pos);
+                    c = weighted ? e / q.weight : e * 1e12;
+                } else {
+                    c = evaluate(p, n, plan, false);  // onto a seam point: the wedge mapping decides
+                }
+                if (c < best) {
+                    best = c;
+                    to = n;
+                }
+            }
+        return to;
+    }
     Plan plan;
     neighbours(p, scratch_n_);
     for (std::uint32_t n : scratch_n_) prefetch_point(n);
@@ -889,18 +1005,11 @@ void Simplifier::update_best(std::uint32_t p) {
             to = n;
         }
     }
-    if (to == kNone) {
-        heap_.remove(p);
-        return;
-    }
-    pts_[p].best_to = to;
-    heap_.set(p, best);
+    return to;
 }
 
-// u → rejected is not allowed now: u's entry becomes its cheapest valid collapse, or u leaves the heap
-// until its neighbourhood changes.
-void Simplifier::reroute(std::uint32_t u, std::uint32_t rejected) {
-    pts_[u].constrained = 1;
+// The cheapest collapse of p that is allowed now (other than onto `rejected`), or kNone.
+std::uint32_t Simplifier::cheapest_valid(std::uint32_t u, std::uint32_t rejected, double& cost) {
     Plan plan;
     neighbours(u, scratch_n_);
     options_.clear();
@@ -913,11 +1022,36 @@ void Simplifier::reroute(std::uint32_t u, std::uint32_t rejected) {
     for (const auto& [estimate, n] : options_) {
         const double c = evaluate(u, n, plan, true);
         if (!std::isfinite(c) || !valid(u, n, plan)) continue;
-        pts_[u].best_to = n;
-        heap_.set(u, c);
+        cost = c;
+        return n;
+    }
+    return kNone;
+}
+
+void Simplifier::update_best(std::uint32_t p) {
+    pts_[p].constrained = 0;
+    double best;
+    const std::uint32_t to = cheapest(p, best);
+    if (to == kNone) {
+        heap_.remove(p);
         return;
     }
-    heap_.remove(u);
+    pts_[p].best_to = to;
+    heap_.set(p, best);
+}
+
+// u → rejected is not allowed now: u's entry becomes its cheapest valid collapse, or u leaves the heap
+// until its neighbourhood changes.
+void Simplifier::reroute(std::uint32_t u, std::uint32_t rejected) {
+    pts_[u].constrained = 1;
+    double c;
+    const std::uint32_t n = cheapest_valid(u, rejected, c);
+    if (n == kNone) {
+        heap_.remove(u);
+        return;
+    }
+    pts_[u].best_to = n;
+    heap_.set(u, c);
 }
 
 // After u → v: v's costs all changed; around v only edges to v changed, unless a point's best target was u
@@ -928,7 +1062,7 @@ void Simplifier::after_collapse(std::uint32_t u, std::uint32_t v) {
     ring_ = scratch_n_;  // update_best left v's neighbours there; the loop below reuses scratch_n_
     for (std::uint32_t n : ring_) {
         heap_.prefetch(n);
-        prefetch(&pfaces_[n]);
+        prefetch(faces_of(n).data());
     }
     Plan plan;
     for (std::uint32_t n : ring_) {
@@ -941,6 +1075,178 @@ void Simplifier::after_collapse(std::uint32_t u, std::uint32_t v) {
             pts_[n].best_to = v;
             heap_.set(n, c);
         }
+    }
+}
+
+// The classic schedule: one heap entry per point, the globally cheapest valid collapse first.
+void Simplifier::run_greedy(std::size_t target, double limit, double& max_cost) {
+    for (std::uint32_t a = 0; a < points_; ++a) {
+        update_best(a);
+        if ((a & 0xffff) == 0) check_progress(progress_, 0.0, "simplify");
+    }
+    std::size_t iterations = 0;
+    Plan plan;
+    while (true) {
+        if (alive_faces_ <= target) {
+            result_.reason = SimplifyResult::StopReason::target_reached;
+            break;
+        }
+        if (heap_.empty()) break;
+        if ((++iterations & 1023) == 0) report(target);
+        const std::uint32_t u = heap_.top(), v = pts_[u].best_to;
+        const double cost = evaluate(u, v, plan, true);
+        if (!std::isfinite(cost)) {  // the seam mapping forbids it
+            reroute(u, v);
+            continue;
+        }
+        if (cost > heap_.key(u) * (1 + 1e-9) + 1e-30) {  // dearer than estimated: requeue
+            heap_.set(u, cost);
+            continue;
+        }
+        if (cost > limit) {
+            result_.reason = SimplifyResult::StopReason::error_limit;
+            break;
+        }
+        if (!valid(u, v, plan)) {
+            reroute(u, v);
+            continue;
+        }
+        max_cost = std::max(max_cost, cost);
+        collapse(u, v, plan);
+        after_collapse(u, v);
+    }
+}
+
+void Simplifier::report(std::size_t target) {
+    if (!progress_) return;
+    const double span = double(start_faces_ - std::min(start_faces_, target));
+    check_progress(progress_, span > 0 ? double(start_faces_ - alive_faces_) / span : 1.0, "simplify");
+}
+
+// Pass schedule (after meshoptimizer's simplifier, Kapoulkine 2016-): every candidate (a point's cheapest
+// outgoing collapse) is costed once, all are sorted (radix sort on the float bits of the cost) and walked
+// cheapest first up to kPassSlack times the cost at rank kPassRank; a collapse u → v is applied when
+// neither u nor v is locked, and then locks u's whole ring (v included) for the rest of the pass. So
+// every face and neighbour set a later collapse of the pass reads is the one the pass started with: the
+// CSR adjacency stays exact without updates, the full link and flip checks stay exact, and each point is
+// touched by at most one collapse per pass. After the pass the CSR is rebuilt (linear, in index order) and
+// only the points whose neighbourhood changed are re-costed. Nothing depends on the target except where
+// the walk stops, so a run to a lower target starts with exactly the collapses of a run to a higher one.
+constexpr double kPassRank = 0.25;
+constexpr double kPassSlack = 1.5;
+
+void Simplifier::run_passes(std::size_t target, double limit, double& max_cost) {
+    std::vector<double> cost(points_, std::numeric_limits<double>::infinity());
+    // Per point: 0 = entry current, kGained = compare the edge to gained[p], else re-cost fully.
+    constexpr std::uint8_t kGained = 2;
+    std::vector<std::uint8_t> dirty(points_, 1);
+    std::vector<std::uint32_t> gained(points_, kNone);
+    std::vector<std::uint32_t> lock(points_, 0);
+    std::vector<std::uint64_t> order, tmp;
+    order.reserve(points_);
+    Plan plan;
+    const bool moves_kept = params_.placement == Placement::optimal;
+    for (std::uint32_t pass = 1;; ++pass) {
+        report(target);
+        // Re-cost what changed, in index order (coherent memory), and gather the candidates.
+        order.clear();
+        for (std::uint32_t a = 0; a < points_; ++a) {
+            if ((a & 0xffff) == 0xffff) report(target);
+            if (!point_alive_[a]) continue;
+            if (dirty[a] == kGained) {
+                // Only a new edge to the kept point of a collapse appeared (half-edge: nothing else
+                // about this point's costs changed), so it is compared against the current entry.
+                dirty[a] = 0;
+                const std::uint32_t v = gained[a];
+                if (point_alive_[v]) {
+                    const double c = evaluate(a, v, plan, false);
+                    if (c < cost[a]) {
+                        cost[a] = c;
+                        pts_[a].best_to = v;
+                    }
+                }
+            } else if (dirty[a]) {
+                dirty[a] = 0;
+                double c;
+                const std::uint32_t to = pts_[a].constrained ? cheapest_valid(a, kNone, c) : cheapest(a, c);
+                pts_[a].constrained = 0;
+                pts_[a].best_to = to;
+                cost[a] = to == kNone ? std::numeric_limits<double>::infinity() : c;
+            }
+            if (std::isfinite(cost[a])) {
+                // Non-negative floats order as their bit patterns; the cost is rounded up so a key never
+                // undercuts its cost.
+                float key = static_cast<float>(cost[a]);
+                if (double(key) < cost[a]) key = std::nextafter(key, std::numeric_limits<float>::infinity());
+                std::uint32_t bits;
+                std::memcpy(&bits, &key, sizeof bits);
+                order.push_back(std::uint64_t(bits) << 32 | a);
+            }
+        }
+        if (order.empty()) return;  // topology_limit
+        // LSD radix sort on the key (bits 32..63), stable, so equal costs keep the point order.
+        tmp.resize(order.size());
+        for (int shift = 32; shift < 64; shift += 11) {
+            std::uint32_t count[2049] = {};
+            for (std::uint64_t e : order) ++count[((e >> shift) & 2047) + 1];
+            for (int i = 0; i < 2048; ++i) count[i + 1] += count[i];
+            for (std::uint64_t e : order) tmp[count[(e >> shift) & 2047]++] = e;
+            order.swap(tmp);
+        }
+        const std::size_t rank = std::min(order.size() - 1, static_cast<std::size_t>(double(order.size()) * kPassRank));
+        const double threshold = kPassSlack * cost[static_cast<std::uint32_t>(order[rank])];
+        std::size_t applied = 0;
+        bool limited = false, changed = false;
+        for (std::uint64_t e : order) {
+            const auto u = static_cast<std::uint32_t>(e);
+            if (cost[u] > threshold && applied > 0) break;  // a pass never ends empty-handed
+            const std::uint32_t v = pts_[u].best_to;
+            if (lock[u] == pass || lock[v] == pass) continue;  // the next pass sees it again
+            const double c = evaluate(u, v, plan, true);
+            if (!std::isfinite(c)) {  // the seam mapping forbids it
+                pts_[u].constrained = dirty[u] = 1;
+                changed = true;
+                continue;
+            }
+            if (c > limit) {
+                cost[u] = c;
+                limited = true;
+                continue;
+            }
+            if (!valid(u, v, plan)) {
+                pts_[u].constrained = dirty[u] = 1;
+                changed = true;
+                continue;
+            }
+            // valid() left u's ring in scratch_a_ and v's in scratch_b_.
+            for (std::uint32_t n : scratch_a_) {
+                lock[n] = pass;
+                if (moves_kept || n == v || pts_[n].best_to == u || pts_[n].best_to == v || pts_[n].constrained ||
+                    !std::isfinite(cost[n]))
+                    dirty[n] = 1;
+                else if (dirty[n] == 0) {
+                    dirty[n] = kGained;
+                    gained[n] = v;
+                }
+            }
+            if (moves_kept)
+                for (std::uint32_t n : scratch_b_) dirty[n] = 1;  // v moved: their edges to it changed
+            lock[u] = pass;
+            max_cost = std::max(max_cost, c);
+            collapse(u, v, plan);
+            cost[u] = std::numeric_limits<double>::infinity();
+            changed = true;
+            if (alive_faces_ <= target) {
+                result_.reason = SimplifyResult::StopReason::target_reached;
+                return;
+            }
+            if ((++applied & 1023) == 0) report(target);
+        }
+        if (applied == 0 && !changed) {
+            if (limited) result_.reason = SimplifyResult::StopReason::error_limit;
+            return;
+        }
+        build_csr();
     }
 }
 
@@ -978,53 +1284,15 @@ SimplifyResult Simplifier::run() {
     std::size_t target = p.target_triangles;
     if (p.target_ratio > 0.f)
         target = std::max(target, static_cast<std::size_t>(std::llround(p.target_ratio * double(mesh_.triangle_count()))));
-    const std::size_t start = alive_faces_;
-
-    // Initial candidates: each point's cheapest outgoing collapse.
-    if (alive_faces_ > target)
-        for (std::uint32_t a = 0; a < points_; ++a) {
-            update_best(a);
-            if ((a & 0xffff) == 0) check_progress(progress_, 0.0, "simplify");
-        }
+    start_faces_ = alive_faces_;
 
     const double limit = std::isinf(p.max_error) ? std::numeric_limits<double>::infinity()
                                                  : double(p.max_error) * double(p.max_error);
     double max_cost = 0;
     result_.reason = SimplifyResult::StopReason::topology_limit;
-    std::size_t iterations = 0;
-    Plan plan;
-    while (true) {
-        if (alive_faces_ <= target) {
-            result_.reason = SimplifyResult::StopReason::target_reached;
-            break;
-        }
-        if (heap_.empty()) break;
-        if ((++iterations & 1023) == 0 && progress_) {
-            const double span = double(start - std::min(start, target));
-            check_progress(progress_, span > 0 ? double(start - alive_faces_) / span : 1.0, "simplify");
-        }
-        const std::uint32_t u = heap_.top(), v = pts_[u].best_to;
-        const double cost = evaluate(u, v, plan, true);
-        if (!std::isfinite(cost)) {  // the seam mapping forbids it
-            reroute(u, v);
-            continue;
-        }
-        if (cost > heap_.key(u) * (1 + 1e-9) + 1e-30) {  // dearer than estimated: requeue
-            heap_.set(u, cost);
-            continue;
-        }
-        if (cost > limit) {
-            result_.reason = SimplifyResult::StopReason::error_limit;
-            break;
-        }
-        if (!valid(u, v, plan)) {
-            reroute(u, v);
-            continue;
-        }
-        max_cost = std::max(max_cost, cost);
-        collapse(u, v, plan);
-        after_collapse(u, v);
-    }
+    if (alive_faces_ <= target) result_.reason = SimplifyResult::StopReason::target_reached;
+    else if (greedy_) run_greedy(target, limit, max_cost);
+    else run_passes(target, limit, max_cost);
     check_progress(progress_, 1.0, "simplify");
 
     // Output: surviving faces in input order.

@@ -47,6 +47,12 @@ struct SimplifyParams {
     bool preserve_seams = true;   // a seam point only moves along its seam; false lets seams close
     bool weld = true;             // also treat vertices at bit-identical positions as one point (glTF)
     Placement placement = Placement::half_edge;
+    // Order of the collapses. passes (default): rounds of independent cheapest-first collapses, each
+    // point touched at most once per round (fast; meshoptimizer's scheme). greedy: one global priority
+    // queue, always the cheapest valid collapse next (slower; kept for comparison). Both give replayable
+    // sequences with the prefix property (a run to a lower target starts with a higher target's run).
+    enum class Schedule { passes, greedy };
+    Schedule schedule = Schedule::passes;
     // A collapse is refused when it turns a face's normal by more than acos(min_normal_dot).
     float min_normal_dot = 0.2f;
     // Morphing meshes (docs/morph.md): further positions of the same vertices, one array per frame (the
