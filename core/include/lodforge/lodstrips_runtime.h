@@ -167,6 +167,16 @@ private:
 
 inline std::int64_t unzigzag(std::uint64_t v) { return static_cast<std::int64_t>(v >> 1) ^ -static_cast<std::int64_t>(v & 1); }
 
+inline unsigned lowest_bit(std::uint64_t x) {  // x != 0
+#if defined(__GNUC__) || defined(__clang__)
+    return static_cast<unsigned>(__builtin_ctzll(x));
+#else
+    unsigned i = 0;
+    while (!(x & 1u)) { x >>= 1; ++i; }
+    return i;
+#endif
+}
+
 inline bool fail(std::string* error, const std::string& what) {
     if (error) *error = what;
     return false;
@@ -528,20 +538,32 @@ public:
     // while moving: the level only moves step by step, so the collapses applied or undone since
     // clear_changes() are exactly those between the lowest and the highest level visited, and their
     // records say which strips they touch from where. Cost: the records of those collapses.
+    // Uses scratch members: not to be called concurrently on one object.
     std::vector<Span> changes() const {
-        std::vector<Span> out;
-        std::vector<std::uint32_t> lo(strip_count(), no_span), strips;
+        std::vector<std::uint32_t>& lo = scratch_lo_;      // no_span outside this call
+        std::vector<std::uint64_t>& seen = scratch_seen_;  // a bit per strip, zero outside this call
+        std::size_t n = 0;
         for (std::size_t k = changed_lo_; k < changed_hi_; ++k) {
             const std::uint32_t* p = program_.data() + program_begin_[k];
             const std::uint32_t* span = p + 3;
             for (std::uint32_t i = 0; i < p[0]; ++i, span += 2) {
-                if (lo[span[1]] == no_span) strips.push_back(span[1]);
-                lo[span[1]] = std::min(lo[span[1]], span[0]);
+                const std::uint32_t s = span[1];
+                n += lo[s] == no_span;
+                seen[s >> 6] |= std::uint64_t(1) << (s & 63u);
+                lo[s] = std::min(lo[s], span[0]);
             }
         }
-        std::sort(strips.begin(), strips.end());
-        out.reserve(strips.size());
-        for (std::uint32_t s : strips) out.push_back({lo[s], data_.strip_offsets[s + 1] - lo[s]});
+        // Strips in order from the bit set (cheaper than sorting the touched strips).
+        std::vector<Span> out;
+        out.reserve(n);
+        for (std::size_t w = 0; w < seen.size() && out.size() < n; ++w) {
+            for (std::uint64_t bits = seen[w]; bits != 0; bits &= bits - 1) {
+                const std::size_t s = w * 64 + detail::lowest_bit(bits);
+                out.push_back({lo[s], data_.strip_offsets[s + 1] - lo[s]});
+                lo[s] = no_span;
+            }
+            seen[w] = 0;
+        }
         return out;
     }
     void clear_changes() { changed_lo_ = changed_hi_ = level_; }
@@ -677,6 +699,8 @@ private:
             counts_[s] = static_cast<std::int32_t>(data_.strip_offsets[s + 1] - data_.strip_offsets[s] - (data_.restart ? 1 : 0));
         level_ = 0;
         changed_lo_ = changed_hi_ = 0;
+        scratch_lo_.assign(S, no_span);
+        scratch_seen_.assign((S + 63) / 64, 0);
     }
 
     std::uint32_t live(std::uint32_t s) const { return static_cast<std::uint32_t>(counts_[s]) + (data_.restart ? 1u : 0u); }
@@ -760,23 +784,28 @@ private:
 #endif
     }
 
+    // Applies the rewrite groups at p: value 0 writes each group's target (collapse), 1 its own vertex
+    // (split). Returns the end of the groups.
+    static const std::uint32_t* rewrite(std::uint32_t* buf, const std::uint32_t* p, std::uint32_t groups, int value) {
+        for (std::uint32_t g = 0; g < groups; ++g) {
+            const std::uint32_t x = p[value], n = p[2];
+            p += 3;
+            for (std::uint32_t i = 0; i < n; i += 4) {
+                buf[p[i]] = x;
+                buf[p[i + 1]] = x;
+                buf[p[i + 2]] = x;
+                buf[p[i + 3]] = x;
+            }
+            p += n;
+        }
+        return p;
+    }
+
     void collapse(std::size_t k) {
         std::uint32_t* buf = buffer_.data();
         const std::uint32_t* p = program_.data() + program_begin_[k];
         const std::uint32_t spans = p[0], groups = p[1], removals = p[2];
-        p += 3;
-        p += 2 * spans;
-        for (std::uint32_t g = 0; g < groups; ++g) {
-            const std::uint32_t t = p[0], n = p[2];
-            p += 3;
-            for (std::uint32_t i = 0; i < n; i += 4) {
-                buf[p[i]] = t;
-                buf[p[i + 1]] = t;
-                buf[p[i + 2]] = t;
-                buf[p[i + 3]] = t;
-            }
-            p += n;
-        }
+        p = rewrite(buf, p + 3 + 2 * spans, groups, 0);
         for (std::uint32_t r = 0; r < removals; ++r, p += 2) {
             const std::uint32_t s = p[0], pos = p[1] & 0xFFFFu, count = (p[1] >> 16) & ~1u;
             std::uint32_t* region = buf + data_.strip_offsets[s];
@@ -823,19 +852,7 @@ private:
                 }
             }
         }
-        p = head + 3;
-        p += 2 * spans;
-        for (std::uint32_t g = 0; g < groups; ++g) {
-            const std::uint32_t v = p[1], n = p[2];
-            p += 3;
-            for (std::uint32_t i = 0; i < n; i += 4) {
-                buf[p[i]] = v;
-                buf[p[i + 1]] = v;
-                buf[p[i + 2]] = v;
-                buf[p[i + 3]] = v;
-            }
-            p += n;
-        }
+        rewrite(buf, head + 3 + 2 * spans, groups, 1);
     }
 
     // Replays every collapse forward and checks each record against the state it must meet: a rewrite
@@ -909,6 +926,8 @@ private:
     std::vector<std::pair<std::uint32_t, std::uint32_t>> spans_;
     std::vector<std::uint32_t> program_begin_, program_;
     std::size_t changed_lo_ = 0, changed_hi_ = 0;  // levels visited since clear_changes()
+    mutable std::vector<std::uint32_t> scratch_lo_;    // changes(): per strip the lowest changed element
+    mutable std::vector<std::uint64_t> scratch_seen_;  // changes(): the strips touched
 };
 
 }  // namespace lodstrips
