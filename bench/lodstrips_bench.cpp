@@ -3,8 +3,9 @@
 // table (docs/benchmarks.md puts them side by side) and, in this run, rebuilding the index buffer of a
 // level from the collapse sequence (replay_collapses), which is what an engine does without LODStrips.
 //
-//   lodforge_bench_lodstrips [--models bunny,dragon2,dragon,frag] [--reps N] [--degenerate]
+//   lodforge_bench_lodstrips [--models bunny,dragon2,dragon,frag] [--reps N] [--degenerate] [--max-strip-length N]
 //   lodforge_bench_lodstrips --load FILE.lodstrips     (the runtime alone, three rounds)
+//   lodforge_bench_lodstrips --save DIR                 (also writes DIR/<model>.lodstrips, for --load)
 
 #include "bench_util.h"
 #include "lodforge/error.h"
@@ -69,6 +70,35 @@ double linear_test(lodstrips::LodStrips& rt, int reps, std::size_t& per_change) 
     return median(ns);
 }
 
+// What an engine adds per LOD change of the linear test: changes() (the spans to upload) and clear_changes(),
+// in microseconds per change (the runtime collects the spans from the records when asked). Timed as the
+// difference between the forward half of the linear test with and without them (a clock read per change
+// would cost as much as what it measures).
+double changes_cost(lodstrips::LodStrips& rt, int reps) {
+    const std::size_t K = rt.collapse_count();
+    std::vector<double> us;
+    volatile std::size_t sink = 0;
+    auto pass = [&](bool with_changes) {
+        rt.go_to_level(0);
+        rt.clear_changes();
+        const double t0 = cpu_seconds();
+        for (std::size_t i = 1; i <= 1000; ++i) {
+            rt.go_to_level(K * i / 1000);
+            if (with_changes) {
+                sink = sink + rt.changes().size();
+                rt.clear_changes();
+            }
+        }
+        return cpu_seconds() - t0;
+    };
+    for (int r = 0; r < reps; ++r) {
+        const double without = pass(false);
+        const double with = pass(true);
+        us.push_back((with - without) * 1e6 / 1000.0);
+    }
+    return median(us);
+}
+
 double random_test(lodstrips::LodStrips& rt, int reps, double& mean_jump) {
     const std::size_t K = rt.collapse_count();
     std::mt19937 rng(42);
@@ -97,15 +127,18 @@ int main(int argc, char** argv) {
     std::string models_arg = "bunny,dragon2,dragon,frag";
     int reps = 5;
     bool degenerate = false;
-    std::string load;
+    std::size_t max_strip_length = LodStripsParams{}.max_strip_length;
+    std::string load, save;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (a == "--models" && i + 1 < argc) models_arg = argv[++i];
         else if (a == "--reps" && i + 1 < argc) reps = std::max(1, std::atoi(argv[++i]));
         else if (a == "--degenerate") degenerate = true;
         else if (a == "--load" && i + 1 < argc) load = argv[++i];
+        else if (a == "--save" && i + 1 < argc) save = argv[++i];
+        else if (a == "--max-strip-length" && i + 1 < argc) max_strip_length = std::size_t(std::atol(argv[++i]));
         else {
-            std::fprintf(stderr, "usage: %s [--models bunny,dragon2,dragon,frag] [--reps N] [--degenerate] [--load FILE]\n", argv[0]);
+            std::fprintf(stderr, "usage: %s [--models bunny,dragon2,dragon,frag] [--reps N] [--degenerate] [--max-strip-length N] [--load FILE] [--save DIR]\n", argv[0]);
             return 2;
         }
     }
@@ -119,8 +152,9 @@ int main(int argc, char** argv) {
             for (int r = 0; r < 3; ++r) {
                 const double linear = linear_test(rt, reps, per_change);
                 const double jump = random_test(rt, reps, mean_jump);
-                std::printf("%s: linear %.1f ns/collapse (%zu per change), random %.1f ns/collapse\n", load.c_str(),
-                            linear, per_change, jump);
+                const double ch = changes_cost(rt, reps);
+                std::printf("%s: linear %.1f ns/collapse (%zu per change), random %.1f ns/collapse, changes() %.2f us/change\n",
+                            load.c_str(), linear, per_change, jump, ch);
             }
         } catch (const std::exception& e) {
             std::fprintf(stderr, "lodforge_bench_lodstrips: %s\n", e.what());
@@ -135,8 +169,8 @@ int main(int argc, char** argv) {
         {"dragon", "dragon (871,414 T)", data + "/scan-dragon/dragon_vrip.ply"},
         {"frag", "frag_115 (127,229 T, normals + RGB)", data + "/color-open3d-frag115/frag_115.ply"},
     };
-    std::printf("LODStrips, %s joins, coarsest level 1%% of the input, strip pieces <= 256 indices, %d reps\n",
-                degenerate ? "degenerate" : "restart", reps);
+    std::printf("LODStrips, %s joins, coarsest level 1%% of the input, strip pieces <= %zu indices, %d reps\n",
+                degenerate ? "degenerate" : "restart", max_strip_length, reps);
     std::printf("%-36s %8s %8s %7s %9s %9s %7s | %8s %8s %10s | %8s %8s | %10s\n", "model", "V", "T", "strips",
                 "collapses", "MB", "ratio", "build s", "simpl s", "linear ns", "jump ns", "jump avg", "rebuild us");
     try {
@@ -146,6 +180,7 @@ int main(int argc, char** argv) {
             const Mesh mesh = read_mesh(it->path);
             LodStripsParams p;
             p.join = degenerate ? StripJoin::degenerate : StripJoin::restart;
+            p.max_strip_length = max_strip_length;
             SimplifyParams sp;
             sp.target_ratio = p.coarsest_ratio;
             auto t0 = Clock::now();
@@ -155,6 +190,7 @@ int main(int argc, char** argv) {
             const LodStripsBuild b = build_lodstrips(mesh, p);
             const double build_s = seconds_since(t0);
             const LodStripsStorage st = lodstrips_storage(b.data);
+            if (!save.empty()) write_lodstrips(b.data, save + "/" + key + (degenerate ? "-degenerate" : "") + ".lodstrips");
             lodstrips::LodStrips rt;
             std::string why;
             if (!rt.assign(b.data, &why)) throw Error(Error::Kind::invalid, why);
@@ -162,6 +198,7 @@ int main(int argc, char** argv) {
             const double linear = linear_test(rt, reps, per_change);
             double mean_jump = 0;
             const double jump = random_test(rt, reps, mean_jump);
+            const double changes_us = changes_cost(rt, reps);
             // Comparator: rebuild the level's index buffer from the collapse sequence.
             std::vector<double> rebuild;
             for (int r = 0; r < 5; ++r) {
@@ -174,6 +211,7 @@ int main(int argc, char** argv) {
                         it->label.c_str(), b.data.vertex_count, b.data.triangles[0], b.data.strip_count(),
                         b.data.collapse_count(), double(st.file_bytes) / 1e6, st.ratio_to_indexed, build_s, simplify_s,
                         linear, jump, mean_jump, median(rebuild));
+            std::printf("    changes(): %.2f us per linear-test change\n", changes_us);
             std::printf("    bytes: vertices %zu, strips %zu, changes %zu (%.2f B/collapse); indexed mesh %zu; "
                         "linear test %zu collapses per change; %zu type-1 and %zu type-2 removals\n",
                         st.vertex_bytes, st.strip_bytes, st.change_bytes,

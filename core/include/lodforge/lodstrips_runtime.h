@@ -167,6 +167,16 @@ private:
 
 inline std::int64_t unzigzag(std::uint64_t v) { return static_cast<std::int64_t>(v >> 1) ^ -static_cast<std::int64_t>(v & 1); }
 
+inline unsigned lowest_bit(std::uint64_t x) {  // x != 0
+#if defined(__GNUC__) || defined(__clang__)
+    return static_cast<unsigned>(__builtin_ctzll(x));
+#else
+    unsigned i = 0;
+    while (!(x & 1u)) { x >>= 1; ++i; }
+    return i;
+#endif
+}
+
 inline bool fail(std::string* error, const std::string& what) {
     if (error) *error = what;
     return false;
@@ -445,6 +455,12 @@ public:
             *this = LodStrips();
             return detail::fail(error, why);
         }
+        if (!compile_program(why)) {
+            *this = LodStrips();
+            return detail::fail(error, why);
+        }
+        span_begin_ = {};
+        spans_ = {};
         reset();
         return true;
     }
@@ -497,32 +513,60 @@ public:
     }
     void go_to_level(std::size_t target) {
         target = std::min(target, collapse_count());
-        // Collapses are in error order, so each one lands somewhere else in the buffer: fetch the strips
-        // of the collapse after next while this one is applied, so the cache misses overlap.
+        // Collapses are in error order, so each one lands somewhere else in the buffer: while one is
+        // applied, fetch the records of the collapse 2d ahead and, through the records of the collapse d
+        // ahead (fetched d collapses ago), the strips it will touch, so the cache misses overlap.
+        constexpr std::size_t d = prefetch_distance;
+        changed_lo_ = std::min(changed_lo_, target);
+        changed_hi_ = std::max(changed_hi_, target);
+        // Past the target too: the next move usually continues in the same direction.
+        const std::size_t K = collapse_count();
         while (level_ < target) {
-            if (level_ + prefetch_distance < target) prefetch(level_ + prefetch_distance);
+            if (level_ + 2 * d < K) prefetch_records(level_ + 2 * d);
+            if (level_ + d < K) prefetch(level_ + d);
             collapse(level_++);
         }
         while (level_ > target) {
-            if (level_ > target + prefetch_distance) prefetch(level_ - 1 - prefetch_distance);
+            if (level_ > 2 * d) prefetch_records(level_ - 1 - 2 * d);
+            if (level_ > d) prefetch(level_ - 1 - d);
             split(--level_);
         }
     }
 
     // Element ranges changed since the last clear_changes() (sorted, one per touched strip), for updating
-    // the engine's copy of the index buffer with glBufferSubData or a staging copy.
+    // the engine's copy of the index buffer with glBufferSubData or a staging copy. Computed here, not
+    // while moving: the level only moves step by step, so the collapses applied or undone since
+    // clear_changes() are exactly those between the lowest and the highest level visited, and their
+    // records say which strips they touch from where. Cost: the records of those collapses.
+    // Uses scratch members: not to be called concurrently on one object.
     std::vector<Span> changes() const {
+        std::vector<std::uint32_t>& lo = scratch_lo_;      // no_span outside this call
+        std::vector<std::uint64_t>& seen = scratch_seen_;  // a bit per strip, zero outside this call
+        std::size_t n = 0;
+        for (std::size_t k = changed_lo_; k < changed_hi_; ++k) {
+            const std::uint32_t* p = program_.data() + program_begin_[k];
+            const std::uint32_t* span = p + 3;
+            for (std::uint32_t i = 0; i < p[0]; ++i, span += 2) {
+                const std::uint32_t s = span[1];
+                n += lo[s] == no_span;
+                seen[s >> 6] |= std::uint64_t(1) << (s & 63u);
+                lo[s] = std::min(lo[s], span[0]);
+            }
+        }
+        // Strips in order from the bit set (cheaper than sorting the touched strips).
         std::vector<Span> out;
-        out.reserve(dirty_.size());
-        std::vector<std::uint32_t> strips = dirty_;
-        std::sort(strips.begin(), strips.end());
-        for (std::uint32_t s : strips) out.push_back({dirty_lo_[s], dirty_hi_[s] - dirty_lo_[s]});
+        out.reserve(n);
+        for (std::size_t w = 0; w < seen.size() && out.size() < n; ++w) {
+            for (std::uint64_t bits = seen[w]; bits != 0; bits &= bits - 1) {
+                const std::size_t s = w * 64 + detail::lowest_bit(bits);
+                out.push_back({lo[s], data_.strip_offsets[s + 1] - lo[s]});
+                lo[s] = no_span;
+            }
+            seen[w] = 0;
+        }
         return out;
     }
-    void clear_changes() {
-        for (std::uint32_t s : dirty_) dirty_lo_[s] = no_span;
-        dirty_.clear();
-    }
+    void clear_changes() { changed_lo_ = changed_hi_ = level_; }
 
     // The triangles the current buffer draws (degenerate ones dropped, odd positions swapped back), three
     // indices each, in strip order. For extraction and tests; engines draw the strips.
@@ -654,54 +698,123 @@ private:
         for (std::size_t s = 0; s < S; ++s)
             counts_[s] = static_cast<std::int32_t>(data_.strip_offsets[s + 1] - data_.strip_offsets[s] - (data_.restart ? 1 : 0));
         level_ = 0;
-        dirty_.clear();
-        dirty_lo_.assign(S, no_span);
-        dirty_hi_.assign(S, 0);
+        changed_lo_ = changed_hi_ = 0;
+        scratch_lo_.assign(S, no_span);
+        scratch_seen_.assign((S + 63) / 64, 0);
     }
 
     std::uint32_t live(std::uint32_t s) const { return static_cast<std::uint32_t>(counts_[s]) + (data_.restart ? 1u : 0u); }
 
-    void mark(std::size_t k) {
-        for (std::uint32_t i = span_begin_[k]; i < span_begin_[k + 1]; ++i) {
-            const std::uint32_t s = spans_[i].first;
-            const std::uint32_t lo = data_.strip_offsets[s] + spans_[i].second;
-            // a removal shifts the tail: everything to the end of the region may change
-            const std::uint32_t hi = data_.strip_offsets[s + 1];
-            if (dirty_lo_[s] == no_span) {
-                dirty_.push_back(s);
-                dirty_lo_[s] = lo;
-                dirty_hi_[s] = hi;
-            } else {
-                dirty_lo_[s] = std::min(dirty_lo_[s], lo);
-            }
+    // The collapse records recompiled for speed: one contiguous run of words per collapse, so a collapse
+    // reads one or two cache lines of records instead of five tables. Layout of collapse k, from
+    // program_[program_begin_[k]]:
+    //   span count S, group count G, removal count R;
+    //   S x (first changed element, strip)                       -- for changes() and prefetching
+    //   G x (target, vertex, n, n element positions)              -- n a multiple of 4: the last position
+    //                                                                is repeated (rewriting it twice is
+    //                                                                harmless), so the loop runs in fours
+    //   R x (strip, pos | (count | (type - 1)) << 16)             -- count is even: its low bit is the type
+    bool compile_program(std::string& why) {
+        const Data& d = data_;
+        const std::size_t K = d.collapse_count();
+        std::uint64_t words = 3u * std::uint64_t(K) + 2u * std::uint64_t(spans_.size()) + 2u * std::uint64_t(d.removals.size());
+        for (std::uint32_t o = 0; o < d.collapse_begin.back(); ++o)
+            words += 3u + (std::uint64_t(d.rewrite_begin[o + 1] - d.rewrite_begin[o]) + 3u) / 4u * 4u;
+        if (words > 0xFFFFFFFFu) {
+            why = "too many collapse records for one model";
+            return false;
         }
+        program_.clear();
+        program_begin_.assign(1, 0);
+        program_.reserve(static_cast<std::size_t>(words));
+        for (std::size_t k = 0; k < K; ++k) {
+            program_.push_back(span_begin_[k + 1] - span_begin_[k]);
+            program_.push_back(d.collapse_begin[k + 1] - d.collapse_begin[k]);
+            program_.push_back(d.removal_begin[k + 1] - d.removal_begin[k]);
+            for (std::uint32_t i = span_begin_[k]; i < span_begin_[k + 1]; ++i) {
+                program_.push_back(d.strip_offsets[spans_[i].first] + spans_[i].second);
+                program_.push_back(spans_[i].first);
+            }
+            for (std::uint32_t o = d.collapse_begin[k]; o < d.collapse_begin[k + 1]; ++o) {
+                const std::uint32_t b = d.rewrite_begin[o], e = d.rewrite_begin[o + 1];
+                const std::uint32_t n = e == b ? 0 : (e - b + 3) / 4 * 4;
+                program_.push_back(d.targets[o]);
+                program_.push_back(d.vertex_of_ordinal(o));
+                program_.push_back(n);
+                for (std::uint32_t i = 0; i < n; ++i) program_.push_back(d.rewrite_positions[std::min(b + i, e - 1)]);
+            }
+            for (std::uint32_t i = d.removal_begin[k]; i < d.removal_begin[k + 1]; ++i) {
+                const Removal& r = d.removals[i];
+                program_.push_back(r.strip);
+                program_.push_back(std::uint32_t(r.pos) | (std::uint32_t(r.count) | std::uint32_t(r.type - 1u)) << 16);
+            }
+            program_begin_.push_back(static_cast<std::uint32_t>(program_.size()));
+        }
+        return true;
     }
 
     static constexpr std::size_t prefetch_distance = 4;
 
+    void prefetch_records(std::size_t k) const {
+#if (defined(__GNUC__) || defined(__clang__)) && !defined(LODSTRIPS_NO_PREFETCH)
+        const std::uint32_t* p = program_.data() + program_begin_[k];
+        __builtin_prefetch(p);
+        __builtin_prefetch(p + 16);
+        __builtin_prefetch(program_.data() + program_begin_[k + 1] - 1);
+#else
+        (void)k;
+#endif
+    }
+
     void prefetch(std::size_t k) const {
 #if (defined(__GNUC__) || defined(__clang__)) && !defined(LODSTRIPS_NO_PREFETCH)
-        for (std::uint32_t i = span_begin_[k]; i < span_begin_[k + 1]; ++i) {
-            const std::uint32_t s = spans_[i].first;
-            const std::uint32_t* p = buffer_.data() + data_.strip_offsets[s] + spans_[i].second;
-            const std::uint32_t* end = buffer_.data() + data_.strip_offsets[s + 1];
-            for (; p < end; p += 16) __builtin_prefetch(p, 1);  // a removal moves the rest of the region
-            __builtin_prefetch(&dirty_lo_[s], 1);
+        const std::uint32_t* p = program_.data() + program_begin_[k];
+        const std::uint32_t n = p[0];
+        const std::uint32_t* span = p + 3;
+        const std::uint32_t* buf = buffer_.data();
+        for (std::uint32_t i = 0; i < n; ++i, span += 2) {
+            // A removal moves the rest of the live part (a split moves it right by a few indices more).
+            const std::uint32_t s = span[1];
+            const std::uint32_t* q = buf + span[0];
+            const std::uint32_t* end = buf + std::min(data_.strip_offsets[s] + live(s) + 16u, data_.strip_offsets[s + 1]);
+            for (; q < end; q += 16) __builtin_prefetch(q, 1);
         }
 #else
         (void)k;
 #endif
     }
 
-    void collapse(std::size_t k) {
-        const Data& d = data_;
-        std::uint32_t* buf = buffer_.data();
-        for (std::uint32_t o = d.collapse_begin[k]; o < d.collapse_begin[k + 1]; ++o) {
-            const std::uint32_t t = d.targets[o];
-            for (std::uint32_t i = d.rewrite_begin[o]; i < d.rewrite_begin[o + 1]; ++i) buf[d.rewrite_positions[i]] = t;
+    // Applies the rewrite groups at p: value 0 writes each group's target (collapse), 1 its own vertex
+    // (split). Returns the end of the groups.
+    static const std::uint32_t* rewrite(std::uint32_t* buf, const std::uint32_t* p, std::uint32_t groups, int value) {
+        for (std::uint32_t g = 0; g < groups; ++g) {
+            const std::uint32_t x = p[value], n = p[2];
+            p += 3;
+            for (std::uint32_t i = 0; i < n; i += 4) {
+                buf[p[i]] = x;
+                buf[p[i + 1]] = x;
+                buf[p[i + 2]] = x;
+                buf[p[i + 3]] = x;
+            }
+            p += n;
         }
-        for (std::uint32_t i = d.removal_begin[k]; i < d.removal_begin[k + 1]; ++i) remove_run(d.removals[i]);
-        mark(k);
+        return p;
+    }
+
+    void collapse(std::size_t k) {
+        std::uint32_t* buf = buffer_.data();
+        const std::uint32_t* p = program_.data() + program_begin_[k];
+        const std::uint32_t spans = p[0], groups = p[1], removals = p[2];
+        p = rewrite(buf, p + 3 + 2 * spans, groups, 0);
+        for (std::uint32_t r = 0; r < removals; ++r, p += 2) {
+            const std::uint32_t s = p[0], pos = p[1] & 0xFFFFu, count = (p[1] >> 16) & ~1u;
+            std::uint32_t* region = buf + data_.strip_offsets[s];
+            const std::uint32_t n = live(s);
+            const std::uint32_t fill = region[data_.strip_offsets[s + 1] - data_.strip_offsets[s] - 1];
+            std::memmove(region + pos, region + pos + count, (n - pos - count) * sizeof(std::uint32_t));
+            std::fill(region + n - count, region + n, fill);
+            counts_[s] -= static_cast<std::int32_t>(count);
+        }
     }
 
     // Removes r.count indices at r.pos: the live tail moves left (the restart index with it) and the freed
@@ -717,29 +830,29 @@ private:
     }
 
     void split(std::size_t k) {
-        const Data& d = data_;
         std::uint32_t* buf = buffer_.data();
-        for (std::uint32_t i = d.removal_begin[k + 1]; i-- > d.removal_begin[k];) {
-            const Removal& r = d.removals[i];
-            std::uint32_t* region = buf + d.strip_offsets[r.strip];
-            counts_[r.strip] += r.count;
-            const std::uint32_t n = live(r.strip);
-            std::memmove(region + r.pos + r.count, region + r.pos, (n - r.pos - r.count) * sizeof(std::uint32_t));
-            if (r.type == 1) {
-                std::fill(region + r.pos, region + r.pos + r.count, region[r.pos - 1]);
+        const std::uint32_t* head = program_.data() + program_begin_[k];
+        const std::uint32_t spans = head[0], groups = head[1], removals = head[2];
+        // Removals in reverse order, from the end of the record.
+        const std::uint32_t* p = program_.data() + program_begin_[k + 1];
+        for (std::uint32_t r = 0; r < removals; ++r) {
+            p -= 2;
+            const std::uint32_t s = p[0], pos = p[1] & 0xFFFFu, code = p[1] >> 16, count = code & ~1u;
+            std::uint32_t* region = buf + data_.strip_offsets[s];
+            counts_[s] += static_cast<std::int32_t>(count);
+            const std::uint32_t n = live(s);
+            std::memmove(region + pos + count, region + pos, (n - pos - count) * sizeof(std::uint32_t));
+            if (!(code & 1u)) {
+                std::fill(region + pos, region + pos + count, region[pos - 1]);
             } else {
-                const std::uint32_t a = region[r.pos - 2], b = region[r.pos - 1];
-                for (std::uint32_t j = 0; j < r.count; j += 2) {
-                    region[r.pos + j] = a;
-                    region[r.pos + j + 1] = b;
+                const std::uint32_t a = region[pos - 2], b = region[pos - 1];
+                for (std::uint32_t j = 0; j < count; j += 2) {
+                    region[pos + j] = a;
+                    region[pos + j + 1] = b;
                 }
             }
         }
-        for (std::uint32_t o = d.collapse_begin[k]; o < d.collapse_begin[k + 1]; ++o) {
-            const std::uint32_t v = d.vertex_of_ordinal(o);
-            for (std::uint32_t i = d.rewrite_begin[o]; i < d.rewrite_begin[o + 1]; ++i) buf[d.rewrite_positions[i]] = v;
-        }
-        mark(k);
+        rewrite(buf, head + 3 + 2 * spans, groups, 1);
     }
 
     // Replays every collapse forward and checks each record against the state it must meet: a rewrite
@@ -811,7 +924,10 @@ private:
     std::size_t level_ = 0;
     std::vector<std::uint32_t> span_begin_;
     std::vector<std::pair<std::uint32_t, std::uint32_t>> spans_;
-    std::vector<std::uint32_t> dirty_, dirty_lo_, dirty_hi_;
+    std::vector<std::uint32_t> program_begin_, program_;
+    std::size_t changed_lo_ = 0, changed_hi_ = 0;  // levels visited since clear_changes()
+    mutable std::vector<std::uint32_t> scratch_lo_;    // changes(): per strip the lowest changed element
+    mutable std::vector<std::uint64_t> scratch_seen_;  // changes(): the strips touched
 };
 
 }  // namespace lodstrips
