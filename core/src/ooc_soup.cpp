@@ -22,6 +22,7 @@
 #include "ooc_internal.h"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <bit>
 #include <condition_variable>
@@ -31,6 +32,7 @@
 #include <thread>
 #include <cmath>
 #include <filesystem>
+#include <iterator>
 #include <system_error>
 
 namespace lodforge {
@@ -446,6 +448,65 @@ std::string TempDirectory::beside(const std::string& output_path) {
 
 // ---- conversion ---------------------------------------------------------------------------------------
 
+namespace {
+
+// Vertices duplicated at one position (UV or normal seams stored as split vertices, common in PLY and
+// OBJ exports) make an interior edge look like two border edges by index. Those are not free: each side
+// may lie in another node, and shrinking them separately would open the seam. So an index border edge
+// counts as a border only when no other index border edge joins the same two positions. One pass over
+// the soup, touching only the (few) border edges; docs/octree.md, "Coarse levels".
+void drop_seam_borders(SoupResult& r) {
+    if (r.border_edges.empty()) return;
+    struct Use {
+        std::array<float, 6> ends;  // the two positions, smaller first
+        std::uint64_t edge;
+        bool operator<(const Use& o) const { return ends < o.ends; }
+    };
+    std::vector<Use> uses;
+    uses.reserve(r.border_edges.size());
+    SoupReader reader(r.path);
+    const std::size_t corner = soup_corner_bytes(reader.layout());
+    std::vector<std::byte> block;
+    while (const std::size_t n = reader.read(1 << 14, block)) {
+        for (std::size_t t = 0; t < n; ++t) {
+            const std::byte* tri = block.data() + t * 3 * corner;
+            for (int k = 0; k < 3; ++k) {
+                const std::byte* ca = tri + k * corner;
+                const std::byte* cb = tri + ((k + 1) % 3) * corner;
+                std::uint32_t a, b;
+                std::memcpy(&a, ca, 4);
+                std::memcpy(&b, cb, 4);
+                if (a == b) continue;
+                const std::uint64_t edge = a < b ? (std::uint64_t{a} << 32 | b) : (std::uint64_t{b} << 32 | a);
+                if (!std::binary_search(r.border_edges.begin(), r.border_edges.end(), edge)) continue;
+                std::array<float, 3> pa, pb;
+                std::memcpy(pa.data(), ca + 4, 12);
+                std::memcpy(pb.data(), cb + 4, 12);
+                if (pb < pa) std::swap(pa, pb);
+                uses.push_back({{pa[0], pa[1], pa[2], pb[0], pb[1], pb[2]}, edge});
+            }
+        }
+    }
+    std::sort(uses.begin(), uses.end());
+    std::vector<std::uint64_t> seams;
+    for (std::size_t i = 0; i < uses.size();) {
+        std::size_t j = i + 1;
+        while (j < uses.size() && uses[j].ends == uses[i].ends) ++j;
+        if (j - i > 1)
+            for (std::size_t k = i; k < j; ++k) seams.push_back(uses[k].edge);
+        i = j;
+    }
+    if (seams.empty()) return;
+    std::sort(seams.begin(), seams.end());
+    std::vector<std::uint64_t> kept;
+    kept.reserve(r.border_edges.size() - std::min(seams.size(), r.border_edges.size()));
+    std::set_difference(r.border_edges.begin(), r.border_edges.end(), seams.begin(), seams.end(), std::back_inserter(kept));
+    r.border_edges.swap(kept);
+}
+
+}  // namespace
+
+
 SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_path, const SoupParams& params,
                            Progress* progress) {
     if (params.memory_bytes < (std::size_t{4} << 20))
@@ -527,6 +588,7 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
             std::vector<float>().swap(vertices);
             edge_worker.finish();
             r.odd_non_manifold_edges = edges.odd_non_manifold(progress, 0.9, 1.0, r.border_edges);
+            drop_seam_borders(r);
             r.temp_bytes_peak = out.bytes();
         } catch (...) {
             std::error_code ignored;
@@ -659,6 +721,7 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
                 out.raw(slots.data(), slots.size());
             }
             out.finish(r);
+            drop_seam_borders(r);
             r.temp_bytes_peak = std::max(r.temp_bytes_peak, refs.bytes() + placed.bytes() + out.bytes());
         }
     } catch (...) {

@@ -297,6 +297,47 @@ TEST(OctreeBuild, TexcoordsSurvive) {
     EXPECT_LT(d.texcoord_rms, 0.2);
 }
 
+// Border edges counted after welding equal positions: what a viewer sees as a crack.
+std::size_t welded_border_edges(const Mesh& m) {
+    std::map<std::tuple<float, float, float>, std::uint32_t> ids;
+    Mesh w = m;
+    for (std::size_t v = 0; v < m.vertex_count(); ++v) {
+        const Vec3f& p = m.positions[v];
+        ids.emplace(std::make_tuple(p.x, p.y, p.z), static_cast<std::uint32_t>(ids.size()));
+    }
+    for (auto& i : w.indices) {
+        const Vec3f& p = m.positions[i];
+        i = ids.at(std::make_tuple(p.x, p.y, p.z));
+    }
+    return edge_counts(w).border;
+}
+
+TEST(OctreeBuild, SeamsOfSplitVerticesStayClosedAtEveryLevelAndAtMixedLevels) {
+    // Spot as a PLY with per-vertex u v: its UV seams are vertices split at one position, so by index
+    // the seams look like 576 border edges; they must not be shrunk like real borders (the coarse-level
+    // chain rule would open them).
+    ScratchDir dir("octree-seams");
+    const Mesh spot = read_mesh(shared_data("tex-spot/spot_triangulated.obj"));
+    write_ply(spot, dir.file("spot.ply"));
+    const Mesh input = read_ply(dir.file("spot.ply"));
+    ASSERT_GT(edge_counts(input).border, 100u) << "the test needs seams of split vertices";
+    ASSERT_EQ(welded_border_edges(input), 0u);
+    OctreeBuildParams p;
+    p.max_triangles = 200;
+    p.max_depth = 8;
+    build_octree(dir.file("spot.ply"), dir.file("spot.lfo"), p);
+    OctreeStore store(dir.file("spot.lfo"));
+    ASSERT_GE(store.level_count(), 4);
+    for (int level = 0; level < store.level_count(); ++level)
+        EXPECT_EQ(welded_border_edges(extract_mesh(store, level_cut(store, level))), 0u) << "level " << level;
+    std::mt19937 rng(3);
+    for (int trial = 0; trial < 20; ++trial) {
+        const Cut cut = random_cut(store, rng);
+        ASSERT_TRUE(is_valid_cut(store, cut));
+        ASSERT_EQ(welded_border_edges(extract_mesh(store, cut)), 0u) << "trial " << trial;
+    }
+}
+
 TEST(OctreeBuild, WedgeTexcoordsSurviveAtEveryLevel) {
     // MeshLab PLYs whose UVs are per face corner (`texcoord` lists), with seams.
     for (const char* name : {"tex-ply-wedge-uv/laurana500.ply", "tex-ply-wedge-uv/matteonormb.ply"}) {
