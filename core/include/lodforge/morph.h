@@ -8,9 +8,10 @@
 // Between keyframes k and k+1, with s the fraction between them: V(t) = (1 − s)·V(k) + s·V(k+1);
 // normals blend the same way and are renormalised.
 //
-// Only case (a) of the issue is built: keyframes that already share one connectivity (OBJ/PLY sequence,
-// glTF morph targets). A supermesh made from two different connectivities (case (b)) would produce the
-// same MorphMesh (connectivity + per-frame positions), so everything downstream applies to it.
+// Case (a) of the issue loads here: keyframes that already share one connectivity (OBJ/PLY sequence,
+// glTF morph targets). Case (b), two meshes of different connectivity, is made into the same MorphMesh
+// (connectivity + per-frame positions) by build_supermesh (supermesh.h), so everything downstream applies
+// to it.
 #pragma once
 
 #include "lodforge/mesh.h"
