@@ -9,6 +9,7 @@
 #include "lodforge/lodstrips.h"
 
 #include "lodforge/error.h"
+#include "lodstrips_record.h"
 
 #include <algorithm>
 #include <cmath>
@@ -18,59 +19,11 @@
 namespace lodforge {
 namespace {
 
+using strip_replay::find_degenerate_run;
+using strip_replay::region_triangles;
+using strip_replay::remove_run;
+
 constexpr std::uint32_t kNone = 0xFFFFFFFFu;
-
-bool degenerate(std::uint32_t a, std::uint32_t b, std::uint32_t c) { return a == b || b == c || a == c; }
-
-std::size_t region_triangles(const std::uint32_t* p, std::uint32_t drawn) {
-    std::size_t n = 0;
-    for (std::uint32_t i = 0; i + 2 < drawn; ++i) n += !degenerate(p[i], p[i + 1], p[i + 2]);
-    return n;
-}
-
-// Removes r.count indices at r.pos exactly as the runtime does (the live tail moves left, the freed slots
-// repeat the region's last slot).
-void remove_run(std::uint32_t* region, std::uint32_t cap, std::uint32_t& live, const lodstrips::Removal& r) {
-    const std::uint32_t fill = region[cap - 1];
-    std::move(region + r.pos + r.count, region + live, region + r.pos);
-    std::fill(region + live - r.count, region + live, fill);
-    live -= r.count;
-}
-
-// Finds the first removable degenerate run in the drawn part [0, drawn) of a strip, scanning from the
-// start: type 1, a run of L >= 4 equal indices, keeps 2 (L even) or 3 (L odd); type 2, an alternation
-// abab.. of p >= 2 pairs, keeps one pair. Only even counts are removed, so the rest of the strip keeps
-// its parity (and every triangle its winding). Returns false when there is none.
-bool find_degenerate_run(const std::uint32_t* p, std::uint32_t drawn, lodstrips::Removal& out) {
-    std::uint32_t i = 0;
-    while (i + 3 < drawn) {
-        if (p[i] == p[i + 1]) {
-            std::uint32_t j = i + 1;
-            while (j < drawn && p[j] == p[i]) ++j;
-            const std::uint32_t run = j - i;
-            if (run >= 4) {
-                const std::uint32_t keep = run % 2 == 0 ? 2 : 3;
-                out.pos = static_cast<std::uint16_t>(i + keep);
-                out.count = static_cast<std::uint16_t>(run - keep);
-                out.type = 1;
-                return true;
-            }
-            i = j - 1;
-            continue;
-        }
-        std::uint32_t j = i + 2;
-        while (j < drawn && p[j] == p[j - 2]) ++j;
-        const std::uint32_t pairs = (j - i) / 2;
-        if (pairs >= 2) {
-            out.pos = static_cast<std::uint16_t>(i + 2);
-            out.count = static_cast<std::uint16_t>(2 * (pairs - 1));
-            out.type = 2;
-            return true;
-        }
-        ++i;
-    }
-    return false;
-}
 
 // Removes every degenerate run of one strip region; `record` sees each removal in order.
 template <class F>
@@ -196,25 +149,7 @@ LodStripsBuild build_lodstrips(const Mesh& mesh, const LodStripsParams& params, 
             d.texcoords[t][2 * c] = uv.x, d.texcoords[t][2 * c + 1] = uv.y;
         }
     }
-    for (const Material& m : mesh.materials) {
-        lodstrips::Material o;
-        o.name = m.name;
-        o.base_color[0] = m.base_color.x, o.base_color[1] = m.base_color.y, o.base_color[2] = m.base_color.z,
-        o.base_color[3] = m.base_color.w;
-        o.metallic = m.metallic, o.roughness = m.roughness;
-        o.emissive[0] = m.emissive.x, o.emissive[1] = m.emissive.y, o.emissive[2] = m.emissive.z;
-        o.double_sided = m.double_sided;
-        o.base_color_texture = m.base_color_texture.path;
-        o.normal_texture = m.normal_texture.path;
-        o.metallic_roughness_texture = m.metallic_roughness_texture.path;
-        o.occlusion_texture = m.occlusion_texture.path;
-        o.emissive_texture = m.emissive_texture.path;
-        o.base_color_texcoord_set = mesh.texcoords.empty()
-                                        ? 0
-                                        : static_cast<std::uint32_t>(std::clamp<int>(m.base_color_texture.texcoord_set, 0,
-                                                                     static_cast<int>(mesh.texcoords.size()) - 1));
-        d.materials.push_back(std::move(o));
-    }
+    for (const Material& m : mesh.materials) d.materials.push_back(strip_replay::strip_material(m, mesh.texcoords.size()));
 
     // Stripify once at full resolution, per material; cut strips into pieces at even positions (the
     // piece after a cut repeats the two indices before it, so no triangle is lost and parity holds).

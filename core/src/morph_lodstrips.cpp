@@ -10,15 +10,15 @@
 //
 // Why not build_lodstrips(): it runs its own simplification of one mesh, while the strips here must
 // follow the MorphLod's sequence (whose costs see every frame) so that a runtime level is exactly the
-// face set extract_morph gives. The public lodstrips.h API has no "record this given sequence" entry, and
-// core/src/lodstrips_*.cpp are being reworked in parallel, so the recording is done here, to the same
-// specification (docs/lodstrips.md: even-count removals, regions, fill of the freed tail), and checked by
-// the runtime's own replay (LodStrips::assign) and by encode_lodstrips.
+// face set extract_morph gives. The public lodstrips.h API has no "record this given sequence" entry, so
+// the recording loop is here, built from the builder's own replay steps (lodstrips_record.h), and checked
+// by the runtime's own replay (LodStrips::assign) and by encode_lodstrips.
 #include "lodforge/morph_lodstrips.h"
 
 #include "lodforge/atomic_file.h"
 #include "lodforge/error.h"
 #include "lodforge/lodstrips.h"
+#include "lodstrips_record.h"
 #include "morph_quantize.h"
 
 #include <algorithm>
@@ -34,77 +34,17 @@ namespace {
 constexpr std::uint32_t kUnused = 0xFFFFFFFFu;
 
 // The strips of one region while the sequence is replayed offline: `live` counts the used slots
-// (restart index included), the rest repeats the region's last slot.
+// (restart index included), the rest repeats the region's last slot. The steps are the builder's
+// (lodstrips_record.h), so the records replay as the runtime expects.
 struct Region {
     std::uint32_t* p = nullptr;
     std::uint32_t cap = 0, live = 0;
     bool restart = true;
     std::uint32_t drawn() const { return live - (restart ? 1u : 0u); }
-    std::size_t triangles() const {
-        std::size_t n = 0;
-        for (std::uint32_t i = 0; i + 2 < drawn(); ++i) n += p[i] != p[i + 1] && p[i + 1] != p[i + 2] && p[i] != p[i + 2];
-        return n;
-    }
-    void erase(std::uint32_t pos, std::uint32_t count) {
-        const std::uint32_t fill = p[cap - 1];
-        std::copy(p + pos + count, p + live, p + pos);
-        std::fill(p + live - count, p + live, fill);
-        live -= count;
-    }
-    // The next removable run of the drawn part, searched from the start: type 1 keeps 2 or 3 copies of a
-    // run of L ≥ 4 equal indices (so an even count goes), type 2 keeps one pair of an alternation of
-    // ≥ 2 pairs. Even counts only: the rest of the strip keeps its parity and winding.
-    bool next_run(lodstrips::Removal& r) const {
-        const std::uint32_t n = drawn();
-        for (std::uint32_t i = 0; i + 3 < n;) {
-            if (p[i] == p[i + 1]) {
-                std::uint32_t e = i + 2;
-                while (e < n && p[e] == p[i]) ++e;
-                const std::uint32_t len = e - i;
-                if (len >= 4) {
-                    const std::uint32_t keep = (len & 1u) ? 3u : 2u;
-                    r.pos = static_cast<std::uint16_t>(i + keep);
-                    r.count = static_cast<std::uint16_t>(len - keep);
-                    r.type = 1;
-                    return true;
-                }
-                i = e - 1;
-                continue;
-            }
-            std::uint32_t e = i + 2;
-            while (e < n && p[e] == p[e - 2]) ++e;
-            if ((e - i) / 2 >= 2) {
-                r.pos = static_cast<std::uint16_t>(i + 2);
-                r.count = static_cast<std::uint16_t>(2 * ((e - i) / 2 - 1));
-                r.type = 2;
-                return true;
-            }
-            ++i;
-        }
-        return false;
-    }
+    std::size_t triangles() const { return strip_replay::region_triangles(p, drawn()); }
+    bool next_run(lodstrips::Removal& r) const { return strip_replay::find_degenerate_run(p, drawn(), r); }
+    void erase(const lodstrips::Removal& r) { strip_replay::remove_run(p, cap, live, r); }
 };
-
-lodstrips::Material strip_material(const Material& m, std::size_t texcoord_sets) {
-    lodstrips::Material o;
-    o.name = m.name;
-    const float bc[4] = {m.base_color.x, m.base_color.y, m.base_color.z, m.base_color.w};
-    std::copy(bc, bc + 4, o.base_color);
-    o.metallic = m.metallic;
-    o.roughness = m.roughness;
-    const float em[3] = {m.emissive.x, m.emissive.y, m.emissive.z};
-    std::copy(em, em + 3, o.emissive);
-    o.double_sided = m.double_sided;
-    o.base_color_texture = m.base_color_texture.path;
-    o.normal_texture = m.normal_texture.path;
-    o.metallic_roughness_texture = m.metallic_roughness_texture.path;
-    o.occlusion_texture = m.occlusion_texture.path;
-    o.emissive_texture = m.emissive_texture.path;
-    if (texcoord_sets > 0)
-        o.base_color_texcoord_set = static_cast<std::uint32_t>(
-            std::clamp<int>(m.base_color_texture.texcoord_set, 0, static_cast<int>(texcoord_sets) - 1));
-    return o;
-}
 
 template <class T>
 void put(std::vector<std::uint8_t>& out, const T& v) {
@@ -264,7 +204,7 @@ MorphStripsBuild build_morph_lodstrips(const MorphMesh& morph, const MorphLod& l
         std::vector<float>& t = d.texcoords.emplace_back(2u * N);
         for (std::uint32_t c = 0; c < N; ++c) t[2 * c] = set[out.input_vertex[c]].x, t[2 * c + 1] = set[out.input_vertex[c]].y;
     }
-    for (const Material& m : mesh.materials) d.materials.push_back(strip_material(m, mesh.texcoords.size()));
+    for (const Material& m : mesh.materials) d.materials.push_back(strip_replay::strip_material(m, mesh.texcoords.size()));
     check_progress(progress, 0.2, "morph strips");
 
     // Strips once at full detail, per material, cut into pieces at even positions (a piece repeats the
@@ -370,7 +310,7 @@ MorphStripsBuild build_morph_lodstrips(const MorphMesh& morph, const MorphLod& l
             while (g.next_run(rm)) {
                 rm.strip = r;
                 d.removals.push_back(rm);
-                g.erase(rm.pos, rm.count);
+                g.erase(rm);
             }
             after += g.triangles();
         }
