@@ -68,22 +68,8 @@ LodStripsBuild build_lodstrips(const Mesh& mesh, const LodStripsParams& params, 
     // input faces for their materials: they are a subsequence of the input faces, in order.
     const std::vector<std::uint32_t> base = replay_collapses(mesh, s, 0);
     const std::size_t nf = base.size() / 3;
-    std::vector<std::uint32_t> face_group(nf, 0);
-    if (!mesh.face_materials.empty()) {
-        std::size_t f = 0;
-        for (std::size_t i = 0; i < nf; ++i) {
-            while (f < mesh.triangle_count() &&
-                   !std::equal(base.begin() + 3 * i, base.begin() + 3 * i + 3, mesh.indices.begin() + 3 * f))
-                ++f;
-            face_group[i] = f < mesh.triangle_count() ? mesh.face_materials[f] : 0;
-            ++f;
-        }
-    }
+    const std::vector<std::uint32_t> face_group = strip_replay::face_groups(mesh, base, "build_lodstrips");
     const std::size_t group_count = std::max<std::size_t>(1, mesh.materials.size());
-    for (std::uint32_t g : face_group)
-        if (g >= group_count)
-            throw Error(Error::Kind::invalid, "build_lodstrips: a face names material " + std::to_string(g) +
-                                                  " of " + std::to_string(mesh.materials.size()));
 
     // Canonical order: vertices no collapse removes first (input order), then the vertices of the last
     // collapse, ..., the vertices of the first collapse last: level k uses the prefix.

@@ -4,11 +4,14 @@
 #pragma once
 
 #include "lodforge/lodstrips.h"
+#include "lodforge/error.h"
 #include "lodforge/mesh.h"
 
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <string>
+#include <vector>
 
 namespace lodforge::strip_replay {
 
@@ -86,6 +89,29 @@ inline ::lodstrips::Material strip_material(const lodforge::Material& m, std::si
             ? 0
             : static_cast<std::uint32_t>(std::clamp<int>(m.base_color_texture.texcoord_set, 0, static_cast<int>(texcoord_sets) - 1));
     return o;
+}
+
+// The material group of each face of `faces` (the faces a replay at level 0 keeps: a subsequence of
+// mesh's faces, in order), matched back to the input faces. Throws Error(invalid), `what` first, when a
+// face names a material the mesh does not have.
+inline std::vector<std::uint32_t> face_groups(const Mesh& mesh, const std::vector<std::uint32_t>& faces, const char* what) {
+    const std::size_t nf = faces.size() / 3;
+    std::vector<std::uint32_t> group(nf, 0);
+    if (mesh.face_materials.empty()) return group;
+    std::size_t f = 0;
+    for (std::size_t i = 0; i < nf; ++i, ++f) {
+        while (f < mesh.triangle_count() &&
+               !std::equal(faces.begin() + std::ptrdiff_t(3 * i), faces.begin() + std::ptrdiff_t(3 * i + 3),
+                           mesh.indices.begin() + std::ptrdiff_t(3 * f)))
+            ++f;
+        group[i] = f < mesh.triangle_count() ? mesh.face_materials[f] : 0;
+    }
+    const std::size_t group_count = std::max<std::size_t>(1, mesh.materials.size());
+    for (std::uint32_t g : group)
+        if (g >= group_count)
+            throw Error(Error::Kind::invalid, std::string(what) + ": a face names material " + std::to_string(g) +
+                                                  " of " + std::to_string(mesh.materials.size()));
+    return group;
 }
 
 }  // namespace lodforge::strip_replay

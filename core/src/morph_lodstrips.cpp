@@ -135,20 +135,8 @@ MorphStripsBuild build_morph_lodstrips(const MorphMesh& morph, const MorphLod& l
     // their materials: they are a subsequence of the input faces, in order.
     const std::vector<std::uint32_t> faces = replay_collapses(mesh, s, 0);
     const std::size_t nf = faces.size() / 3;
-    std::vector<std::uint32_t> face_group(nf, 0);
-    if (!mesh.face_materials.empty()) {
-        std::size_t f = 0;
-        for (std::size_t i = 0; i < nf; ++i, ++f) {
-            while (f < mesh.triangle_count() && !std::equal(faces.begin() + std::ptrdiff_t(3 * i),
-                                                             faces.begin() + std::ptrdiff_t(3 * i + 3),
-                                                             mesh.indices.begin() + std::ptrdiff_t(3 * f)))
-                ++f;
-            face_group[i] = f < mesh.triangle_count() ? mesh.face_materials[f] : 0;
-        }
-    }
+    const std::vector<std::uint32_t> face_group = strip_replay::face_groups(mesh, faces, "morph strips");
     const std::size_t groups = std::max<std::size_t>(1, mesh.materials.size());
-    for (std::uint32_t g : face_group)
-        if (g >= groups) throw Error(Error::Kind::invalid, "morph strips: a face names material " + std::to_string(g));
 
     // Canonical order: never-removed vertices first (input order), then the last collapse's, ..., the
     // first collapse's vertices last, so level k uses a prefix.
