@@ -124,9 +124,13 @@ struct McExtraction {
     std::size_t transition_nodes = 0; // of which have finer neighbours (re-triangulated for the seams)
 };
 
-// Extraction with reusable scratch space (a vertex remap stamped per call) and, built once per tree, every
-// node's triangulations over its life in the cuts (the seams its neighbours bring, in priority order), so an
-// extraction is table look-ups and copies only. The tree must outlive the extractor. Not thread-safe.
+// Extraction with reusable scratch space and, built once per tree, every node's triangulations over its
+// life in the cuts (the seams its neighbours bring, in priority order) with their vertices resolved, laid
+// out in the order the cuts reach the nodes, and the vertices renumbered in the order the cuts first use
+// them: an extraction at priority i reads only the records of the nodes expanded up to i and their
+// children, and the vertices of a prefix of the renumbered vertex arrays (docs/mcoctree.md, D9). Table
+// look-ups and copies only, no work proportional to the whole tree. The tree must outlive the extractor.
+// Not thread-safe (one extractor per thread; the tree may be shared).
 class McOctreeExtractor {
 public:
     explicit McOctreeExtractor(const McOctree& tree);
@@ -147,16 +151,26 @@ public:
 private:
     const McOctree* tree_;
     McExtraction result_;
-    std::vector<std::uint32_t> remap_;     // per tree vertex: stamp, output index
-    std::vector<std::uint32_t> emitted_;   // tree vertex of each output vertex (sized for all of them)
-    // per node: parent's priority << 32 | own priority; in the cut at rank R when parent's <= R < own
-    std::vector<std::uint64_t> lifetime_;
-    // Node i's triangulations: events_[first_event_[i] .. first_event_[i + 1]), each (rank << 32 | offset):
-    // from `rank` expanded nodes on, the node is triangulated by the pool entry at `offset` (triangle count,
-    // whether refined, the 64-bit mask of the sub-edges used, then sub-edge triples).
-    std::vector<std::uint32_t> first_event_;
-    std::vector<std::uint64_t> events_;
+    // Records: the root, then the children of order[0], of order[1], ... (the nodes a cut at rank R can
+    // hold are the first record_start_[R + 1]). Per record its own priority (in the cut while rank < it)
+    // and its events record_event_[k] .. record_event_[k + 1].
+    std::vector<std::uint32_t> record_start_;
+    std::vector<std::uint32_t> record_own_;
+    std::vector<std::uint32_t> record_event_;
+    // Event e: from rank event_rank_[e] on, the node is triangulated by the pool entry at event_entry_[e]
+    // (triangle count, whether refined, local vertex triples) over the vertices
+    // event_ids_[event_first_id_[e] .. event_first_id_[e + 1]) (renumbered ids).
+    std::vector<std::uint32_t> event_rank_;
+    std::vector<std::uint32_t> event_entry_;
+    std::vector<std::uint32_t> event_first_id_;
+    std::vector<std::uint32_t> event_ids_;
     std::vector<std::uint8_t> pool_;
+    // Renumbered vertices (first use in the cuts); empty when the tree's own order is that already.
+    std::vector<Vec3f> positions_, normals_;
+    std::vector<Vec4f> colors_;
+    // prefix_[i] = vertices first used at priority <= i: every vertex of the cut at i is below it.
+    std::vector<std::uint32_t> prefix_;
+    std::vector<std::uint32_t> stamp_, remap_;  // per renumbered vertex
     std::uint32_t generation_ = 0;
 };
 
