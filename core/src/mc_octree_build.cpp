@@ -106,9 +106,65 @@ template <class F> void parallel_for(std::size_t n, unsigned threads, F&& f) {
     for (auto& th : pool) th.join();
 }
 
+// Lattice points grouped in 4x4x4 blocks, numbered in order of first use: one hash look-up per block,
+// behind a direct-mapped cache of recent blocks (16^3 of them, by their low coordinate bits), since the
+// flood, the closing and the nodes' samples mostly touch blocks met just before.
+class Blocks {
+public:
+    explicit Blocks(std::size_t expected) : map_(expected) {}
+    static std::uint32_t local(std::uint64_t key) {
+        return std::uint32_t((key & 3) | ((key >> 17) & 3) << 2 | ((key >> 34) & 3) << 4);
+    }
+    // Block of `key`; `created` is set when the block is new (numbered size() - 1).
+    std::uint32_t of(std::uint64_t key, bool& created) {
+        const std::uint64_t bk = ((key & mc::max_lattice) >> 2) | (((key >> 17) & mc::max_lattice) >> 2) << 17 |
+                                 (((key >> 34) & mc::max_lattice) >> 2) << 34;
+        created = false;
+        Cached& c = cache_[(bk & 15) | ((bk >> 17) & 15) << 4 | ((bk >> 34) & 15) << 8];
+        if (c.key == bk) return c.block;
+        std::uint32_t b = map_.find(bk);
+        if (b == none) {
+            b = static_cast<std::uint32_t>(count_++);
+            map_.insert(bk, b);
+            created = true;
+        }
+        c = {bk, b};
+        return b;
+    }
+    std::size_t size() const { return count_; }
+
+private:
+    struct Cached {
+        std::uint64_t key = ~std::uint64_t(0);
+        std::uint32_t block = 0;
+    };
+    KeyMap map_;
+    std::vector<Cached> cache_ = std::vector<Cached>(4096);
+    std::size_t count_ = 0;
+};
+
+// A set of lattice cubes (by their lower corner) as bits of blocks.
+class CubeSet {
+public:
+    explicit CubeSet(std::size_t expected) : blocks_(expected / 8 + 16) {}
+    // True when `key` was not in the set; it is now.
+    bool insert(std::uint64_t key) {
+        bool created;
+        const std::uint32_t b = blocks_.of(key, created);
+        if (created) bits_.push_back(0);
+        const std::uint64_t bit = std::uint64_t(1) << Blocks::local(key);
+        if (bits_[b] & bit) return false;
+        bits_[b] |= bit;
+        return true;
+    }
+
+private:
+    Blocks blocks_;
+    std::vector<std::uint64_t> bits_;
+};
+
 // The signed distance field on the leaf lattice, evaluated on demand and kept, in a sparse grid of 4x4x4
-// blocks: one hash look-up per block (and a one-entry cache of the last block), so the 8 corners of a cube
-// or the samples of a node mostly cost one look-up together.
+// blocks (Blocks), so the 8 corners of a cube or the samples of a node mostly cost one look-up together.
 class Field {
 public:
     Field(const PointCloud& pc, const KdTree& tree, Vec3f origin, float h, std::uint32_t grid, unsigned threads)
@@ -125,7 +181,7 @@ public:
     void evaluate(std::vector<std::uint64_t>& keys) {
         std::size_t kept = 0;
         for (const std::uint64_t k : keys) {
-            const std::uint32_t b = block_of(k, true);
+            const std::uint32_t b = block_of(k);
             const std::uint64_t bit = std::uint64_t(1) << local(k);
             if ((valid_[b] | pending_[b]) & bit) continue;
             pending_[b] |= bit;
@@ -142,7 +198,7 @@ public:
     }
     // Global index of the value at `key` (evaluated now when unknown).
     std::uint32_t index(std::uint64_t key) {
-        const std::uint32_t b = block_of(key, true);
+        const std::uint32_t b = block_of(key);
         const std::uint32_t i = b * 64 + local(key);
         if (!(valid_[b] & (std::uint64_t(1) << local(key)))) {
             query(key, dist_[i], nearest_[i]);
@@ -151,38 +207,36 @@ public:
         }
         return i;
     }
+    // Memo of the vertex on the leaf edge from `key` along `axis` (none = not made yet), kept with the
+    // field's blocks: neighbouring cubes share edges and read their memos from the same block.
+    std::uint32_t leaf_edge_vertex(std::uint64_t key, int axis) {
+        return edge_vertex_[std::size_t(block_of(key)) * 192 + local(key) * 3 + std::size_t(axis)];
+    }
+    void set_leaf_edge_vertex(std::uint64_t key, int axis, std::uint32_t v) {
+        edge_vertex_[std::size_t(block_of(key)) * 192 + local(key) * 3 + std::size_t(axis)] = v;
+    }
+    void clear_leaf_edge_vertices() { std::fill(edge_vertex_.begin(), edge_vertex_.end(), none); }
     float dist(std::uint32_t i) const { return dist_[i]; }  // signed: < 0 inside
     std::uint32_t nearest(std::uint32_t i) const { return nearest_[i]; }
     bool inside(std::uint64_t key) { return dist_[index(key)] < 0; }
     std::size_t size() const { return evaluated_; }
 
 private:
-    static std::uint64_t block_key(std::uint64_t key) {
-        return ((key & mc::max_lattice) >> 2) | (((key >> 17) & mc::max_lattice) >> 2) << 17 |
-               (((key >> 34) & mc::max_lattice) >> 2) << 34;
-    }
-    static std::uint32_t local(std::uint64_t key) {
-        return std::uint32_t((key & 3) | ((key >> 17) & 3) << 2 | ((key >> 34) & 3) << 4);
-    }
-    std::uint32_t block_of(std::uint64_t key, bool create) {
-        const std::uint64_t bk = block_key(key);
-        if (bk == last_key_) return last_block_;
-        std::uint32_t b = blocks_.find(bk);
-        if (b == none) {
-            if (!create) return none;
-            b = static_cast<std::uint32_t>(valid_.size());
+    static std::uint32_t local(std::uint64_t key) { return Blocks::local(key); }
+    std::uint32_t block_of(std::uint64_t key) {
+        bool created;
+        const std::uint32_t b = blocks_.of(key, created);
+        if (created) {
             valid_.push_back(0);
             pending_.push_back(0);
             dist_.resize(dist_.size() + 64);
             nearest_.resize(nearest_.size() + 64);
-            blocks_.insert(bk, b);
+            edge_vertex_.resize(edge_vertex_.size() + 192, none);
         }
-        last_key_ = bk;
-        last_block_ = b;
         return b;
     }
     void store(std::uint64_t key, float d, std::uint32_t nearest) {
-        const std::uint32_t b = block_of(key, true);
+        const std::uint32_t b = block_of(key);
         dist_[b * 64 + local(key)] = d;
         nearest_[b * 64 + local(key)] = nearest;
         valid_[b] |= std::uint64_t(1) << local(key);
@@ -213,15 +267,14 @@ private:
     float h_;
     std::uint32_t grid_;
     unsigned threads_;
-    KeyMap blocks_{1 << 12};
+    Blocks blocks_{1 << 12};
     std::vector<std::uint64_t> valid_;    // per block: which of its 64 values are evaluated
     std::vector<std::uint64_t> pending_;  // per block: queued in the current evaluate()
     std::vector<float> dist_;
     std::vector<std::uint32_t> nearest_;
+    std::vector<std::uint32_t> edge_vertex_;  // per block: 64 points x 3 axes
     std::vector<float> scratch_d_;
     std::vector<std::uint32_t> scratch_n_;
-    std::uint64_t last_key_ = ~std::uint64_t(0);
-    std::uint32_t last_block_ = 0;
     std::size_t evaluated_ = 0;
 };
 
@@ -330,7 +383,7 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
 
     // Leaf cubes: flood along the surface from the cubes holding points, across every face the surface
     // crosses, so no crossing face of a kept cube leads to an unexamined one (that would be a hole).
-    KeyMap visited(pc.points.size() * 2);
+    CubeSet visited(pc.points.size() * 2);
     std::vector<std::uint64_t> frontier;
     for (const Vec3f& p : pc.points) {
         const Vec3f r = (p - tree.origin) * static_cast<float>(1.0 / h);
@@ -341,7 +394,7 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
     }
     std::sort(frontier.begin(), frontier.end());
     frontier.erase(std::unique(frontier.begin(), frontier.end()), frontier.end());
-    for (std::uint64_t k : frontier) visited.insert(k, 0);
+    for (std::uint64_t k : frontier) visited.insert(k);
     std::vector<TmpNode> leaves;
     std::vector<std::uint64_t> corner_keys, next;
     std::size_t round = 0;
@@ -380,10 +433,7 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
                     n[a] += side ? 1 : -1;
                     if (n[a] < 0 || n[a] >= std::int64_t(grid)) continue;
                     const std::uint64_t nk = pack(std::uint32_t(n[0]), std::uint32_t(n[1]), std::uint32_t(n[2]));
-                    if (visited.find(nk) == none) {
-                        visited.insert(nk, 0);
-                        next.push_back(nk);
-                    }
+                    if (visited.insert(nk)) next.push_back(nk);
                 }
             }
             frontier.swap(next);
@@ -450,10 +500,7 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
                             continue;
                         const std::uint64_t cube = a - std::uint64_t(du) * (std::uint64_t(1) << (17 * u)) -
                                                    std::uint64_t(dv) * (std::uint64_t(1) << (17 * v));
-                        if (visited.find(cube) == none) {
-                            visited.insert(cube, 0);
-                            frontier.push_back(cube);
-                        }
+                        if (visited.insert(cube)) frontier.push_back(cube);
                     }
                 }
             }
@@ -592,10 +639,11 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
         // Vertices: the crossing of an edge at any level is the crossing of the one leaf edge the recursive
         // edge-ratio extension lands on, so all levels share vertices by index.
         check_progress(progress, 0.65, "mcoctree: vertices");
-        KeyMap edge_vertex(node_count * 4);
+        KeyMap edge_vertex(offset[0] * 4);  // coarse edges; leaf edges are memoised in the field's blocks
+        field.clear_leaf_edge_vertices();
         auto leaf_vertex = [&](std::uint64_t a_key, int axis) -> std::uint32_t {
             const std::uint64_t ekey = a_key | (std::uint64_t(axis) << 51);
-            std::uint32_t v = edge_vertex.find(ekey);
+            std::uint32_t v = field.leaf_edge_vertex(a_key, axis);
             if (v != none) return v;
             const std::uint64_t b_key = a_key + (std::uint64_t(1) << (17 * axis));
             const std::uint32_t ia = field.index(a_key), ib = field.index(b_key);
@@ -626,7 +674,7 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
                 tree.colors.push_back({ca.x + (cb.x - ca.x) * t, ca.y + (cb.y - ca.y) * t, ca.z + (cb.z - ca.z) * t,
                                        ca.w + (cb.w - ca.w) * t});
             }
-            edge_vertex.insert(ekey, v);
+            field.set_leaf_edge_vertex(a_key, axis, v);
             return v;
         };
         auto edge_vertex_of = [&](std::uint64_t a_key, int axis, std::uint32_t level) -> std::uint32_t {
@@ -678,10 +726,7 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
                 if ((du && ((a >> (17 * u)) & mc::max_lattice) == 0) || (dv && ((a >> (17 * v)) & mc::max_lattice) == 0)) continue;
                 const std::uint64_t cube = a - std::uint64_t(du) * (std::uint64_t(1) << (17 * u)) -
                                            std::uint64_t(dv) * (std::uint64_t(1) << (17 * v));
-                if (visited.find(cube) == none) {
-                    visited.insert(cube, 0);
-                    frontier.push_back(cube);
-                }
+                if (visited.insert(cube)) frontier.push_back(cube);
             }
         }
         if (frontier.empty() || pass >= 32) break;
