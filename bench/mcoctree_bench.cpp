@@ -176,6 +176,7 @@ int main(int argc, char** argv) {
             const double x0 = cpu_seconds(CLOCK_THREAD_CPUTIME_ID);
             McOctreeExtractor ex(t);
             const double extractor_cpu = cpu_seconds(CLOCK_THREAD_CPUTIME_ID) - x0;
+            malloc_trim(0);  // the constructor's temporaries are gone
             const double extractor_mb = double(status_kb("VmRSS:") - rss0) / 1024.0;
             std::printf("| %zu | %.2f | %.2f | %.2f | %.2f | %.0f | %zu | %zu | %zu | %llu | %.1f | %.2f | %.0f | %s |\n", res, s, cpu,
                         double(t.input_points) / s * 1e-6, double(t.input_points) / cpu * 1e-6,

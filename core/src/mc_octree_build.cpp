@@ -780,21 +780,26 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
             if (!(pn.child_mask & (1u << octant))) return none;
             return pn.first_child + static_cast<std::uint32_t>(std::popcount(unsigned(pn.child_mask) & ((1u << octant) - 1)));
         };
-        for (std::size_t ni = 1; ni < node_count; ++ni) {
-            const McNode& n = tree.nodes[ni];
-            const std::uint32_t* parent_nb = &tree.neighbours[std::size_t(n.parent) * mc::neighbour_slots];
-            const std::int64_t size = std::int64_t(grid >> n.level);
-            for (int sl = 0; sl < mc::neighbour_slots; ++sl) {
-                const auto o = mc::neighbour_offset(sl);
-                const std::int64_t t[3] = {std::int64_t(n.x) + o[0], std::int64_t(n.y) + o[1], std::int64_t(n.z) + o[2]};
-                if (t[0] < 0 || t[1] < 0 || t[2] < 0 || t[0] >= size || t[1] >= size || t[2] >= size) continue;
-                const int octant = int(t[0] & 1) | int(t[1] & 1) << 1 | int(t[2] & 1) << 2;
-                const int po[3] = {int((t[0] >> 1) - std::int64_t(n.x >> 1)), int((t[1] >> 1) - std::int64_t(n.y >> 1)),
-                                   int((t[2] >> 1) - std::int64_t(n.z >> 1))};
-                std::uint32_t up = n.parent;
-                if (po[0] || po[1] || po[2]) up = parent_nb[slot_of[(po[0] + 1) + 3 * (po[1] + 1) + 9 * (po[2] + 1)]];
-                if (up != none) tree.neighbours[ni * mc::neighbour_slots + std::size_t(sl)] = child_at(up, octant);
-            }
+        // A level reads only the level above: its nodes are independent, and split over the threads.
+        for (std::uint32_t l = levels; l-- > 0;) {
+            parallel_for(lv[l].size(), threads, [&, l](std::size_t b, std::size_t e) {
+                for (std::size_t ni = offset[l] + b; ni < offset[l] + e; ++ni) {
+                    const McNode& n = tree.nodes[ni];
+                    const std::uint32_t* parent_nb = &tree.neighbours[std::size_t(n.parent) * mc::neighbour_slots];
+                    const std::int64_t size = std::int64_t(grid >> n.level);
+                    for (int sl = 0; sl < mc::neighbour_slots; ++sl) {
+                        const auto o = mc::neighbour_offset(sl);
+                        const std::int64_t t[3] = {std::int64_t(n.x) + o[0], std::int64_t(n.y) + o[1], std::int64_t(n.z) + o[2]};
+                        if (t[0] < 0 || t[1] < 0 || t[2] < 0 || t[0] >= size || t[1] >= size || t[2] >= size) continue;
+                        const int octant = int(t[0] & 1) | int(t[1] & 1) << 1 | int(t[2] & 1) << 2;
+                        const int po[3] = {int((t[0] >> 1) - std::int64_t(n.x >> 1)), int((t[1] >> 1) - std::int64_t(n.y >> 1)),
+                                           int((t[2] >> 1) - std::int64_t(n.z >> 1))};
+                        std::uint32_t up = n.parent;
+                        if (po[0] || po[1] || po[2]) up = parent_nb[slot_of[(po[0] + 1) + 3 * (po[1] + 1) + 9 * (po[2] + 1)]];
+                        if (up != none) tree.neighbours[ni * mc::neighbour_slots + std::size_t(sl)] = child_at(up, octant);
+                    }
+                }
+            });
         }
     }
 

@@ -152,6 +152,8 @@ McOctreeExtractor::McOctreeExtractor(const McOctree& tree) : tree_(&tree) {
     }
     record_event_[records] = static_cast<std::uint32_t>(event_rank_.size());
     event_first_id_.push_back(static_cast<std::uint32_t>(event_ids_.size()));
+    for (auto* v : {&event_rank_, &event_entry_, &event_first_id_, &event_ids_}) v->shrink_to_fit();
+    pool_.shrink_to_fit();
 
     // Vertices renumbered by the rank that first uses them (ties in record order, so the ids a cut reads
     // go mostly forwards): the cut at rank R uses only vertices below prefix_ of R.

@@ -57,7 +57,15 @@ std::size_t number_mc_octree(McOctree& tree, const std::vector<KeyMap>& maps, Pr
     }
     auto find = [&](std::uint32_t node, int dx, int dy, int dz) -> std::uint32_t {
         const int s = slot_of[(dx + 1) + 3 * (dy + 1) + 9 * (dz + 1)];
-        if (s >= 0) return tree.neighbours[std::size_t(node) * neighbour_slots + std::size_t(s)];
+        const std::uint32_t* nb = &tree.neighbours[std::size_t(node) * neighbour_slots];
+        if (s >= 0) return nb[s];
+        // A corner neighbour is the face neighbour of an edge neighbour, when one of the three exists
+        // (two table reads instead of a hash look-up in a large map).
+        const int paths[3][2] = {{slot_of[(dx + 1) + 3 * (dy + 1) + 9], slot_of[13 + 9 * dz]},
+                                 {slot_of[(dx + 1) + 3 + 9 * (dz + 1)], slot_of[13 + 3 * dy]},
+                                 {slot_of[1 + 3 * (dy + 1) + 9 * (dz + 1)], slot_of[13 + dx]}};
+        for (const auto& path : paths)
+            if (nb[path[0]] != none) return tree.neighbours[std::size_t(nb[path[0]]) * neighbour_slots + std::size_t(path[1])];
         const McNode& a = tree.nodes[node];
         const std::int64_t size = std::int64_t(grid >> a.level);
         const std::int64_t x = std::int64_t(a.x) + dx, y = std::int64_t(a.y) + dy, z = std::int64_t(a.z) + dz;
