@@ -356,9 +356,12 @@ std::size_t untangle_sphere_folds(const SphereTopology& mesh, std::vector<std::a
             D3 x = old, best = old;
             std::size_t worst = 0;
             double best_margin = margin(x, &worst);
-            double step = 0.1 * std::max(1e-6, std::sqrt(sphere::dot(sphere::sub(points[star.nbrs[star.nbr_offset[p]]], old),
-                                                                   sphere::sub(points[star.nbrs[star.nbr_offset[p]]], old))));
-            for (int it = 0; it < 60; ++it) {
+            // Steps from half the star's longest edge down, so the point can cross most of its star.
+            double step = 0;
+            for (std::uint32_t i = star.nbr_offset[p]; i < star.nbr_offset[p + 1]; ++i)
+                step = std::max(step, sphere::norm(sphere::sub(points[star.nbrs[i]], old)));
+            step = std::max(0.5 * step, 1e-9);
+            for (int it = 0; it < 80; ++it) {
                 x = sphere::normalized(sphere::add(x, sphere::mul(normals[worst], step)));
                 const double m = margin(x, &worst);
                 if (m > best_margin) {

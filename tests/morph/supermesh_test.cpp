@@ -318,13 +318,13 @@ void expect_pairs_met(const SupermeshResult& r, const Landmarks& l)
 
 }  // namespace
 
-TEST(Supermesh, SpotAndBunnyWithEightAndTwelvePairs)
+TEST(Supermesh, SpotAndBunnyWithEightTenAndTwelvePairs)
 {
-    // 8 and 12 well-spread pairs on two real meshes (the flow alone stalled beyond 4): Möbius
+    // 8, 10 and 12 well-spread pairs on two real meshes (the flow alone stalled beyond 4): Möbius
     // pre-alignment, both maps flowing halfway, local untangling with the landmarks held.
     const Mesh a = weld_copy(read_mesh(spot()));
     const Mesh b = npm_bunny();
-    for (std::size_t n : {8u, 12u}) {
+    for (std::size_t n : {8u, 10u, 12u}) {
         const Landmarks l = direction_landmarks(a, b, n);
         ASSERT_EQ(l.pairs.size(), n);
         const SupermeshResult r = build_supermesh(a, b, l, {}, "spot", "bunny", "l.json");
