@@ -36,7 +36,7 @@ void add_build(CLI::App& morph, const GlobalOptions& global) {
         std::string output, order = "single", levels = "0.5,0.25,0.1,0.03", landmarks, weights;
         std::string encoding = "16bit", frame_cost = "sum", gltf, strips;
         long long frames = 0, cost_frames = 16;
-        bool close_seams = false;
+        bool close_seams = false, gltf_float = false;
     };
     auto o = std::make_shared<Options>();
     CLI::App* cmd = morph.add_subcommand(
@@ -64,6 +64,8 @@ void add_build(CLI::App& morph, const GlobalOptions& global) {
     cmd->add_option("--gltf", o->gltf,
                     "Also write a .glb: each level a mesh with the frames as morph targets and the source's "
                     "animation, plus the morph LODStrips file (.lfmstrips) next to it (single or naive order)");
+    cmd->add_flag("--gltf-float", o->gltf_float,
+                  "--gltf: float32 morph targets (default: 16-bit positions and 8-bit normals, KHR_mesh_quantization)");
     cmd->add_option("--strips", o->strips, "Also write the morph LODStrips file (.lfmstrips) here");
     cmd->add_option("--landmarks", o->landmarks, "Landmark pairs (vertex of A, vertex of B) aligning two genus-0 meshes (docs/morph.md)");
     cmd->callback([o, &global] {
@@ -111,6 +113,7 @@ void add_build(CLI::App& morph, const GlobalOptions& global) {
             if (strips_path.empty()) strips_path = std::filesystem::path(o->gltf).replace_extension(".lfmstrips").string();
             go.name = std::filesystem::path(o->gltf).stem().string();
             if (!o->gltf.empty()) go.timing = morph_gltf_timing(mesh);
+            go.quantize = !o->gltf_float;
         }
         std::vector<std::string> written;
         try {

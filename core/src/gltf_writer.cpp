@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -27,7 +28,7 @@ namespace {
 
 using nlohmann::ordered_json;
 
-constexpr int kFloat = 5126, kUnsignedShort = 5123, kUnsignedInt = 5125;
+constexpr int kFloat = 5126, kUnsignedShort = 5123, kUnsignedInt = 5125, kByte = 5120, kShort = 5122;
 constexpr int kArrayBuffer = 34962, kElementArrayBuffer = 34963;
 
 // The vertex arrays of one Mesh, drawn by one or more levels.
@@ -83,9 +84,14 @@ public:
                             " values for " + std::to_string(levels.size()) + " levels");
         for (const VertexSource& s : sources_) check_source(*s.mesh);
         if (morph_) check_morph();
+        if (quantized()) prepare_quantization();
 
         doc_["asset"] = {{"generator", options_.generator}, {"version", "2.0"}};
         if (levels.size() > 1) doc_["extensionsUsed"] = ordered_json::array({"MSFT_lod"});
+        if (quantized()) {
+            doc_["extensionsUsed"].push_back("KHR_mesh_quantization");
+            doc_["extensionsRequired"] = ordered_json::array({"KHR_mesh_quantization"});
+        }
         doc_["scene"] = 0;
         doc_["scenes"] = ordered_json::array({{{"nodes", ordered_json::array({0})}}});
 
@@ -98,6 +104,12 @@ public:
             if (morph_) add_mesh_weights(mesh);
             meshes.push_back(std::move(mesh));
             ordered_json node = {{"name", name}, {"mesh", k}};
+            if (quantized()) {
+                // The dequantisation of the targets (and so of the base they are added to): uniform,
+                // so normals keep their directions (KHR_mesh_quantization).
+                node["translation"] = {q_translation_.x, q_translation_.y, q_translation_.z};
+                node["scale"] = {q_scale_, q_scale_, q_scale_};
+            }
             if (k == 0 && levels.size() > 1) {
                 ordered_json ids = ordered_json::array();
                 for (std::size_t j = 1; j < levels.size(); ++j) ids.push_back(j);
@@ -177,7 +189,7 @@ private:
 
     void write_source(VertexSource& s) {
         const Mesh& m = *s.mesh;
-        s.position_view = add_vertex_view(m.positions);
+        s.position_view = add_vertex_view(quantized() ? q_base_ : m.positions);
         if (m.has_normals()) {
             // glTF requires unit normals; an unusable one (zero, NaN) gets +Z rather than failing the file.
             std::vector<Vec3f> unit(m.normals.size());
@@ -208,8 +220,9 @@ private:
         if (s.position_view < 0) write_source(s);
         if (auto it = s.attributes_by_count.find(count); it != s.attributes_by_count.end()) return it->second;
         const Mesh& m = *s.mesh;
+        const std::vector<Vec3f>& positions = quantized() ? q_base_ : m.positions;
         Bounds b;
-        for (std::uint32_t i = 0; i < count; ++i) b.add(m.positions[i]);
+        for (std::uint32_t i = 0; i < count; ++i) b.add(positions[i]);
         ordered_json attrs;
         attrs["POSITION"] = add_accessor({{"bufferView", s.position_view}, {"componentType", kFloat}, {"count", count},
                                           {"type", "VEC3"}, {"min", {b.min.x, b.min.y, b.min.z}},
@@ -414,6 +427,67 @@ private:
     const GlbMorphTargets* morph_ = nullptr;
     std::vector<int> target_position_views_, target_normal_views_;
     std::map<std::uint32_t, ordered_json> targets_by_count_;
+    // KHR_mesh_quantization (GlbMorphTargets::quantize): p = translation + scale * stored
+    Vec3f q_translation_{};
+    float q_scale_ = 1.f;
+    std::vector<Vec3f> q_base_;                       // base positions in the dequantisation frame
+    std::vector<std::vector<std::int16_t>> q_positions_;  // [target][4 * vertex + axis], 4th padding
+    std::vector<bool> q_normal_bytes_;                // per target: BYTE normals (else FLOAT)
+
+    bool quantized() const { return morph_ && morph_->quantize; }
+
+    // One uniform scale for every target: the largest displacement component maps to +-32767. The base
+    // stays float (written once), expressed in the same frame because the node transform applies to
+    // base and deltas alike.
+    void prepare_quantization() {
+        const GlbMorphTargets& m = *morph_;
+        const Mesh& base = *sources_[0].mesh;
+        Bounds b;
+        for (const Vec3f& p : base.positions) b.add(p);
+        q_translation_ = (b.min + b.max) * 0.5f;
+        float largest = 0.f;
+        for (const auto& d : m.position_deltas)
+            for (const Vec3f& v : d) largest = std::max({largest, std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)});
+        q_scale_ = largest > 0.f ? largest : 1.f;
+        q_base_.resize(base.positions.size());
+        for (std::size_t i = 0; i < q_base_.size(); ++i) q_base_[i] = (base.positions[i] - q_translation_) * (1.f / q_scale_);
+    }
+
+    void write_quantized_targets() {
+        const GlbMorphTargets& m = *morph_;
+        auto snorm16 = [](float f) {
+            return static_cast<std::int16_t>(std::clamp(std::lround(f * 32767.f), -32767L, 32767L));
+        };
+        const float inv = 1.f / q_scale_;
+        for (const auto& d : m.position_deltas) {
+            std::vector<std::int16_t>& q = q_positions_.emplace_back(4 * d.size(), std::int16_t{0});
+            for (std::size_t i = 0; i < d.size(); ++i) {
+                q[4 * i] = snorm16(d[i].x * inv);
+                q[4 * i + 1] = snorm16(d[i].y * inv);
+                q[4 * i + 2] = snorm16(d[i].z * inv);
+            }
+            target_position_views_.push_back(add_view(q.data(), q.size() * 2, kArrayBuffer, 8));
+        }
+        // Normal displacements outside [-1, 1] cannot be normalized integers; the spec leaves those to
+        // FLOAT, decided per target.
+        for (const auto& d : m.normal_deltas) {
+            bool fits = true;
+            for (const Vec3f& v : d) fits = fits && std::fabs(v.x) <= 1.f && std::fabs(v.y) <= 1.f && std::fabs(v.z) <= 1.f;
+            q_normal_bytes_.push_back(fits);
+            if (!fits) {
+                target_normal_views_.push_back(add_vertex_view(d));
+                continue;
+            }
+            std::vector<std::int8_t> q(4 * d.size(), std::int8_t{0});
+            auto snorm8 = [](float f) { return static_cast<std::int8_t>(std::clamp(std::lround(f * 127.f), -127L, 127L)); };
+            for (std::size_t i = 0; i < d.size(); ++i) {
+                q[4 * i] = snorm8(d[i].x);
+                q[4 * i + 1] = snorm8(d[i].y);
+                q[4 * i + 2] = snorm8(d[i].z);
+            }
+            target_normal_views_.push_back(add_view(q.data(), q.size(), kArrayBuffer, 4));
+        }
+    }
 
     void check_morph() const {
         const GlbMorphTargets& m = *morph_;
@@ -462,20 +536,47 @@ private:
         (void)source_index;  // one source (check_morph)
         const GlbMorphTargets& m = *morph_;
         if (target_position_views_.empty()) {
-            for (const auto& d : m.position_deltas) target_position_views_.push_back(add_vertex_view(d));
-            for (const auto& d : m.normal_deltas) target_normal_views_.push_back(add_vertex_view(d));
+            if (quantized()) {
+                write_quantized_targets();
+            } else {
+                for (const auto& d : m.position_deltas) target_position_views_.push_back(add_vertex_view(d));
+                for (const auto& d : m.normal_deltas) target_normal_views_.push_back(add_vertex_view(d));
+            }
         }
         ordered_json list = ordered_json::array();
         for (std::size_t t = 0; t < m.position_deltas.size(); ++t) {
-            Bounds b;
-            for (std::uint32_t i = 0; i < count; ++i) b.add(m.position_deltas[t][i]);
             ordered_json target;
-            target["POSITION"] = add_accessor({{"bufferView", target_position_views_[t]}, {"componentType", kFloat},
-                                               {"count", count}, {"type", "VEC3"}, {"min", {b.min.x, b.min.y, b.min.z}},
-                                               {"max", {b.max.x, b.max.y, b.max.z}}});
-            if (!target_normal_views_.empty())
-                target["NORMAL"] = add_accessor({{"bufferView", target_normal_views_[t]}, {"componentType", kFloat},
-                                                 {"count", count}, {"type", "VEC3"}});
+            if (quantized()) {
+                // min/max of an integer accessor are its stored integers, normalized or not (the validator's
+                // reading of the spec).
+                std::array<int, 3> lo{32767, 32767, 32767}, hi{-32767, -32767, -32767};
+                for (std::uint32_t i = 0; i < count; ++i)
+                    for (int c = 0; c < 3; ++c) {
+                        const int q = q_positions_[t][4 * i + static_cast<std::size_t>(c)];
+                        lo[static_cast<std::size_t>(c)] = std::min(lo[static_cast<std::size_t>(c)], q);
+                        hi[static_cast<std::size_t>(c)] = std::max(hi[static_cast<std::size_t>(c)], q);
+                    }
+                target["POSITION"] = add_accessor({{"bufferView", target_position_views_[t]}, {"componentType", kShort},
+                                                   {"normalized", true}, {"count", count}, {"type", "VEC3"},
+                                                   {"min", lo}, {"max", hi}});
+                if (!target_normal_views_.empty()) {
+                    if (q_normal_bytes_[t])
+                        target["NORMAL"] = add_accessor({{"bufferView", target_normal_views_[t]}, {"componentType", kByte},
+                                                         {"normalized", true}, {"count", count}, {"type", "VEC3"}});
+                    else
+                        target["NORMAL"] = add_accessor({{"bufferView", target_normal_views_[t]},
+                                                         {"componentType", kFloat}, {"count", count}, {"type", "VEC3"}});
+                }
+            } else {
+                Bounds b;
+                for (std::uint32_t i = 0; i < count; ++i) b.add(m.position_deltas[t][i]);
+                target["POSITION"] = add_accessor({{"bufferView", target_position_views_[t]}, {"componentType", kFloat},
+                                                   {"count", count}, {"type", "VEC3"}, {"min", {b.min.x, b.min.y, b.min.z}},
+                                                   {"max", {b.max.x, b.max.y, b.max.z}}});
+                if (!target_normal_views_.empty())
+                    target["NORMAL"] = add_accessor({{"bufferView", target_normal_views_[t]}, {"componentType", kFloat},
+                                                     {"count", count}, {"type", "VEC3"}});
+            }
             list.push_back(std::move(target));
         }
         return targets_by_count_.emplace(count, std::move(list)).first->second;

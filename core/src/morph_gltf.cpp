@@ -14,6 +14,8 @@
 #include "lodforge/gltf_io.h"
 #include "lodforge/mesh_io.h"
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 
 namespace lodforge {
@@ -85,7 +87,47 @@ SharedLodBuffers morph_gltf_buffers(const MorphMesh& morph, const MorphLod& lod,
     return out;
 }
 
-GlbMorphTargets morph_gltf_targets(const MorphMesh& morph, const MorphStripsBuild& strips, const MorphGltfTiming& timing) {
+namespace {
+
+// A normal displacement for normalized BYTE storage. n0 + d is normalised by renderers, so any d with
+// n0 + d along n will do: d = λ·n − n0 with the largest λ in (0, 1] whose components lie in [-1, 1]
+// keeps the direction exactly, and BYTE rounding (≤ 1/254 per component) then turns it by about
+// 0.0068/λ rad. λ gets small only when n nearly reverses an axis-aligned n0; there a clamped d can point
+// closer, so the candidate (exact λ, or λ = 1, 1/2, ... 1/32 clamped) whose rounded value points closest
+// to n wins.
+Vec3f fitted_normal_delta(Vec3f n0, Vec3f n) {
+    const Vec3f d = n - n0;
+    if (std::fabs(d.x) <= 1.f && std::fabs(d.y) <= 1.f && std::fabs(d.z) <= 1.f) return d;
+    float lambda = 1.f;
+    for (int i = 0; i < 3; ++i) {
+        const float a = n0[i], b = n[i];
+        if (b > 0.f) lambda = std::min(lambda, (1.f + a) / b);
+        if (b < 0.f) lambda = std::min(lambda, (1.f - a) / -b);
+    }
+    auto candidate = [&](float l) {
+        const Vec3f c = n * l - n0;
+        return Vec3f{std::clamp(c.x, -1.f, 1.f), std::clamp(c.y, -1.f, 1.f), std::clamp(c.z, -1.f, 1.f)};
+    };
+    auto rounded_cosine = [&](Vec3f c) {
+        const Vec3f q{std::round(c.x * 127.f) / 127.f, std::round(c.y * 127.f) / 127.f, std::round(c.z * 127.f) / 127.f};
+        const Vec3f sum = n0 + q;
+        const float len = length(sum);
+        return len > 0.f ? dot(sum, n) / len : -1.f;
+    };
+    Vec3f best = candidate(std::max(lambda, 0.f));
+    float best_cos = rounded_cosine(best);
+    for (float l = 1.f; l >= 1.f / 32.f; l *= 0.5f) {
+        const Vec3f c = candidate(l);
+        const float cs = rounded_cosine(c);
+        if (cs > best_cos) best_cos = cs, best = c;
+    }
+    return best;
+}
+
+}  // namespace
+
+GlbMorphTargets morph_gltf_targets(const MorphMesh& morph, const MorphStripsBuild& strips, const MorphGltfTiming& timing,
+                                   bool quantize) {
     const std::size_t K = morph.frame_count();
     if (K < 2) throw Error(Error::Kind::invalid, "morph glTF: at least two frames are needed for morph targets");
     const std::uint32_t n = strips.data.strips.vertex_count;
@@ -96,10 +138,12 @@ GlbMorphTargets morph_gltf_targets(const MorphMesh& morph, const MorphStripsBuil
         for (std::uint32_t c = 0; c < n; ++c) {
             const std::uint32_t i = strips.input_vertex[c];
             dp[c] = morph.frame_positions[j][i] - morph.frame_positions[0][i];
-            dn[c] = morph.frame_normals[j][i] - morph.frame_normals[0][i];
+            dn[c] = quantize ? fitted_normal_delta(morph.frame_normals[0][i], morph.frame_normals[j][i])
+                             : morph.frame_normals[j][i] - morph.frame_normals[0][i];
         }
         t.names.push_back(j < morph.frame_names.size() ? morph.frame_names[j] : "frame " + std::to_string(j));
     }
+    t.quantize = quantize;
     if (timing.animated) {
         for (std::size_t k = 0; k < K; ++k) {
             t.key_times.push_back(static_cast<float>(timing.start_seconds + timing.seconds_per_frame * double(k)));
@@ -113,7 +157,7 @@ GlbMorphTargets morph_gltf_targets(const MorphMesh& morph, const MorphStripsBuil
 MorphGltfResult write_morph_glb(const MorphMesh& morph, const MorphLod& lod, const MorphStripsBuild& strips,
                                 const MorphGltfOptions& options, const std::string& path, Progress* progress) {
     const SharedLodBuffers shared = morph_gltf_buffers(morph, lod, strips);
-    const GlbMorphTargets targets = morph_gltf_targets(morph, strips, options.timing);
+    const GlbMorphTargets targets = morph_gltf_targets(morph, strips, options.timing, options.quantize);
     GlbOptions go;
     go.name = options.name;
     go.screen_coverage = options.screen_coverage;

@@ -305,6 +305,79 @@ void relax_sphere_slivers(const SphereTopology& mesh, std::vector<std::array<dou
     }
 }
 
+// A point of a folded face moves into the kernel of its star: the region on the sphere where every face
+// around it is positive, p · (q_i × q_{i+1}) > 0 for each link edge (q_i, q_{i+1}) (Freitag and
+// Plassmann's local untangling, on the sphere). The most interior direction — the largest smallest
+// normalised margin — is found by subgradient ascent from the current position; the move is kept when it
+// lowers the star's folds (or keeps a fold-free star fold-free). The other corners and the corners'
+// neighbours get their turn in the same sweep, so a face whose kernel is empty for one corner can still
+// be untangled by another; pinned points never move.
+std::size_t untangle_sphere_folds(const SphereTopology& mesh, std::vector<std::array<double, 3>>& points,
+                                  const std::vector<std::uint8_t>& pinned, int sweeps)
+{
+    const Star star = build_star(mesh);
+    std::vector<D3> normals;
+    for (int sweep = 0; sweep < sweeps; ++sweep) {
+        // The corners of folded faces and their neighbours: a corner whose kernel is empty gets one once
+        // its neighbours have moved to the middle of theirs.
+        std::vector<std::uint32_t> todo;
+        bool any = false;
+        for (const auto& f : mesh.faces)
+            if (!positive(points, f)) {
+                any = true;
+                for (auto p : f) {
+                    if (!pinned[p]) todo.push_back(p);
+                    for (std::uint32_t i = star.nbr_offset[p]; i < star.nbr_offset[p + 1]; ++i)
+                        if (!pinned[star.nbrs[i]]) todo.push_back(star.nbrs[i]);
+                }
+            }
+        if (!any) break;
+        std::sort(todo.begin(), todo.end());
+        todo.erase(std::unique(todo.begin(), todo.end()), todo.end());
+        for (std::uint32_t p : todo) {
+            normals.clear();
+            for (std::uint32_t i = star.offset[p]; i < star.offset[p + 1]; ++i) {
+                const auto& f = mesh.faces[star.faces[i]];
+                const int c = f[0] == p ? 0 : (f[1] == p ? 1 : 2);
+                const D3 n = sphere::cross(points[f[(c + 1) % 3]], points[f[(c + 2) % 3]]);
+                if (sphere::norm(n) > 0) normals.push_back(sphere::normalized(n));
+            }
+            if (normals.empty()) continue;
+            const D3 old = points[p];
+            const std::size_t before = star_folds(points, mesh, star, p);
+            auto margin = [&](const D3& x, std::size_t* worst) {
+                double m = 1e300;
+                for (std::size_t i = 0; i < normals.size(); ++i) {
+                    const double d = sphere::dot(normals[i], x);
+                    if (d < m) m = d, *worst = i;
+                }
+                return m;
+            };
+            D3 x = old, best = old;
+            std::size_t worst = 0;
+            double best_margin = margin(x, &worst);
+            // Steps from half the star's longest edge down, so the point can cross most of its star.
+            double step = 0;
+            for (std::uint32_t i = star.nbr_offset[p]; i < star.nbr_offset[p + 1]; ++i)
+                step = std::max(step, sphere::norm(sphere::sub(points[star.nbrs[i]], old)));
+            step = std::max(0.5 * step, 1e-9);
+            for (int it = 0; it < 80; ++it) {
+                x = sphere::normalized(sphere::add(x, sphere::mul(normals[worst], step)));
+                const double m = margin(x, &worst);
+                if (m > best_margin) {
+                    best_margin = m, best = x;
+                } else {
+                    step *= 0.7;
+                }
+            }
+            points[p] = best;
+            const std::size_t after = star_folds(points, mesh, star, p);
+            if (after > before || (before > 0 && after == before)) points[p] = old;
+        }
+    }
+    return folded_faces(points, mesh);
+}
+
 std::size_t repair_sphere_folds(const SphereTopology& mesh, std::vector<std::array<double, 3>>& points, int sweeps)
 {
     const Star star = build_star(mesh);

@@ -128,9 +128,11 @@ WarpResult landmark_warp(std::vector<D3>& x, const SphereTopology& mesh,
                 f = sphere::sub(f, sphere::mul(x[v], sphere::dot(f, x[v])));
                 y[v] = sphere::normalized(sphere::add(x[v], sphere::mul(f, alpha)));
             }
-            // A smooth near-identity step cannot fold a well-shaped face; slivers left by the sphere map's
-            // fold repair can, and get the same local repair.
-            const bool pos = all_positive(y, mesh.faces) || repair_sphere_folds(mesh, y, 20) == 0;
+            // A smooth near-identity step cannot fold a well-shaped face; slivers can (at any step size: their
+            // orientation changes at first order), and get local untangling with the landmarks held (each
+            // point into the kernel of its star), then the sphere map's own fold repair.
+            bool pos = all_positive(y, mesh.faces);
+            if (!pos) pos = untangle_sphere_folds(mesh, y, pinned, 10) == 0 || repair_sphere_folds(mesh, y, 20) == 0;
             if (pos && max_gap(y, moving, target) < r.residual) moved = true;
         }
         return moved;
@@ -149,6 +151,72 @@ WarpResult landmark_warp(std::vector<D3>& x, const SphereTopology& mesh,
         ++r.steps;
     }
     return r;
+}
+
+// The automorphism of the unit ball taking c (|c| < 1) to the centre, on the sphere: a Möbius map
+// (conformal, orientation-preserving: two reflections) that spreads points away from the direction of c.
+D3 mobius(const D3& x, const D3& c)
+{
+    const D3 d = sphere::sub(x, c);
+    return sphere::normalized(sphere::sub(sphere::mul(d, (1 - sphere::dot(c, c)) / sphere::dot(d, d)), c));
+}
+
+struct MobiusFit {
+    D3 c{0, 0, 0};
+    Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
+    double cost = 0;
+};
+
+// The Möbius map plus rotation that best takes `from` onto `to` (least squares over the ball point c by
+// Nelder–Mead, the rotation by Kabsch for each c). Sphere maps of two shapes differ mostly by where
+// they crowd area, which is what a Möbius map moves; a rotation alone leaves that to the warp.
+MobiusFit fit_mobius(const std::vector<D3>& from, const std::vector<D3>& to)
+{
+    auto evaluate = [&](const D3& c) {
+        MobiusFit f;
+        f.c = c;
+        if (sphere::dot(c, c) > 0.8 * 0.8) {
+            f.cost = 1e300;
+            return f;
+        }
+        std::vector<D3> m(from.size());
+        for (std::size_t i = 0; i < from.size(); ++i) m[i] = mobius(from[i], c);
+        f.rotation = kabsch(m, to);
+        for (std::size_t i = 0; i < m.size(); ++i) {
+            const D3 e = sphere::sub(rotate(f.rotation, m[i]), to[i]);
+            f.cost += sphere::dot(e, e);
+        }
+        return f;
+    };
+    std::array<MobiusFit, 4> simplex;
+    simplex[0] = evaluate({0, 0, 0});
+    for (int k = 0; k < 3; ++k) {
+        D3 c{0, 0, 0};
+        c[std::size_t(k)] = 0.25;
+        simplex[std::size_t(k) + 1] = evaluate(c);
+    }
+    auto blend = [](const D3& a, const D3& b, double t) { return sphere::add(a, sphere::mul(sphere::sub(b, a), t)); };
+    for (int it = 0; it < 400; ++it) {
+        std::sort(simplex.begin(), simplex.end(), [](const MobiusFit& a, const MobiusFit& b) { return a.cost < b.cost; });
+        if (simplex[3].cost - simplex[0].cost < 1e-14) break;
+        const D3 centroid = sphere::mul(sphere::add(sphere::add(simplex[0].c, simplex[1].c), simplex[2].c), 1.0 / 3);
+        const MobiusFit reflected = evaluate(blend(centroid, simplex[3].c, -1));
+        if (reflected.cost < simplex[0].cost) {
+            const MobiusFit expanded = evaluate(blend(centroid, simplex[3].c, -2));
+            simplex[3] = expanded.cost < reflected.cost ? expanded : reflected;
+        } else if (reflected.cost < simplex[2].cost) {
+            simplex[3] = reflected;
+        } else {
+            const MobiusFit contracted = evaluate(blend(centroid, simplex[3].c, 0.5));
+            if (contracted.cost < simplex[3].cost) {
+                simplex[3] = contracted;
+            } else {
+                for (std::size_t k = 1; k < 4; ++k) simplex[k] = evaluate(blend(simplex[0].c, simplex[k].c, 0.5));
+            }
+        }
+    }
+    std::sort(simplex.begin(), simplex.end(), [](const MobiusFit& a, const MobiusFit& b) { return a.cost < b.cost; });
+    return simplex[0];
 }
 
 std::string degrees(double rad)
@@ -188,47 +256,83 @@ SupermeshResult build_supermesh(const Mesh& a, const Mesh& b, const Landmarks& l
         throw_error(Error::Kind::invalid, va < 0 ? source_a : source_b,
                     "the faces are oriented inwards (negative enclosed volume) while the other mesh's face outwards; "
                     "flip one mesh's faces");
-    const SphereMap ma = map_to_sphere(ta, params.sphere, source_a, progress);
+    SphereMap ma = map_to_sphere(ta, params.sphere, source_a, progress);
     SphereMap mb = map_to_sphere(tb, params.sphere, source_b, progress);
 
-    // Rotation, then the fold-free warp that brings each landmark of B onto its partner in A.
+    // Rotation (and, with three pairs or more, a Möbius map), then the fold-free warp that brings the
+    // landmarks of the two maps together.
     std::vector<D3> from, to;
     for (std::size_t i = 0; i < la.size(); ++i) from.push_back(mb.points[lb[i]]), to.push_back(ma.points[la[i]]);
     const Eigen::Matrix3d rot = kabsch(from, to);
-    for (auto& p : mb.points) p = rotate(rot, p);
-    if (!all_positive(mb.points, tb.faces))
+    std::vector<D3> start(mb.points.size());
+    for (std::size_t i = 0; i < start.size(); ++i) start[i] = rotate(rot, mb.points[i]);
+    if (!all_positive(start, tb.faces))
         throw_error(Error::Kind::invalid, source_b, "sphere map: a face folds when the map is rotated (faces too thin)");
     SupermeshResult result;
-    result.rotation_residual = max_gap(mb.points, lb, to);
-    // All pairs at once first; if that stalls, from the saved start one more pair at a time (the pairs
-    // already met held in place), which gets through configurations the joint flow cannot.
-    std::vector<D3> start = mb.points;
-    WarpResult warp = landmark_warp(mb.points, tb, lb, to, params, progress);
-    if (warp.residual > 0.01 && lb.size() > 1) {
-        std::vector<D3> incremental = start;
-        WarpResult inc;
-        int steps = 0;
-        for (std::size_t c = 1; c <= lb.size(); ++c) {
-            const std::vector<std::uint32_t> sub_b(lb.begin(), lb.begin() + long(c));
-            const std::vector<D3> sub_t(to.begin(), to.begin() + long(c));
-            inc = landmark_warp(incremental, tb, sub_b, sub_t, params, progress);
-            steps += inc.steps;
-            if (inc.residual > 0.01) break;
-        }
-        inc.steps = steps;
-        if (inc.residual <= 0.01 && max_gap(incremental, lb, to) <= 0.01) {
-            mb.points.swap(incremental);
-            warp = inc;
-            warp.residual = max_gap(mb.points, lb, to);
+    result.rotation_residual = max_gap(start, lb, to);
+    if (lb.size() >= 3) {
+        const MobiusFit fit = fit_mobius(from, to);
+        std::vector<D3> moved(start.size());
+        for (std::size_t i = 0; i < moved.size(); ++i) moved[i] = rotate(fit.rotation, mobius(mb.points[i], fit.c));
+        // A Möbius map is a bijection of the sphere but can fold a face it stretches much (its chord
+        // triangle is not its image); kept only when it is fold-free (after local repair) and helps.
+        if ((all_positive(moved, tb.faces) || repair_sphere_folds(tb, moved, 20) == 0) &&
+            max_gap(moved, lb, to) < result.rotation_residual) {
+            start.swap(moved);
+            result.mobius_residual = max_gap(start, lb, to);
         }
     }
-    result.landmark_residual = warp.residual;
-    result.warp_steps = warp.steps;
-    if (warp.residual > 0.01)
+    if (result.mobius_residual == 0) result.mobius_residual = result.rotation_residual;
+
+    // Strategies, in order, until the pairs meet: (1) both maps flow halfway, to the pairs' midpoints
+    // (half the displacement each, so half the strain); (2) B's map the whole way; (3) B's map one more
+    // pair at a time, the pairs already met held in place (gets through configurations the joint flow
+    // cannot).
+    struct Aligned {
+        std::vector<D3> a, b;
+        int steps = 0;
+        double gap = 1e300;
+    };
+    auto pair_gap = [&](const Aligned& x) {
+        double g = 0;
+        for (std::size_t i = 0; i < la.size(); ++i) g = std::max(g, sphere::angle_between(x.a[la[i]], x.b[lb[i]]));
+        return g;
+    };
+    auto align = [&](int strategy) {
+        Aligned x{ma.points, start, 0, 0};
+        if (strategy == 0) {
+            std::vector<D3> mid(la.size());
+            for (std::size_t i = 0; i < la.size(); ++i) mid[i] = sphere::normalized(sphere::add(x.a[la[i]], x.b[lb[i]]));
+            x.steps += landmark_warp(x.a, ta, la, mid, params, progress).steps;
+            x.steps += landmark_warp(x.b, tb, lb, mid, params, progress).steps;
+        } else if (strategy == 1) {
+            x.steps = landmark_warp(x.b, tb, lb, to, params, progress).steps;
+        } else {
+            for (std::size_t c = 1; c <= lb.size(); ++c) {
+                const std::vector<std::uint32_t> sub_b(lb.begin(), lb.begin() + long(c));
+                const std::vector<D3> sub_t(to.begin(), to.begin() + long(c));
+                const WarpResult w = landmark_warp(x.b, tb, sub_b, sub_t, params, progress);
+                x.steps += w.steps;
+                if (w.residual > 0.01) break;
+            }
+        }
+        x.gap = pair_gap(x);
+        return x;
+    };
+    Aligned best;
+    for (int strategy = 0; strategy < (lb.size() > 1 ? 3 : 2) && !(best.gap <= 0.01); ++strategy) {
+        Aligned x = align(strategy);
+        if (x.gap < best.gap) best = std::move(x);
+    }
+    result.landmark_residual = best.gap;
+    result.warp_steps = best.steps;
+    if (!(best.gap <= 0.01))
         throw_error(Error::Kind::invalid, landmark_source,
                     "the landmark pairs cannot be brought together without folding the sphere map (still " +
-                        degrees(warp.residual) + " degrees apart after " + std::to_string(warp.steps) +
+                        degrees(best.gap) + " degrees apart after " + std::to_string(best.steps) +
                         " steps); are the pairs in a consistent order on both meshes?");
+    ma.points.swap(best.a);
+    mb.points.swap(best.b);
 
     // Overlay; on a near-degenerate configuration turn B by a tiny rotation and try again.
     sphere::Overlay ov;

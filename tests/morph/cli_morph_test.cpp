@@ -10,6 +10,8 @@
 #include <algorithm>
 #include <array>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 
 namespace {
 
@@ -102,6 +104,18 @@ TEST(CliMorph, BuildWithGltfWritesTheGlbAndTheMorphStripsNextToIt) {
     EXPECT_TRUE(std::filesystem::exists(dir.file("sphere.lfmstrips")));
     const auto v = lodforge::test::run_command(std::string(LODFORGE_GLTF_VALIDATE) + " " + quoted(glb) + " 2>&1");
     EXPECT_EQ(v.exit_code, 0) << v.out;
+    // quantised targets (KHR_mesh_quantization, required) by default; float32 with --gltf-float
+    auto file_text = [](const std::string& path) {
+        std::ifstream in(path, std::ios::binary);
+        return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    };
+    EXPECT_TRUE(contains(file_text(glb), "\"extensionsRequired\":[\"KHR_mesh_quantization\"]"));
+    const std::string float_glb = dir.file("sphere-float.glb");
+    r = run_cli("morph build " + quoted(sphere()) + " -o " + quoted(dir.file("sf.lfmorph")) +
+                " --frames 4 --close-seams --levels 0.5,0.1 --gltf-float --gltf " + quoted(float_glb));
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    EXPECT_FALSE(contains(file_text(float_glb), "KHR_mesh_quantization"));
+    EXPECT_GT(std::filesystem::file_size(float_glb), std::filesystem::file_size(glb));
     // --strips alone, and the per-frame order refused before anything is written
     r = run_cli("morph build " + quoted(horse()) + " -o " + quoted(dir.file("h.lfmorph")) + " --frames 3 --levels 0.5 --strips " +
                 quoted(dir.file("h.lfmstrips")));

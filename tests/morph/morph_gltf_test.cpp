@@ -13,8 +13,11 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
+#include <set>
 
 namespace {
 
@@ -65,12 +68,16 @@ void write_with_root(const test::Glb& glb, std::size_t node, const std::string& 
 }
 
 // Validates, checks the structure, and reads every level back through read_gltf.
-void check_export(const Export& x, const MorphGltfTiming& timing, const std::string& name) {
+// Quantised (the default): positions within the bound of GlbMorphTargets::quantize, relative to the
+// diagonal of every frame's box; normals as directions (renderers normalise n + d), within the BYTE
+// rounding amplified by the fitted scale λ >= 1/4 (morph_gltf_targets).
+void check_export(const Export& x, const MorphGltfTiming& timing, const std::string& name, bool quantize = true) {
     test::ScratchDir dir("morph-gltf-" + name);
     const std::string path = dir.file(name + ".glb");
     MorphGltfOptions o;
     o.name = name;
     o.timing = timing;
+    o.quantize = quantize;
     const MorphGltfResult r = write_morph_glb(x.morph, x.lod, x.strips, o, path);
     const std::size_t K = x.morph.frame_count();
     EXPECT_EQ(r.targets, K - 1);
@@ -85,9 +92,26 @@ void check_export(const Export& x, const MorphGltfTiming& timing, const std::str
     const test::Glb glb = test::split_glb(test::read_bytes(path));
     const auto& meshes = glb.json["meshes"];
     ASSERT_EQ(meshes.size(), r.level_triangles.size());
+    const auto& accessors = glb.json["accessors"];
     for (const auto& mesh : meshes) {
         EXPECT_EQ(mesh["weights"].size(), K - 1);
-        for (const auto& p : mesh["primitives"]) EXPECT_EQ(p["targets"].size(), K - 1) << mesh["name"];
+        for (const auto& p : mesh["primitives"]) {
+            EXPECT_EQ(p["targets"].size(), K - 1) << mesh["name"];
+            for (const auto& t : p["targets"]) {
+                const auto& pos = accessors[t["POSITION"].get<int>()];
+                const auto& nrm = accessors[t["NORMAL"].get<int>()];
+                EXPECT_EQ(pos["componentType"], quantize ? 5122 : 5126) << mesh["name"];
+                EXPECT_EQ(nrm["componentType"], quantize ? 5120 : 5126) << mesh["name"];
+                EXPECT_EQ(pos.value("normalized", false), quantize);
+                EXPECT_EQ(nrm.value("normalized", false), quantize);
+            }
+        }
+    }
+    const auto required = glb.json.value("extensionsRequired", nlohmann::json::array());
+    EXPECT_EQ(required.size(), quantize ? 1u : 0u);
+    if (quantize) {
+        EXPECT_EQ(required[0], "KHR_mesh_quantization");
+        for (const auto& node : glb.json["nodes"]) EXPECT_EQ(node["scale"], glb.json["nodes"][0]["scale"]);
     }
     if (timing.animated) {
         ASSERT_EQ(glb.json["animations"].size(), 1u);
@@ -101,7 +125,17 @@ void check_export(const Export& x, const MorphGltfTiming& timing, const std::str
         EXPECT_FALSE(glb.json.contains("animations"));
     }
 
-    const double tol = 1e-6 * double(x.morph.base.bounds().diagonal()) + 1e-7;
+    Bounds all;
+    for (const auto& frame : x.morph.frame_positions)
+        for (const Vec3f& p : frame) all.add(p);
+    const double diagonal = double(all.diagonal());
+    // The dequantisation step: the uniform node scale over 32767, at most the diagonal over 32767.
+    const double scale = quantize ? glb.json["nodes"][0]["scale"][0].get<double>() : 0.0;
+    EXPECT_LE(scale, diagonal);
+    const double tol = quantize ? 0.5 * scale / 32767.0 + 2e-6 * diagonal : 1e-6 * double(x.morph.base.bounds().diagonal()) + 1e-7;
+    EXPECT_LE(tol, 2.0e-5 * diagonal);  // the bound, relative to the diagonal
+    double worst_normal = 0;
+    std::size_t over = 0, far = 0, normals = 0;
     for (std::size_t level = 0; level < meshes.size(); ++level) {
         const std::string one = dir.file("level" + std::to_string(level) + ".glb");
         write_with_root(glb, level, one);
@@ -127,12 +161,29 @@ void check_export(const Export& x, const MorphGltfTiming& timing, const std::str
                 ASSERT_NEAR(p.z, e.z, tol) << where << " vertex " << c << " frame " << j;
                 const Vec3f n = j == 0 ? m.normals[c] : m.normals[c] + mt.normal_deltas[j - 1][c];
                 const Vec3f en = x.morph.frame_normals[j][i];
-                ASSERT_NEAR(n.x, en.x, 1e-5) << where << " vertex " << c << " frame " << j;
-                ASSERT_NEAR(n.y, en.y, 1e-5) << where;
-                ASSERT_NEAR(n.z, en.z, 1e-5) << where;
+                if (!quantize) {
+                    ASSERT_NEAR(n.x, en.x, 1e-5) << where << " vertex " << c << " frame " << j;
+                    ASSERT_NEAR(n.y, en.y, 1e-5) << where;
+                    ASSERT_NEAR(n.z, en.z, 1e-5) << where;
+                } else {
+                    const float len = length(n);
+                    const double angle =
+                        len > 0 ? std::acos(std::clamp(double(dot(n, en)) / double(len), -1.0, 1.0)) : M_PI;
+                    worst_normal = std::max(worst_normal, angle);
+                    over += angle > 0.01 ? 1 : 0;
+                    far += angle > 0.1 ? 1 : 0;
+                    ++normals;
+                }
             }
         }
     }
+    // BYTE rounding turns a normal by <= 0.0068 rad when its displacement fits; the near-reversals that do
+    // not fit (horse: legs turning past 90 degrees from an axis-aligned normal) are the rest.
+    EXPECT_LE(double(over), 0.015 * double(normals)) << name;
+    EXPECT_LE(double(far), 0.002 * double(normals)) << name;
+    if (quantize)
+        std::printf("%s: worst normal angle %.4f rad, %zu of %zu over 0.01 rad, %zu over 0.1 rad; position bound %.3g of "
+                    "the diagonal\n", name.c_str(), worst_normal, over, normals, far, tol / diagonal);
 }
 
 }  // namespace
@@ -143,6 +194,39 @@ TEST(MorphGltf, HorseGallopExportValidatesAndReloadsEveryLevelsFrames) {
     EXPECT_TRUE(timing.animated);
     EXPECT_DOUBLE_EQ(timing.seconds_per_frame, 1.0 / 30.0);
     check_export(x, timing, "horse");
+}
+
+TEST(MorphGltf, FloatTargetsOnRequestAreExact) {
+    const Export x = make(test::shared_data("seq-horse-gallop"), 3, {0.5f, 0.1f});
+    check_export(x, morph_gltf_timing(x.morph), "horse-float", false);
+}
+
+TEST(MorphGltf, QuantisedTargetsAreAtLeastTwiceSmaller) {
+    const Export x = make(test::shared_data("seq-horse-gallop"), 6, {0.5f, 0.1f});
+    test::ScratchDir dir("morph-gltf-size");
+    MorphGltfOptions o;
+    o.timing = morph_gltf_timing(x.morph);
+    const MorphGltfResult q = write_morph_glb(x.morph, x.lod, x.strips, o, dir.file("q.glb"));
+    o.quantize = false;
+    const MorphGltfResult f = write_morph_glb(x.morph, x.lod, x.strips, o, dir.file("f.glb"));
+    // The target views: per vertex and target 8 + 4 bytes (SHORT positions and BYTE normals, each padded
+    // to 4-byte elements) instead of 12 + 12, once for all levels.
+    auto target_bytes = [](const std::string& path) {
+        const test::Glb glb = test::split_glb(test::read_bytes(path));
+        std::set<int> views;
+        for (const auto& mesh : glb.json["meshes"])
+            for (const auto& p : mesh["primitives"])
+                for (const auto& t : p["targets"])
+                    for (const char* a : {"POSITION", "NORMAL"})
+                        views.insert(glb.json["accessors"][t[a].get<int>()]["bufferView"].get<int>());
+        std::size_t bytes = 0;
+        for (int v : views) bytes += glb.json["bufferViews"][std::size_t(v)]["byteLength"].get<std::size_t>();
+        return bytes;
+    };
+    const std::size_t n = x.strips.data.strips.vertex_count, targets = x.morph.frame_count() - 1;
+    EXPECT_EQ(target_bytes(dir.file("q.glb")), targets * n * 12);
+    EXPECT_EQ(target_bytes(dir.file("f.glb")), targets * n * 24);
+    EXPECT_LT(q.glb.bytes, f.glb.bytes);
 }
 
 TEST(MorphGltf, MorphSphereKeepsItsOwnAnimationTimes) {

@@ -84,6 +84,13 @@ struct GlbMorphTargets {
     std::vector<std::vector<float>> key_weights;
     std::string interpolation = "LINEAR";
     std::string animation_name = "morph";
+    // KHR_mesh_quantization (docs/morph.md, "glTF export"): POSITION deltas as normalized SHORT with one
+    // uniform scale s (the largest displacement component) and translation c on every level node, so
+    // the base positions are written as (p - c) / s (float); NORMAL deltas as normalized BYTE, except a
+    // target with a component outside [-1, 1], which stays FLOAT. The extension is listed in
+    // extensionsUsed and extensionsRequired. Position error <= s / 65534 per component; normal delta
+    // error <= 1 / 254 per component.
+    bool quantize = false;
 };
 
 // As encode_glb(shared, ...) with morph targets. Error(invalid) for targets or keys whose sizes do not

@@ -38,6 +38,9 @@ struct MorphGltfOptions {
     std::string name = "morph";
     MorphGltfTiming timing;
     std::vector<double> screen_coverage;  // per written level (full detail first), or empty
+    // KHR_mesh_quantization targets (normalized SHORT positions, BYTE normals; GlbMorphTargets::quantize),
+    // the default; false writes float32 targets and no extension.
+    bool quantize = true;
 };
 
 struct MorphGltfResult {
@@ -50,7 +53,12 @@ struct MorphGltfResult {
 // The shared buffer: vertex arrays (frame 0, canonical order) and per level (full detail, then each
 // stored level of the LOD) the strips' triangles at that level with their materials.
 SharedLodBuffers morph_gltf_buffers(const MorphMesh& morph, const MorphLod& lod, const MorphStripsBuild& strips);
-GlbMorphTargets morph_gltf_targets(const MorphMesh& morph, const MorphStripsBuild& strips, const MorphGltfTiming& timing);
+// quantize: KHR_mesh_quantization targets (GlbMorphTargets::quantize), and each normal displacement that
+// does not fit normalized BYTE ([-1, 1]) replaced by λ·n_j − n_0 with the largest λ in (0, 1] that fits,
+// so n_0 + d still points along frame j's normal (renderers normalise), or by a clamped one where that
+// points closer after rounding (docs/morph.md, "glTF export").
+GlbMorphTargets morph_gltf_targets(const MorphMesh& morph, const MorphStripsBuild& strips, const MorphGltfTiming& timing,
+                                   bool quantize = false);
 
 MorphGltfResult write_morph_glb(const MorphMesh& morph, const MorphLod& lod, const MorphStripsBuild& strips,
                                 const MorphGltfOptions& options, const std::string& path, Progress* progress = nullptr);

@@ -63,6 +63,10 @@ SphereMap map_to_sphere(const SphereTopology& mesh, const SphereMapParams& param
 // unfolds a face of the point's star) for up to `sweeps` sweeps; returns the faces still folded.
 std::size_t repair_sphere_folds(const SphereTopology& mesh, std::vector<std::array<double, 3>>& points, int sweeps);
 
+// Moves each unpinned point of a folded face into the kernel of its star (where all its faces are
+// positive), when that lowers its star's folds, for up to `sweeps` sweeps; returns the faces still folded.
+std::size_t untangle_sphere_folds(const SphereTopology& mesh, std::vector<std::array<double, 3>>& points,
+                                  const std::vector<std::uint8_t>& pinned, int sweeps);
 // Moves the unpinned points of faces whose smallest corner sine is below min_sine towards their
 // neighbours' centroid when that improves the worst face of their star without folding one.
 void relax_sphere_slivers(const SphereTopology& mesh, std::vector<std::array<double, 3>>& points,
@@ -85,6 +89,7 @@ struct SupermeshResult {
     std::size_t crossings = 0;     // then one vertex per A-edge/B-edge crossing
     double landmark_residual = 0;  // largest angle (radians) between a landmark pair after alignment
     double rotation_residual = 0;  // the same after the rotation only (before the warp)
+    double mobius_residual = 0;    // the same after the rotation and the Möbius map (3+ pairs; else = rotation)
     int warp_steps = 0;
     int overlay_tries = 0;         // 1 when the first overlay was in general position
     double min_face_orient = 0;    // smallest det over the supermesh faces on the sphere (> 0)
@@ -95,7 +100,8 @@ struct SupermeshResult {
 // least one pair and are checked with check_landmarks against `landmark_source`. Attributes other than
 // positions (texcoords, colours, materials) are not carried: the supermesh has positions only and each
 // frame's normals come from its faces. Throws as check_sphere_topology / map_to_sphere, Error(invalid)
-// when the landmarks cannot be brought together without folding the map (inconsistent order of pairs).
+// when the landmarks cannot be brought together without folding the map (rotation, Möbius map, warp
+// with local untangling: docs/morph.md).
 SupermeshResult build_supermesh(const Mesh& a, const Mesh& b, const Landmarks& landmarks,
                                 const SupermeshParams& params, const std::string& source_a,
                                 const std::string& source_b, const std::string& landmark_source,
