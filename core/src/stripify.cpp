@@ -378,7 +378,7 @@ StripifyResult stripify(std::span<const std::uint32_t> indices, std::size_t vert
     }
     r.triangles = tri.size() / 3;
 
-    if (params.optimize_cache && params.order == StripOrder::cache) {
+    if (params.optimize_cache && params.order == StripOrder::cache && !tri.empty()) {
         check_progress(progress, 0.0, "stripify: cache order");
         std::vector<std::uint32_t> ordered(tri.size());
         meshopt_optimizeVertexCacheStrip(ordered.data(), tri.data(), tri.size(), vertex_count);

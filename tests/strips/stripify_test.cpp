@@ -126,6 +126,11 @@ TEST(Stripify, EmptyMesh) {
         EXPECT_EQ(r.acmr, 0.0);
         const StripifyResult m = stripify(Mesh{}, params(join));
         EXPECT_TRUE(m.indices.empty());
+        StripifyParams cache = params(join);
+        cache.order = StripOrder::cache;
+        EXPECT_TRUE(stripify(Idx{}, 0, cache).strips.empty());
+        EXPECT_TRUE(stripify(Idx{1, 1, 2}, 3, cache).indices.empty());  // only a degenerate triangle
+        check_strips(Idx{4, 2, 7}, 8, stripify(Idx{4, 2, 7}, 8, cache), "cache order, one triangle");
     }
 }
 
