@@ -1,7 +1,8 @@
 // Stripification benchmark: LodForge's stripify() (restart and degenerate joins) against meshoptimizer's
 // meshopt_stripify (file order, and after meshopt_optimizeVertexCacheStrip) and vtkStripper, in one run.
 //
-// Printed per method: indices per triangle of the one buffer to draw (restart / join indices included;
+// lodforge runs with both triangle orders (StripOrder::run_off, the default, and StripOrder::cache, strips
+// grown along meshopt_optimizeVertexCacheStrip's order). Printed per method: indices per triangle of the one buffer to draw (restart / join indices included;
 // vtkStripper's strips are counted as if joined by restart indices), number of strips, ACMR of that buffer
 // for a FIFO cache of 16 and 32 vertices (lodforge::acmr, the same simulation for every method), seconds
 // of the call(s) alone in thread CPU time (median of --reps; no file reading or conversion) and million input
@@ -9,7 +10,7 @@
 // lodforge and meshoptimizer; vtkStripper is checked as a set of unoriented triangles).
 //
 //   lodforge_bench_stripify [--models bunny,dragon2,dragon,frag] [--reps N] [--window N] [--no-vtk] [--orders]
-//   (--orders adds both cache orders alone as triangle lists: optimize_vertex_cache, meshopt_optimizeVertexCacheStrip)
+//   (--window N overrides the orders' own default window; --orders adds both cache orders alone as triangle lists: optimize_vertex_cache, meshopt_optimizeVertexCacheStrip)
 
 #include "bench_util.h"
 #include "lodforge/error.h"
@@ -204,18 +205,23 @@ int main(int argc, char** argv) {
             std::fflush(stdout);
         };
         Output o;
-        for (StripJoin join : {StripJoin::restart, StripJoin::degenerate}) {
-            StripifyParams p;
-            p.join = join;
-            p.window = window;
-            const double s = time_median(reps, [&] {
-                StripifyResult r = stripify(mesh, p);
-                return Output{std::move(r.indices),
-                              join == StripJoin::restart ? Primitive::strip_restart : Primitive::strip_degenerate,
-                              r.strips.size()};
-            }, o);
-            report(join == StripJoin::restart ? "lodforge stripify, restart" : "lodforge stripify, degenerate", s, o,
-                   true);
+        for (StripOrder order : {StripOrder::run_off, StripOrder::cache}) {
+            for (StripJoin join : {StripJoin::restart, StripJoin::degenerate}) {
+                StripifyParams p;
+                p.join = join;
+                p.order = order;
+                p.window = window;
+                const double s = time_median(reps, [&] {
+                    StripifyResult r = stripify(mesh, p);
+                    return Output{std::move(r.indices),
+                                  join == StripJoin::restart ? Primitive::strip_restart : Primitive::strip_degenerate,
+                                  r.strips.size()};
+                }, o);
+                const std::string name = std::string("lodforge stripify, ") +
+                                         (order == StripOrder::run_off ? "run_off" : "cache") + " order, " +
+                                         (join == StripJoin::restart ? "restart" : "degenerate");
+                report(name.c_str(), s, o, true);
+            }
         }
         if (orders) {  // the two triangle orders alone, as lists: where the strips' ACMR comes from
             const double s = time_median(reps, [&] {

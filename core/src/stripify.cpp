@@ -6,6 +6,8 @@
 // Kapoulkine, meshoptimizer src/stripifier.cpp (growing strips along a cache-optimised order, the
 //   "a b a c" swap chosen when the default exit edge leads nowhere).
 // Ramos et al., "LODStrips", 2008 (why the individual strips are kept).
+// StripOrder::cache takes its order from meshoptimizer's meshopt_optimizeVertexCacheStrip (Kapoulkine,
+//   src/vcacheoptimizer.cpp; Forsyth's algorithm with score tables tuned for strips).
 
 #include "lodforge/stripify.h"
 
@@ -16,6 +18,8 @@
 #include <cmath>
 #include <limits>
 #include <string>
+
+#include <meshoptimizer.h>
 
 namespace lodforge {
 
@@ -374,7 +378,12 @@ StripifyResult stripify(std::span<const std::uint32_t> indices, std::size_t vert
     }
     r.triangles = tri.size() / 3;
 
-    if (params.optimize_cache) {
+    if (params.optimize_cache && params.order == StripOrder::cache && !tri.empty()) {
+        check_progress(progress, 0.0, "stripify: cache order");
+        std::vector<std::uint32_t> ordered(tri.size());
+        meshopt_optimizeVertexCacheStrip(ordered.data(), tri.data(), tri.size(), vertex_count);
+        tri = std::move(ordered);
+    } else if (params.optimize_cache) {
         const std::vector<std::uint32_t> order = forsyth_order(tri, vertex_count, params.cache_size, progress);
         std::vector<std::uint32_t> ordered;
         ordered.reserve(tri.size());
@@ -382,7 +391,11 @@ StripifyResult stripify(std::span<const std::uint32_t> indices, std::size_t vert
         tri = std::move(ordered);
     }
 
-    StripBuilder builder(tri, vertex_count, params.window);
+    // meshopt's order runs off in strips less than ours: a strip must look further ahead to stay long, and
+    // 5 keeps ACMR16 and ACMR32 below meshopt_stripify's on that order (docs/stripify.md, window sweep).
+    const std::size_t window = params.window != default_window ? params.window
+                               : params.optimize_cache && params.order == StripOrder::cache ? 5 : 1;
+    StripBuilder builder(tri, vertex_count, window);
     r.strips = builder.run(r.swaps, progress);
     join_strips(r);
     const Primitive primitive = r.join == StripJoin::restart ? Primitive::strip_restart : Primitive::strip_degenerate;

@@ -27,8 +27,23 @@ enum class StripJoin {
                  // the next strip on an even position so its winding stays right)
 };
 
+// Which triangle order the strips grow along (both skipped with optimize_cache = false).
+enum class StripOrder {
+    // lodforge's Forsyth variant that lets the order run off in strips: the fewest strips and indices and
+    // the lower ACMR for a 16-entry cache (what LODStrips uses).
+    run_off,
+    // meshoptimizer's meshopt_optimizeVertexCacheStrip order, strips grown in a wider window: a few more
+    // indices, the lower ACMR for a 32-entry cache; on the benchmark models it has fewer indices than
+    // meshopt_stripify on that order and no worse ACMR at 16 and 32 (docs/stripify.md).
+    cache,
+};
+
+// StripifyParams::window value meaning "the order's own default" (1 for run_off, 5 for cache).
+inline constexpr std::size_t default_window = std::size_t(-1);
+
 struct StripifyParams {
     StripJoin join = StripJoin::restart;
+    StripOrder order = StripOrder::run_off;
     // FIFO cache size the triangle order is tuned for (sizes above 64 order as 64) and the reported ACMR is
     // measured with (>= 3).
     std::size_t cache_size = 16;
@@ -37,9 +52,10 @@ struct StripifyParams {
     bool optimize_cache = true;
     // How far a strip may leave the cache order: it may take a triangle whose rank in the order is below
     // (first unstripped rank) + window + (triangles the strip already holds), a window that slides as the
-    // strip consumes the order. 1 follows the order closely (best ACMR, and on scans also the fewest
-    // indices: docs/stripify.md); 0 means unlimited (long strips that ignore the order, ACMR near 1).
-    std::size_t window = 1;
+    // strip consumes the order. 1 follows the order closely (best ACMR with the run_off order, and on scans
+    // also the fewest indices: docs/stripify.md); 0 means unlimited (long strips that ignore the order, ACMR
+    // near 1); default_window picks 1 for run_off and 5 for cache (measured best, docs/stripify.md).
+    std::size_t window = default_window;
 };
 
 struct StripifyResult {
