@@ -263,17 +263,24 @@ class MorphLodStrips {
 public:
     using Span = LodStrips::Span;
 
+    // On failure (of the decoder or of assign) the object is left empty.
     bool load_memory(const void* bytes, std::size_t size, std::string* error = nullptr) {
         MorphData d;
-        if (!decode_morph(bytes, size, d, error)) return false;
+        if (!decode_morph(bytes, size, d, error)) {
+            *this = MorphLodStrips();
+            return false;
+        }
         return assign(std::move(d), error);
     }
 
     bool load_file(const std::string& path, std::string* error = nullptr) {
         std::ifstream in(path, std::ios::binary);
-        if (!in) return detail::fail(error, "cannot open for reading");
-        const std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-        if (in.bad()) return detail::fail(error, "read error");
+        const std::vector<char> bytes = in ? std::vector<char>((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>())
+                                           : std::vector<char>();
+        if (!in.is_open() || in.bad()) {
+            *this = MorphLodStrips();
+            return detail::fail(error, in.is_open() ? "read error" : "cannot open for reading");
+        }
         return load_memory(bytes.data(), bytes.size(), error);
     }
 
