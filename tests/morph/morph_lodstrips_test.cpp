@@ -28,74 +28,50 @@ struct Fixture {
     MorphStripsBuild strips;
 };
 
+Fixture make_fixture(const std::string& path, std::size_t frames, MorphOrder order, std::vector<float> levels,
+                     bool close_seams, const MorphStripsParams& sp = {}) {
+    Fixture x;
+    MorphLoadOptions o;
+    o.frames = frames;
+    x.morph = load_morph(test::shared_data(path), o);
+    MorphLodParams p;
+    p.order = order;
+    p.levels = std::move(levels);
+    p.simplify.preserve_seams = !close_seams;
+    x.lod = build_morph_lod(x.morph, p);
+    x.strips = build_morph_lodstrips(x.morph, x.lod, sp);
+    return x;
+}
+
+// The sphere: flat-shaded (every edge is a seam, docs/morph.md), so seams close; the other join mode.
+MorphStripsParams sphere_strips() {
+    MorphStripsParams sp;
+    sp.join = StripJoin::degenerate;
+    sp.max_strip_length = 32;
+    return sp;
+}
+
+const char* const horse_path = "seq-horse-gallop";
+const char* const sphere_path = "morph-animated-morph-sphere/AnimatedMorphSphere.gltf";
+
 const Fixture& horse() {
-    static const Fixture f = [] {
-        Fixture x;
-        MorphLoadOptions o;
-        o.frames = 5;
-        x.morph = load_morph(test::shared_data("seq-horse-gallop"), o);
-        MorphLodParams p;
-        p.levels = {0.5f, 0.25f, 0.1f, 0.03f};
-        x.lod = build_morph_lod(x.morph, p);
-        x.strips = build_morph_lodstrips(x.morph, x.lod);
-        return x;
-    }();
+    static const Fixture f = make_fixture(horse_path, 5, MorphOrder::single, {0.5f, 0.25f, 0.1f, 0.03f}, false);
     return f;
 }
 
 // Per-frame orders: one change set per keyframe over one strip set.
 const Fixture& horse_per_frame() {
-    static const Fixture f = [] {
-        Fixture x;
-        MorphLoadOptions o;
-        o.frames = 4;
-        x.morph = load_morph(test::shared_data("seq-horse-gallop"), o);
-        MorphLodParams p;
-        p.order = MorphOrder::per_frame;
-        p.levels = {0.5f, 0.1f, 0.03f};
-        x.lod = build_morph_lod(x.morph, p);
-        x.strips = build_morph_lodstrips(x.morph, x.lod);
-        return x;
-    }();
+    static const Fixture f = make_fixture(horse_path, 4, MorphOrder::per_frame, {0.5f, 0.1f, 0.03f}, false);
     return f;
 }
 
 const Fixture& sphere_per_frame() {
-    static const Fixture f = [] {
-        Fixture x;
-        MorphLoadOptions o;
-        o.frames = 9;
-        x.morph = load_morph(test::shared_data("morph-animated-morph-sphere/AnimatedMorphSphere.gltf"), o);
-        MorphLodParams p;
-        p.order = MorphOrder::per_frame;
-        p.levels = {0.5f, 0.1f};
-        p.simplify.preserve_seams = false;  // flat-shaded: every edge is a seam (docs/morph.md)
-        x.lod = build_morph_lod(x.morph, p);
-        MorphStripsParams sp;
-        sp.join = StripJoin::degenerate;
-        sp.max_strip_length = 32;
-        x.strips = build_morph_lodstrips(x.morph, x.lod, sp);
-        return x;
-    }();
+    static const Fixture f = make_fixture(sphere_path, 9, MorphOrder::per_frame, {0.5f, 0.1f}, true, sphere_strips());
     return f;
 }
 
 const Fixture& sphere() {
-    static const Fixture f = [] {
-        Fixture x;
-        MorphLoadOptions o;
-        o.frames = 9;
-        x.morph = load_morph(test::shared_data("morph-animated-morph-sphere/AnimatedMorphSphere.gltf"), o);
-        MorphLodParams p;
-        p.levels = {0.5f, 0.1f};
-        p.simplify.preserve_seams = false;  // flat-shaded: every edge is a seam (docs/morph.md)
-        x.lod = build_morph_lod(x.morph, p);
-        MorphStripsParams sp;
-        sp.join = StripJoin::degenerate;  // the other join mode
-        sp.max_strip_length = 32;
-        x.strips = build_morph_lodstrips(x.morph, x.lod, sp);
-        return x;
-    }();
+    static const Fixture f = make_fixture(sphere_path, 9, MorphOrder::single, {0.5f, 0.1f}, true, sphere_strips());
     return f;
 }
 
