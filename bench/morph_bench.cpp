@@ -139,7 +139,8 @@ void strips_section(const MorphMesh& morph, const std::vector<MorphLod>& lods, s
         if (!rt.assign(b.data, &why)) throw Error(Error::Kind::invalid, why);
         const std::size_t heap2 = heap_bytes();
         std::printf("\nruntime heap: %.1f MB with %zu change sets, %.1f MB with change set 0 alone\n",
-                    double(heap2 - heap1) / 1048576.0, rt.change_set_count(), double(heap1 - heap0) / 1048576.0);
+                    (double(heap2) - double(heap1)) / 1048576.0, rt.change_set_count(),
+                    (double(heap1) - double(heap0)) / 1048576.0);
         const std::size_t sets = rt.change_set_count();
         const auto t_of = [&](std::size_t q) { return double(rt.change_set_frame(q)) / std::max(1.0, K - 1.0); };
         // a quarter frame past a keyframe: still that keyframe's set, and every case blends two frames
