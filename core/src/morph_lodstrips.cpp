@@ -113,8 +113,12 @@ std::vector<std::uint8_t> sets_payload(const lodstrips::MorphData& d) {
         if (cs.to_base.size() != n) throw Error(Error::Kind::invalid, what + ": numbering has the wrong size");
         for (std::uint32_t v : cs.to_base) put_varint(out, v);
         const std::size_t C = r.collapse_count();
+        const auto ranges = [](const std::vector<std::uint32_t>& begin, std::size_t end) {
+            return !begin.empty() && begin.front() == 0 && begin.back() == end && std::is_sorted(begin.begin(), begin.end());
+        };
         if (r.triangles.size() != C + 1 || r.removal_begin.size() != C + 1 || r.rewrite_begin.size() != r.targets.size() + 1 ||
-            r.collapse_begin.back() != r.targets.size() || r.targets.size() > n)
+            !ranges(r.collapse_begin, r.targets.size()) || !ranges(r.rewrite_begin, r.rewrite_positions.size()) ||
+            !ranges(r.removal_begin, r.removals.size()) || r.targets.size() > n)
             throw Error(Error::Kind::invalid, what + ": records have inconsistent sizes");
         put_varint(out, C);
         for (std::size_t k = 0; k < C; ++k) {

@@ -523,6 +523,17 @@ TEST(MorphLodStrips, DamagedPerFrameFilesAreRefusedWithTheFileNamed) {
     d = f.strips.data;
     d.frame_sets[0].records.removals[0].pos ^= 2;
     expect_bad("removal.lfmstrips", d, "change set 1");
+    // in-memory records the writer cannot encode: Error(invalid) naming the set, no file
+    d = f.strips.data;
+    d.frame_sets[1].records.collapse_begin.clear();
+    try {
+        write_morph_lodstrips(d, dir.file("unwritable.lfmstrips"));
+        ADD_FAILURE() << "inconsistent records written";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.kind(), Error::Kind::invalid);
+        EXPECT_NE(std::string(e.what()).find("change set 2"), std::string::npos) << e.what();
+    }
+    EXPECT_FALSE(std::filesystem::exists(dir.file("unwritable.lfmstrips")));
 }
 
 TEST(MorphLodStrips, StorageIsAtLeastFourTimesBelowTheThesis) {
