@@ -138,16 +138,22 @@ void strips_section(const MorphMesh& morph, const std::vector<MorphLod>& lods, s
         lodstrips::MorphLodStrips rt;
         if (!rt.assign(b.data, &why)) throw Error(Error::Kind::invalid, why);
         const std::size_t heap2 = heap_bytes();
-        std::printf("\nruntime heap: %.1f MB with %zu change sets, %.1f MB with change set 0 alone\n",
+        lodstrips::MorphLodStrips lim;  // one further set live: the others parked as records
+        lim.set_live_set_limit(1);
+        if (!lim.assign(b.data, &why)) throw Error(Error::Kind::invalid, why);
+        const std::size_t heap3 = heap_bytes();
+        std::printf("\nruntime heap: %.1f MB with %zu change sets live, %.1f MB with one further set live "
+                    "(set_live_set_limit(1)), %.1f MB with change set 0 alone\n",
                     (double(heap2) - double(heap1)) / 1048576.0, rt.change_set_count(),
-                    (double(heap1) - double(heap0)) / 1048576.0);
+                    (double(heap3) - double(heap2)) / 1048576.0, (double(heap1) - double(heap0)) / 1048576.0);
         const std::size_t sets = rt.change_set_count();
         const auto t_of = [&](std::size_t q) { return double(rt.change_set_frame(q)) / std::max(1.0, K - 1.0); };
         // a quarter frame past a keyframe: still that keyframe's set, and every case blends two frames
         const double step = 0.25 / std::max(1.0, K - 1.0);
         std::printf("\n%s, %zu change sets: frame-switch cost (median of %zu)\n\n| LOD factor | triangles | set_frame, same set, ms "
                     "| set_frame, switch to a set at the level, ms | set_frame, switch to a set at full detail, ms | "
-                    "upload after a switch: indices + vertices, KB |\n|---|---|---|---|---|---|\n",
+                    "upload after a switch: indices + vertices, KB | switch to a parked set (limit 1: rebuild), ms |\n"
+                    "|---|---|---|---|---|---|---|\n",
                     morph_order_name(lod->order), sets, reps);
         for (double f : {1.0, 0.5, 0.0}) {
             rt.go_to_lod(f);
@@ -170,7 +176,10 @@ void strips_section(const MorphMesh& morph, const std::vector<MorphLod>& lods, s
             const double upload = double(rt.index_count() * 4 + rt.vertex_count() * 24) / 1024.0;
             rt.clear_changes();
             rt.clear_vertex_changes();
-            std::printf("| %.1f | %zu | %.4f | %.4f | %.4f | %.1f |\n", f, tris, same, warm, cold[cold.size() / 2], upload);
+            lim.go_to_lod(f);
+            const double parked = median_ms(reps, [&](std::size_t r) { lim.set_frame(t_of((r * 7 + 3) % sets) + step); });
+            std::printf("| %.1f | %zu | %.4f | %.4f | %.4f | %.1f | %.4f |\n", f, tris, same, warm, cold[cold.size() / 2],
+                        upload, parked);
         }
     }
 }

@@ -271,6 +271,36 @@ void expect_coarsen_refine_identical(const Fixture& f) {
     }
 }
 
+TEST(MorphLodStrips, ALiveSetLimitGivesTheSameBuffers) {
+    // Parked sets are rebuilt from their records when needed: every state equals the all-live runtime's.
+    const Fixture& f = horse_per_frame();
+    lodstrips::MorphLodStrips all, two;
+    two.set_live_set_limit(1);
+    ASSERT_TRUE(all.assign(f.strips.data));
+    ASSERT_TRUE(two.assign(f.strips.data));
+    EXPECT_EQ(two.live_set_count(), 2u);  // set 0 and the active one
+    EXPECT_EQ(all.live_set_count(), f.strips.data.change_set_count());
+    const std::pair<double, double> steps[] = {{0.4, 0.1}, {0.9, 0.7}, {0.05, 0.0}, {0.7, 0.0}, {0.4, 0.3},
+                                               {1.0, 0.3}, {0.35, 1.0}, {0.62, 0.5}, {0.0, 0.2}};
+    for (const auto& [t, lod] : steps) {
+        all.set_frame(t);
+        all.go_to_lod(lod);
+        two.go_to_lod(lod);
+        two.set_frame(t);
+        ASSERT_EQ(all.change_set(), two.change_set()) << t;
+        ASSERT_LE(two.live_set_count(), 2u);
+        ASSERT_EQ(all.index_count(), two.index_count());
+        ASSERT_TRUE(std::equal(all.indices(), all.indices() + all.index_count(), two.indices())) << t << " " << lod;
+        ASSERT_EQ(all.vertex_count(), two.vertex_count());
+        ASSERT_TRUE(std::equal(all.positions(), all.positions() + 3 * all.vertex_count(), two.positions()));
+        ASSERT_EQ(runtime_faces(two, f.strips), reference_faces(f, t, lod)) << t << " " << lod;
+    }
+    two.set_live_set_limit(0);  // lifting the limit keeps what is live, rebuilds the rest on demand
+    two.set_frame(0.7);
+    all.set_frame(0.7);
+    ASSERT_TRUE(std::equal(all.indices(), all.indices() + all.index_count(), two.indices()));
+}
+
 TEST(MorphLodStrips, CoarsenThenRefineIsByteIdentical) {
     expect_coarsen_refine_identical(horse());
     expect_coarsen_refine_identical(horse_per_frame());

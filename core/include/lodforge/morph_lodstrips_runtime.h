@@ -287,12 +287,30 @@ public:
     // Checks the frames, each change set's numbering, then every change set's strips (LodStrips::assign
     // replays every record). Starts at full detail and t = 0. On failure the object is left empty.
     bool assign(MorphData d, std::string* error = nullptr) {
+        const std::size_t limit = max_live_;
         *this = MorphLodStrips();
+        max_live_ = limit;
         if (!take(std::move(d), error)) {
             *this = MorphLodStrips();
+            max_live_ = limit;
             return false;
         }
         return true;
+    }
+
+    // Memory against switch time (docs/morph.md): at most n further change sets (besides set 0) keep a
+    // live runtime, their element buffer at their level; the others keep only their records and are
+    // rebuilt when set_frame needs them (one replay of the set's records, as at load), least recently
+    // used first out. 0 = every set live (the default). Kept across assign/load. Buffers are the same
+    // either way: a set's buffer depends only on its level.
+    void set_live_set_limit(std::size_t n) {
+        max_live_ = n;
+        if (!sets_.empty()) make_live(active_);
+    }
+    std::size_t live_set_count() const {
+        std::size_t n = 0;
+        for (std::uint8_t l : live_) n += l;
+        return n;
     }
 
     std::size_t frame_count() const { return frame_count_; }
@@ -326,6 +344,7 @@ public:
         const std::size_t want = change_set_at(t_);
         if (want != active_) {
             active_ = want;
+            make_live(active_);
             replay_request();
             sets_[active_].clear_changes();  // the whole buffer is reported instead
             switched_ = true;
@@ -440,44 +459,11 @@ private:
             }
         }
         // Further sets: the shared strips and vertex data in the set's numbering, with its own records.
+        for (const std::uint32_t e : d.strips.initial_indices)
+            if (e != restart_index && e >= n) return detail::fail(error, "an initial index is out of range");
         std::vector<Data> more;
         for (MorphChangeSet& cs : d.frame_sets) {
-            Data x;
-            const std::vector<std::uint32_t>& to = cs.to_base;
-            std::vector<std::uint32_t> from_base(n);
-            for (std::uint32_t c = 0; c < n; ++c) from_base[to[c]] = c;
-            x.vertex_count = n;
-            auto gather = [&](const std::vector<float>& src, std::size_t width) {
-                std::vector<float> out(src.empty() ? 0 : width * n);
-                if (src.size() == width * n)
-                    for (std::uint32_t c = 0; c < n && !src.empty(); ++c)
-                        std::copy(src.begin() + std::ptrdiff_t(width * to[c]), src.begin() + std::ptrdiff_t(width * to[c] + width),
-                                  out.begin() + std::ptrdiff_t(width * c));
-                return out;
-            };
-            x.positions = gather(d.strips.positions, 3);
-            // no normals: the runtime's own (blended) are what is drawn, and they cost 12 bytes a vertex per set
-            x.colors = gather(d.strips.colors, 4);
-            x.colors_8bit = d.strips.colors_8bit;
-            for (const auto& set : d.strips.texcoords) x.texcoords.push_back(gather(set, 2));
-            x.materials = d.strips.materials;
-            x.restart = d.strips.restart;
-            x.strip_offsets = d.strips.strip_offsets;
-            x.strip_materials = d.strips.strip_materials;
-            x.initial_indices = d.strips.initial_indices;
-            for (std::uint32_t& e : x.initial_indices)
-                if (e != restart_index) {
-                    if (e >= n) return detail::fail(error, "an initial index is out of range");
-                    e = from_base[e];
-                }
-            x.collapse_begin = std::move(cs.records.collapse_begin);
-            x.targets = std::move(cs.records.targets);
-            x.rewrite_begin = std::move(cs.records.rewrite_begin);
-            x.rewrite_positions = std::move(cs.records.rewrite_positions);
-            x.removal_begin = std::move(cs.records.removal_begin);
-            x.removals = std::move(cs.records.removals);
-            x.triangles = std::move(cs.records.triangles);
-            more.push_back(std::move(x));
+            more.push_back(set_data(d.strips, cs.to_base, std::move(cs.records)));
             ids_.push_back(std::move(cs.to_base));
         }
         frame_positions_ = std::move(d.frame_positions);
@@ -490,10 +476,90 @@ private:
         if (!sets_[0].assign(std::move(d.strips), &why)) return detail::fail(error, more.empty() ? why : "change set 0: " + why);
         for (std::size_t i = 0; i < more.size(); ++i)
             if (!sets_[i + 1].assign(std::move(more[i]), &why)) return detail::fail(error, "change set " + std::to_string(i + 1) + ": " + why);
+        live_.assign(sets_.size(), 1);
+        parked_.resize(sets_.size());
+        last_use_.assign(sets_.size(), 0);
         positions_.assign(3u * std::size_t(vertices_), 0.f);
         normals_.assign(3u * std::size_t(vertices_), 0.f);
         set_frame(0.0);
+        make_live(active_);  // applies the live-set limit
         return true;
+    }
+
+    // The strips of change set 0 (`base`: layout, vertex arrays, file numbering) renumbered into a further
+    // set's numbering (`to`: set vertex → base vertex, a permutation), with that set's records.
+    static Data set_data(const Data& base, const std::vector<std::uint32_t>& to, Data&& records) {
+        const std::uint32_t n = base.vertex_count;
+        Data x;
+        std::vector<std::uint32_t> from_base(n);
+        for (std::uint32_t c = 0; c < n; ++c) from_base[to[c]] = c;
+        x.vertex_count = n;
+        auto gather = [&](const std::vector<float>& src, std::size_t width) {
+            std::vector<float> out(src.size() == width * n ? width * n : 0);
+            for (std::uint32_t c = 0; c < n && !out.empty(); ++c)
+                std::copy(src.begin() + std::ptrdiff_t(width * to[c]), src.begin() + std::ptrdiff_t(width * to[c] + width),
+                          out.begin() + std::ptrdiff_t(width * c));
+            return out;
+        };
+        x.positions = gather(base.positions, 3);
+        // no normals: the runtime's own (blended) are what is drawn, and they cost 12 bytes a vertex per set
+        x.colors = gather(base.colors, 4);
+        x.colors_8bit = base.colors_8bit;
+        for (const auto& set : base.texcoords) x.texcoords.push_back(gather(set, 2));
+        x.materials = base.materials;
+        x.restart = base.restart;
+        x.strip_offsets = base.strip_offsets;
+        x.strip_materials = base.strip_materials;
+        x.initial_indices = base.initial_indices;
+        for (std::uint32_t& e : x.initial_indices)
+            if (e != restart_index) e = from_base[e];
+        x.collapse_begin = std::move(records.collapse_begin);
+        x.targets = std::move(records.targets);
+        x.rewrite_begin = std::move(records.rewrite_begin);
+        x.rewrite_positions = std::move(records.rewrite_positions);
+        x.removal_begin = std::move(records.removal_begin);
+        x.removals = std::move(records.removals);
+        x.triangles = std::move(records.triangles);
+        return x;
+    }
+
+    // Makes set q live (rebuilding its runtime from its parked records) and parks the least recently used
+    // others beyond the limit. Set 0 (the base) and the active set stay live.
+    void make_live(std::size_t q) {
+        last_use_[q] = ++clock_;
+        if (!live_[q]) {
+            Data records = std::move(parked_[q]);
+            parked_[q] = Data();
+            // the same data passed LodStrips::assign at load, so this cannot fail
+            sets_[q].assign(set_data(sets_[0].data(), ids_[q], std::move(records)));
+            live_[q] = 1;
+        }
+        if (max_live_ == 0) return;
+        for (;;) {
+            std::size_t live = 0, oldest = 0;
+            for (std::size_t i = 1; i < sets_.size(); ++i)
+                if (live_[i]) {
+                    ++live;
+                    if (i != q && (oldest == 0 || last_use_[i] < last_use_[oldest])) oldest = i;
+                }
+            if (live <= max_live_ || oldest == 0) return;
+            park(oldest);
+        }
+    }
+
+    // Keeps only set q's records (what the file holds for it) and drops its runtime.
+    void park(std::size_t q) {
+        const Data& d = sets_[q].data();
+        Data& r = parked_[q];
+        r.collapse_begin = d.collapse_begin;
+        r.targets = d.targets;
+        r.rewrite_begin = d.rewrite_begin;
+        r.rewrite_positions = d.rewrite_positions;
+        r.removal_begin = d.removal_begin;
+        r.removals = d.removals;
+        r.triangles = d.triangles;
+        sets_[q] = LodStrips();
+        live_[q] = 0;
     }
 
     // Blends vertices [blended_, upto) of the active numbering at t_.
@@ -533,7 +599,12 @@ private:
         blended_ = upto;
     }
 
-    std::vector<LodStrips> sets_;                  // one per change set, each at its last level
+    std::vector<LodStrips> sets_;                  // one per change set, each at its last level (if live)
+    std::vector<std::uint8_t> live_;               // per set: sets_[q] holds its runtime
+    std::vector<Data> parked_;                     // per set not live: its records only
+    std::vector<std::uint64_t> last_use_;
+    std::uint64_t clock_ = 0;
+    std::size_t max_live_ = 0;                     // 0 = every set live
     std::vector<std::uint32_t> set_frames_;
     std::vector<std::vector<std::uint32_t>> ids_;  // per set: buffer vertex → file vertex
     std::size_t active_ = 0;
