@@ -21,6 +21,8 @@
 // With several change sets, set_frame(t) makes the set of the keyframe nearest t active: its element
 // buffer and vertex numbering replace the previous ones (indices() points elsewhere, changes() reports
 // the whole buffer once, vertex_ids() maps the new numbering to the file's), at the same LOD request.
+// Every set keeps its own runtime at its last level, so a switch in steady playback moves no collapse;
+// set_live_set_limit(n) trades that memory for a rebuild on switching to a parked set.
 #pragma once
 
 #include "lodstrips_runtime.h"
