@@ -8,12 +8,15 @@
 // file size per frame (float and 16-bit quantised positions); extraction time per frame change (blend +
 // faces of the level + compact mesh, median over a sweep of t at fixed LOD factor; also the face replay
 // alone and the blend alone, which is all a runtime redoes per frame while the sequence stays); for the
-// orders with one sequence, the morph LODStrips file (.lfmstrips) and the glTF export (morph targets per
-// level, .glb) per frame, and the strip runtime's time per frame change (set_frame at a fixed level) and
-// per LOD change (go_to_lod between levels, at a fixed frame).
+// orders, the morph LODStrips file (.lfmstrips; per-frame: one change set per keyframe) per frame, for
+// the orders with one sequence the glTF export (morph targets per level, .glb) per frame, the strip
+// runtime's time per frame change (set_frame at a fixed level) and per LOD change (go_to_lod between
+// levels, at a fixed frame), and for per-frame change sets the frame-switch cost (same set, switch to a
+// set at the level, switch to a set at full detail). --strips-only prints only the strip tables.
 //
 //   lodforge_bench_morph [--models horse,sphere,cube] [--samples N] [--frame-stride S] [--reps N]
 //                        [--frame-cost max|sum] [--cost-frames N] [--orders single,per-frame,naive]
+//                        [--strips-only]
 
 #include "bench_util.h"
 #include "lodforge/error.h"
@@ -33,6 +36,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <malloc.h>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -52,6 +56,12 @@ struct Model {
     bool close_seams = false;  // flat-shaded quads: every edge is a normal seam
 };
 
+// Bytes allocated on the heap now (glibc).
+std::size_t heap_bytes() {
+    const struct mallinfo2 m = mallinfo2();
+    return m.uordblks + m.hblkhd;
+}
+
 template <class F>
 double median_ms(std::size_t reps, F&& f) {
     std::vector<double> v;
@@ -64,30 +74,34 @@ double median_ms(std::size_t reps, F&& f) {
     return v[v.size() / 2];
 }
 
-// The morph LODStrips and glTF export of every one-sequence order: storage per frame, runtime times.
+// The morph LODStrips of every order (per-frame: one change set per keyframe) and the glTF export of the
+// one-sequence orders: storage per frame, runtime times.
 void strips_section(const MorphMesh& morph, const std::vector<MorphLod>& lods, std::size_t reps, const std::string& key) {
     const double K = double(morph.frame_count());
     const std::string glb = (std::filesystem::temp_directory_path() / ("lodforge-bench-morph-" + key + ".glb")).string();
     std::printf("\n| order | .lfmstrips 16-bit, KB/frame | .lfmstrips float, KB/frame | of which strips + changes, KB | "
-                ".glb (morph targets), KB/frame | build strips s |\n|---|---|---|---|---|---|\n");
+                ".glb (morph targets), KB/frame | build strips s | change sets | further change sets (SETS), KB |\n"
+                "|---|---|---|---|---|---|---|---|\n");
     std::vector<std::pair<const MorphLod*, MorphStripsBuild>> built;
     for (const MorphLod& lod : lods) {
-        if (lod.sequences.size() != 1) continue;
         auto t0 = Clock::now();
         MorphStripsBuild b = build_morph_lodstrips(morph, lod);
         const double build = seconds_since(t0);
         const MorphStripsStorage q = morph_lodstrips_storage(b.data, MorphEncoding::quantized16);
         const MorphStripsStorage f = morph_lodstrips_storage(b.data, MorphEncoding::float32);
-        double glb_kb = 0;
-        if (morph.frame_count() > 1) {
+        std::string glb_kb = "n/a (one order per level)";
+        if (morph.frame_count() > 1 && lod.sequences.size() == 1) {
             MorphGltfOptions o;
             o.timing = morph_gltf_timing(morph);
             const MorphGltfResult r = write_morph_glb(morph, lod, b, o, glb);
-            glb_kb = double(r.glb.bytes) / K / 1024.0;
+            char text[32];
+            std::snprintf(text, sizeof text, "%.1f", double(r.glb.bytes) / K / 1024.0);
+            glb_kb = text;
             std::filesystem::remove(glb);
         }
-        std::printf("| %s | **%.1f** | %.1f | %.1f | %.1f | %.3f |\n", morph_order_name(lod.order), q.bytes_per_frame / 1024.0,
-                    f.bytes_per_frame / 1024.0, double(q.strips_bytes) / 1024.0, glb_kb, build);
+        std::printf("| %s | **%.1f** | %.1f | %.1f | %s | %.3f | %zu | %.1f |\n", morph_order_name(lod.order),
+                    q.bytes_per_frame / 1024.0, f.bytes_per_frame / 1024.0, double(q.strips_bytes) / 1024.0, glb_kb.c_str(),
+                    build, b.data.change_set_count(), double(q.sets_bytes) / 1024.0);
         built.emplace_back(&lod, std::move(b));
     }
     std::printf("\n| order | LOD factor | triangles | set_frame (frame change), ms | go_to_lod 1 → f → 1, ms | "
@@ -111,6 +125,66 @@ void strips_section(const MorphMesh& morph, const std::vector<MorphLod>& lods, s
             rt.clear_changes();
             rt.clear_vertex_changes();
             std::printf("| %s | %.1f | %zu | %.4f | %.4f | %.4f |\n", morph_order_name(lod->order), f, tris, frame, lodc, both);
+        }
+    }
+    // Per-frame change sets: what a frame change costs when it stays in one change set, when it switches
+    // to a set already at the level (each set keeps its own buffer: the steady state of playback at a
+    // fixed LOD), and when it switches to a set still at full detail (first visit, or after a LOD change
+    // elsewhere: the set replays the collapses from level 0), and what the engine then uploads.
+    for (auto& [lod, b] : built) {
+        if (b.data.change_set_count() < 3) continue;
+        std::string why;
+        lodstrips::MorphLodStrips one;  // memory: the same data as a single order (change set 0 alone)
+        lodstrips::MorphData single = b.data;
+        single.frame_sets.clear();
+        const std::size_t heap0 = heap_bytes();
+        if (!one.assign(std::move(single), &why)) throw Error(Error::Kind::invalid, why);
+        const std::size_t heap1 = heap_bytes();
+        lodstrips::MorphLodStrips rt;
+        if (!rt.assign(b.data, &why)) throw Error(Error::Kind::invalid, why);
+        const std::size_t heap2 = heap_bytes();
+        lodstrips::MorphLodStrips lim;  // one further set live: the others parked as records
+        lim.set_live_set_limit(1);
+        if (!lim.assign(b.data, &why)) throw Error(Error::Kind::invalid, why);
+        const std::size_t heap3 = heap_bytes();
+        std::printf("\nruntime heap: %.1f MB with %zu change sets live, %.1f MB with one further set live "
+                    "(set_live_set_limit(1)), %.1f MB with change set 0 alone\n",
+                    (double(heap2) - double(heap1)) / 1048576.0, rt.change_set_count(),
+                    (double(heap3) - double(heap2)) / 1048576.0, (double(heap1) - double(heap0)) / 1048576.0);
+        const std::size_t sets = rt.change_set_count();
+        const auto t_of = [&](std::size_t q) { return double(rt.change_set_frame(q)) / std::max(1.0, K - 1.0); };
+        // a quarter frame past a keyframe: still that keyframe's set, and every case blends two frames
+        const double step = 0.25 / std::max(1.0, K - 1.0);
+        std::printf("\n%s, %zu change sets: frame-switch cost (median of %zu)\n\n| LOD factor | triangles | set_frame, same set, ms "
+                    "| set_frame, switch to a set at the level, ms | set_frame, switch to a set at full detail, ms | "
+                    "upload after a switch: indices + vertices, KB | switch to a parked set (limit 1: rebuild), ms |\n"
+                    "|---|---|---|---|---|---|---|\n",
+                    morph_order_name(lod->order), sets, reps);
+        for (double f : {1.0, 0.5, 0.0}) {
+            rt.go_to_lod(f);
+            for (std::size_t q = 0; q < sets; ++q) rt.set_frame(t_of(q));  // every set at the level
+            const std::size_t tris = rt.triangle_count();
+            const double same = median_ms(reps, [&](std::size_t r) { rt.set_frame(t_of(sets / 2) + step * (r % 2 ? 1.0 : 0.5)); });
+            const double warm = median_ms(reps, [&](std::size_t r) { rt.set_frame(t_of((r * 7 + 3) % sets) + step); });
+            std::vector<double> cold;
+            for (std::size_t r = 0; r < reps; ++r) {
+                const std::size_t q = (r * 7 + 3) % sets, other = (q + sets / 2) % sets;
+                rt.go_to_lod(1.0);
+                rt.set_frame(t_of(q));  // set q at full detail
+                rt.set_frame(t_of(other));
+                rt.go_to_lod(f);
+                const auto a = Clock::now();
+                rt.set_frame(t_of(q) + step);
+                cold.push_back(seconds_since(a) * 1e3);
+            }
+            std::sort(cold.begin(), cold.end());
+            const double upload = double(rt.index_count() * 4 + rt.vertex_count() * 24) / 1024.0;
+            rt.clear_changes();
+            rt.clear_vertex_changes();
+            lim.go_to_lod(f);
+            const double parked = median_ms(reps, [&](std::size_t r) { lim.set_frame(t_of((r * 7 + 3) % sets) + step); });
+            std::printf("| %.1f | %zu | %.4f | %.4f | %.4f | %.1f | %.4f |\n", f, tris, same, warm, cold[cold.size() / 2],
+                        upload, parked);
         }
     }
 }
@@ -180,6 +254,7 @@ int main(int argc, char** argv) {
     std::string models = "horse,sphere,cube";
     std::size_t samples = 20000, stride = 1, reps = 50, cost_frames = MorphLodParams{}.cost_frames;  // the product default (16)
     std::string frame_cost = "sum", orders = "single,per-frame,naive";
+    bool strips_only = false;  // only the morph LODStrips tables (no Metro errors, .lfmorph, extraction)
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         auto next = [&]() -> std::string {
@@ -196,10 +271,11 @@ int main(int argc, char** argv) {
         else if (a == "--cost-frames") cost_frames = std::strtoul(next().c_str(), nullptr, 10);
         else if (a == "--orders") orders = next();
         else if (a == "--reps") reps = std::max<std::size_t>(1, std::strtoul(next().c_str(), nullptr, 10));
+        else if (a == "--strips-only") strips_only = true;
         else {
             std::fprintf(stderr, "usage: lodforge_bench_morph [--models horse,sphere,cube] [--samples N] "
                                  "[--frame-stride S] [--reps N] [--frame-cost max|sum] [--cost-frames N]\n"
-                                 "       [--orders single,per-frame,naive]\n");
+                                 "       [--orders single,per-frame,naive] [--strips-only]\n");
             return 2;
         }
     }
@@ -240,6 +316,11 @@ int main(int argc, char** argv) {
                 t0 = Clock::now();
                 MorphLod lod = build_morph_lod(morph, p);
                 const double build = seconds_since(t0);
+                if (strips_only) {
+                    std::printf("| %s | (build only) | | | | | %.3f |\n", morph_order_name(order), build);
+                    lods.push_back(std::move(lod));
+                    continue;
+                }
                 const std::vector<MorphLevelError> errors = measure_morph_lod(morph, lod, mp);
                 for (std::size_t level = 0; level < lod.levels.size(); ++level) {
                     double sum = 0, worst_mean = 0, worst_h = 0, tris = 0;
@@ -257,6 +338,10 @@ int main(int argc, char** argv) {
                                 level == 0 ? std::to_string(build).substr(0, 5).c_str() : "");
                 }
                 lods.push_back(std::move(lod));
+            }
+            if (strips_only) {
+                strips_section(morph, lods, reps, it->key);
+                continue;
             }
             std::printf("\n| order | encoding | file bytes | bytes per frame | per frame, KB | sequences, KB |\n|---|---|---|---|---|---|\n");
             for (const MorphLod& lod : lods)

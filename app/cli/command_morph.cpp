@@ -66,7 +66,8 @@ void add_build(CLI::App& morph, const GlobalOptions& global) {
                     "animation, plus the morph LODStrips file (.lfmstrips) next to it (single or naive order)");
     cmd->add_flag("--gltf-float", o->gltf_float,
                   "--gltf: float32 morph targets (default: 16-bit positions and 8-bit normals, KHR_mesh_quantization)");
-    cmd->add_option("--strips", o->strips, "Also write the morph LODStrips file (.lfmstrips) here");
+    cmd->add_option("--strips", o->strips,
+                    "Also write the morph LODStrips file (.lfmstrips) here (any order; per-frame: one change set per frame)");
     cmd->add_option("--landmarks", o->landmarks, "Landmark pairs (vertex of A, vertex of B) aligning two genus-0 meshes (docs/morph.md)");
     cmd->callback([o, &global] {
         const bool two_meshes = o->inputs.size() == 2;
@@ -95,10 +96,12 @@ void add_build(CLI::App& morph, const GlobalOptions& global) {
         wo.encoding = o->encoding == "float" ? MorphEncoding::float32 : MorphEncoding::quantized16;
         if (!o->gltf.empty() || !o->strips.empty()) {
             // Before anything is written, so that an order the strips cannot take leaves no output.
-            if (lod.sequences.size() != 1)
-                throw_error(Error::Kind::unsupported, o->gltf.empty() ? o->strips : o->gltf,
-                            "--gltf/--strips need one collapse order (--order single or naive); per-frame orders "
-                            "give one change set per frame (see docs/morph.md)");
+            // The strips take per-frame orders (one change set per frame); glTF levels need one
+            // connectivity per level, so one order (docs/morph.md).
+            if (lod.sequences.size() != 1 && !o->gltf.empty())
+                throw_error(Error::Kind::unsupported, o->gltf,
+                            "--gltf needs one collapse order (--order single or naive): a glTF level has one "
+                            "connectivity for every frame (--strips takes per-frame orders; see docs/morph.md)");
             if (mesh.frame_count() < 2 && !o->gltf.empty())
                 throw_error(Error::Kind::invalid, o->gltf, "morph targets need at least two frames");
         }
@@ -123,9 +126,9 @@ void add_build(CLI::App& morph, const GlobalOptions& global) {
                 write_morph_lodstrips(strips.data, strips_path, wo.encoding);
                 written.push_back(strips_path);
                 const MorphStripsStorage ss = morph_lodstrips_storage(strips.data, wo.encoding);
-                std::printf("%s: %zu strips, %zu collapses, %zu bytes (%.1f KB per frame)\n", strips_path.c_str(),
-                            strips.data.strips.strip_count(), strips.data.strips.collapse_count(), ss.file_bytes,
-                            ss.bytes_per_frame / 1024.0);
+                std::printf("%s: %zu strips, %zu change set(s), %zu collapses in set 0, %zu bytes (%.1f KB per frame)\n",
+                            strips_path.c_str(), strips.data.strips.strip_count(), strips.data.change_set_count(),
+                            strips.data.strips.collapse_count(), ss.file_bytes, ss.bytes_per_frame / 1024.0);
             }
             if (!o->gltf.empty()) {
                 const MorphGltfResult gr = write_morph_glb(mesh, lod, strips, go, o->gltf, &progress);
@@ -191,7 +194,7 @@ void print_strips_info(const std::string& path, bool json) {
     nlohmann::ordered_json j;
     j["file"] = path;
     j["format"] = "lfmstrips";
-    j["version"] = lodstrips::morph_format_version;
+    j["version"] = d.version;
     j["bytes"] = bytes;
     j["encoding"] = d.quantized ? "16bit" : "float";
     j["frames"] = d.frame_count;
@@ -202,16 +205,27 @@ void print_strips_info(const std::string& path, bool json) {
     j["triangles"] = s.triangles.front();
     j["coarsest_triangles"] = s.triangles.back();
     j["bytes_per_frame"] = double(bytes) / double(d.frame_count);
+    nlohmann::ordered_json sets = nlohmann::ordered_json::array();
+    for (std::size_t i = 0; i < d.change_set_count(); ++i) {
+        const lodstrips::Data& r = i == 0 ? s : d.frame_sets[i - 1].records;
+        sets.push_back({{"frame", i == 0 ? d.strips_frame : d.frame_sets[i - 1].frame},
+                        {"collapses", r.collapse_count()},
+                        {"coarsest_triangles", r.triangles.back()}});
+    }
+    j["change_sets"] = sets;
     if (json) {
         std::printf("%s\n", j.dump(2).c_str());
         return;
     }
-    std::printf("%s: lfmstrips v%u, %s, %llu bytes (%.1f KB per frame)\n", path.c_str(), lodstrips::morph_format_version,
+    std::printf("%s: lfmstrips v%u, %s, %llu bytes (%.1f KB per frame)\n", path.c_str(), d.version,
                 d.quantized ? "16-bit" : "float", static_cast<unsigned long long>(bytes),
                 double(bytes) / double(d.frame_count) / 1024.0);
     std::printf("frames: %u, vertices: %u, strips: %zu (%s), collapses: %zu, triangles: %u to %u\n", d.frame_count,
                 s.vertex_count, s.strip_count(), s.restart ? "restart" : "degenerate joins", s.collapse_count(),
                 s.triangles.front(), s.triangles.back());
+    if (d.change_set_count() > 1)
+        std::printf("change sets: %zu (one per sampled frame, frames %u to %u)\n", d.change_set_count(), d.strips_frame,
+                    d.frame_sets.back().frame);
 }
 
 void add_info(CLI::App& morph) {

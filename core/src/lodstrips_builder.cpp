@@ -25,18 +25,10 @@ using strip_replay::remove_run;
 
 constexpr std::uint32_t kNone = 0xFFFFFFFFu;
 
-// Removes every degenerate run of one strip region; `record` sees each removal in order.
-template <class F>
-void reduce_region(std::uint32_t* region, std::uint32_t cap, std::uint32_t& live, bool restart, F&& record) {
-    lodstrips::Removal r;
-    while (find_degenerate_run(region, live - (restart ? 1u : 0u), r)) {
-        record(r);
-        remove_run(region, cap, live, r);
-    }
-}
-
+// Removes every degenerate run of one strip region (as the recorder does, lodstrips_record.cpp).
 void reduce_region_plain(std::uint32_t* region, std::uint32_t cap, std::uint32_t& live, bool restart) {
-    reduce_region(region, cap, live, restart, [](const lodstrips::Removal&) {});
+    lodstrips::Removal r;
+    while (find_degenerate_run(region, live - (restart ? 1u : 0u), r)) remove_run(region, cap, live, r);
 }
 
 }  // namespace
@@ -67,38 +59,17 @@ LodStripsBuild build_lodstrips(const Mesh& mesh, const LodStripsParams& params, 
     // Faces the simplifier starts from (it drops degenerate and repeated ones up front), matched back to
     // input faces for their materials: they are a subsequence of the input faces, in order.
     const std::vector<std::uint32_t> base = replay_collapses(mesh, s, 0);
-    const std::size_t nf = base.size() / 3;
     const std::vector<std::uint32_t> face_group = strip_replay::face_groups(mesh, base, "build_lodstrips");
     const std::size_t group_count = std::max<std::size_t>(1, mesh.materials.size());
 
     // Canonical order: vertices no collapse removes first (input order), then the vertices of the last
     // collapse, ..., the vertices of the first collapse last: level k uses the prefix.
-    const std::size_t nv = mesh.vertex_count();
-    std::vector<std::uint8_t> used(nv, 0);
-    for (std::uint32_t v : base) used[v] = 1;
-    std::vector<std::uint8_t> removed(nv, 0);
-    for (const VertexMove& m : s.moves) {
-        if (removed[m.from]) throw Error(Error::Kind::invalid, "build_lodstrips: vertex " + std::to_string(m.from) + " removed twice");
-        removed[m.from] = 1;
-        used[m.from] = used[m.to] = 1;
-    }
-    std::size_t kept = 0, total = 0;
-    for (std::size_t v = 0; v < nv; ++v) {
-        kept += used[v] && !removed[v];
-        total += used[v];
-    }
-    out.canonical.assign(nv, kNone);
-    out.input_vertex.assign(total, 0);
-    {
-        std::uint32_t next = 0;
-        for (std::size_t v = 0; v < nv; ++v)
-            if (used[v] && !removed[v]) out.canonical[v] = next++;
-        std::uint32_t ordinal = 0;
-        for (const VertexMove& m : s.moves) out.canonical[m.from] = static_cast<std::uint32_t>(total - 1 - ordinal++);
-        for (std::size_t v = 0; v < nv; ++v)
-            if (out.canonical[v] != kNone) out.input_vertex[out.canonical[v]] = static_cast<std::uint32_t>(v);
-    }
-    const std::uint32_t N = static_cast<std::uint32_t>(total);
+    std::vector<std::uint8_t> used(mesh.vertex_count(), 0);
+    strip_replay::mark_used(base, s.moves, used);
+    strip_replay::CanonicalOrder order = strip_replay::canonical_order(used, s.moves, "build_lodstrips");
+    out.canonical = std::move(order.canonical);
+    out.input_vertex = std::move(order.input_vertex);
+    const auto N = static_cast<std::uint32_t>(out.input_vertex.size());
 
     lodstrips::Data& d = out.data;
     d.vertex_count = N;
@@ -114,149 +85,15 @@ LodStripsBuild build_lodstrips(const Mesh& mesh, const LodStripsParams& params, 
             d.normals[3 * c] = n.x, d.normals[3 * c + 1] = n.y, d.normals[3 * c + 2] = n.z;
         }
     }
-    if (mesh.has_colors()) {
-        d.colors.resize(4u * N);
-        d.colors_8bit = true;
-        for (std::uint32_t c = 0; c < N; ++c) {
-            const Vec4f col = mesh.colors[out.input_vertex[c]];
-            const float ch[4] = {col.x, col.y, col.z, col.w};
-            for (int k = 0; k < 4; ++k) {
-                d.colors[4 * c + k] = ch[k];
-                const float q = std::round(ch[k] * 255.f);
-                if (!(q >= 0.f && q <= 255.f) || q / 255.f != ch[k]) d.colors_8bit = false;
-            }
-        }
-    }
-    d.texcoords.resize(mesh.texcoords.size());
-    for (std::size_t t = 0; t < mesh.texcoords.size(); ++t) {
-        d.texcoords[t].resize(2u * N);
-        for (std::uint32_t c = 0; c < N; ++c) {
-            const Vec2f uv = mesh.texcoords[t][out.input_vertex[c]];
-            d.texcoords[t][2 * c] = uv.x, d.texcoords[t][2 * c + 1] = uv.y;
-        }
-    }
-    for (const Material& m : mesh.materials) d.materials.push_back(strip_replay::strip_material(m, mesh.texcoords.size()));
+    strip_replay::copy_attributes(mesh, out.input_vertex, d);
 
-    // Stripify once at full resolution, per material; cut strips into pieces at even positions (the
-    // piece after a cut repeats the two indices before it, so no triangle is lost and parity holds).
-    const std::uint32_t piece = static_cast<std::uint32_t>(params.max_strip_length & ~std::size_t(1));
-    std::vector<std::vector<std::uint32_t>> pieces;
-    std::vector<std::uint32_t> piece_material;
-    for (std::uint32_t g = 0; g < group_count; ++g) {
-        std::vector<std::uint32_t> tri;
-        for (std::size_t f = 0; f < nf; ++f)
-            if (face_group[f] == g)
-                for (int k = 0; k < 3; ++k) tri.push_back(out.canonical[base[3 * f + k]]);
-        if (tri.empty()) continue;
-        StripifyParams stp;
-        stp.join = StripJoin::restart;
-        stp.cache_size = params.cache_size;
-        const StripifyResult r = stripify(tri, N, stp);
-        for (const auto& strip : r.strips) {
-            std::size_t start = 0;
-            while (strip.size() - start > piece) {
-                pieces.emplace_back(strip.begin() + start, strip.begin() + start + piece);
-                piece_material.push_back(g);
-                start += piece - 2;
-            }
-            pieces.emplace_back(strip.begin() + start, strip.end());
-            piece_material.push_back(g);
-        }
-    }
-
-    // Regions: restart mode, piece + restart index; degenerate mode, piece + join to the next piece (its
-    // last and the next first index, one more to keep every region even so each piece starts even).
-    d.restart = params.join == StripJoin::restart;
-    d.strip_offsets.assign(1, 0);
-    for (std::size_t i = 0; i < pieces.size(); ++i) {
-        std::vector<std::uint32_t>& buf = d.initial_indices;
-        buf.insert(buf.end(), pieces[i].begin(), pieces[i].end());
-        if (d.restart) {
-            buf.push_back(lodstrips::restart_index);
-        } else {
-            const std::uint32_t len = static_cast<std::uint32_t>(pieces[i].size());
-            if (i + 1 < pieces.size()) {
-                buf.push_back(pieces[i].back());
-                buf.push_back(pieces[i + 1].front());
-                if ((len + 2) % 2) buf.push_back(pieces[i + 1].front());
-            } else if (len % 2) {
-                buf.push_back(pieces[i].back());
-            }
-        }
-        d.strip_offsets.push_back(static_cast<std::uint32_t>(buf.size()));
-        d.strip_materials.push_back(piece_material[i]);
-    }
-    const std::size_t S = pieces.size();
-    pieces.clear();
-
-    // Offline replay of the whole sequence on the strips.
-    std::vector<std::uint32_t> buf = d.initial_indices;
-    std::vector<std::uint32_t> live(S);
-    for (std::size_t r = 0; r < S; ++r) live[r] = d.strip_offsets[r + 1] - d.strip_offsets[r];
-    auto cap = [&](std::size_t r) { return d.strip_offsets[r + 1] - d.strip_offsets[r]; };
-    auto drawn = [&](std::size_t r) { return live[r] - (d.restart ? 1u : 0u); };
-    std::vector<std::vector<std::uint32_t>> strips_of(N);
-    for (std::size_t r = 0; r < S; ++r)
-        for (std::uint32_t e = d.strip_offsets[r]; e < d.strip_offsets[r + 1]; ++e) {
-            const std::uint32_t v = buf[e];
-            if (v == lodstrips::restart_index) continue;
-            if (strips_of[v].empty() || strips_of[v].back() != r) strips_of[v].push_back(static_cast<std::uint32_t>(r));
-        }
-    std::size_t tris = 0;
-    for (std::size_t r = 0; r < S; ++r) tris += region_triangles(buf.data() + d.strip_offsets[r], drawn(r));
-
-    const std::size_t K = s.collapses.size();
-    d.collapse_begin.assign(1, 0);
-    d.rewrite_begin.assign(1, 0);
-    d.removal_begin.assign(1, 0);
-    d.triangles.assign(1, static_cast<std::uint32_t>(tris));
-    std::vector<std::uint32_t> touched;
-    for (std::size_t k = 0; k < K; ++k) {
-        if (k % 4096 == 0) check_progress(progress, 0.7 + 0.3 * double(k) / double(K), "recording strip changes");
-        const Collapse& c = s.collapses[k];
-        touched.clear();
-        for (std::uint32_t m = c.moves_begin; m < c.moves_end; ++m)
-            for (std::uint32_t r : strips_of[out.canonical[s.moves[m].from]]) touched.push_back(r);
-        std::sort(touched.begin(), touched.end());
-        touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
-        std::size_t before = 0;
-        for (std::uint32_t r : touched) before += region_triangles(buf.data() + d.strip_offsets[r], drawn(r));
-        for (std::uint32_t m = c.moves_begin; m < c.moves_end; ++m) {
-            const std::uint32_t v = out.canonical[s.moves[m].from], t = out.canonical[s.moves[m].to];
-            d.targets.push_back(t);
-            std::sort(strips_of[v].begin(), strips_of[v].end());  // records in strip order, as the file has them
-            for (std::uint32_t r : strips_of[v]) {
-                std::uint32_t* region = buf.data() + d.strip_offsets[r];
-                // Degenerate mode rewrites the fill too: it repeats the last index and must keep doing so.
-                const std::uint32_t end = d.restart ? drawn(r) : cap(r);
-                for (std::uint32_t i = 0; i < end; ++i)
-                    if (region[i] == v) {
-                        region[i] = t;
-                        d.rewrite_positions.push_back(d.strip_offsets[r] + i);
-                    }
-                if (std::find(strips_of[t].begin(), strips_of[t].end(), r) == strips_of[t].end()) strips_of[t].push_back(r);
-            }
-            strips_of[v].clear();
-            strips_of[v].shrink_to_fit();
-            d.rewrite_begin.push_back(static_cast<std::uint32_t>(d.rewrite_positions.size()));
-        }
-        std::size_t after = 0;
-        for (std::uint32_t r : touched) {
-            std::uint32_t* region = buf.data() + d.strip_offsets[r];
-            reduce_region(region, cap(r), live[r], d.restart, [&](const lodstrips::Removal& rm) {
-                lodstrips::Removal x = rm;
-                x.strip = r;
-                d.removals.push_back(x);
-                ++(x.type == 1 ? out.degenerate_runs_type1 : out.degenerate_runs_type2);
-            });
-            after += region_triangles(region, drawn(r));
-        }
-        tris = tris - before + after;
-        d.collapse_begin.push_back(static_cast<std::uint32_t>(d.targets.size()));
-        d.removal_begin.push_back(static_cast<std::uint32_t>(d.removals.size()));
-        d.triangles.push_back(static_cast<std::uint32_t>(tris));
-    }
-    check_progress(progress, 1.0, "recording strip changes");
+    strip_replay::lay_out_strips(base, face_group, group_count, out.canonical,
+                                 {params.join, params.max_strip_length, params.cache_size}, d);
+    check_progress(progress, 0.7, "recording strip changes");
+    const strip_replay::RecordStats rs = strip_replay::record_collapses(s.collapses, s.moves, s.collapses.size(), out.canonical,
+                                                                        d, progress, 0.7, 1.0, "recording strip changes");
+    out.degenerate_runs_type1 = rs.removals_type1;
+    out.degenerate_runs_type2 = rs.removals_type2;
     return out;
 }
 

@@ -1,11 +1,15 @@
-// Internal: the offline replay steps shared by the LODStrips builder (lodstrips_builder.cpp) and the
-// morph strip recorder (morph_lodstrips.cpp), so both write records the runtime replays identically
+// Internal: the offline steps shared by the LODStrips builder (lodstrips_builder.cpp) and the morph strip
+// recorder (morph_lodstrips.cpp): canonical vertex order, strips laid into regions, and the per-collapse
+// recording loop (lodstrips_record.cpp), so both write records the runtime replays identically
 // (docs/lodstrips.md: even-count removals of types 1 and 2, the freed tail repeats the last slot).
 #pragma once
 
 #include "lodforge/lodstrips.h"
 #include "lodforge/error.h"
 #include "lodforge/mesh.h"
+#include "lodforge/progress.h"
+#include "lodforge/simplify.h"
+#include "lodforge/stripify.h"
 
 #include <algorithm>
 #include <cstddef>
@@ -113,5 +117,48 @@ inline std::vector<std::uint32_t> face_groups(const Mesh& mesh, const std::vecto
                                                   " of " + std::to_string(mesh.materials.size()));
     return group;
 }
+
+inline constexpr std::uint32_t no_vertex = 0xFFFFFFFFu;
+
+// Vertices a strip set over `faces` (replay at level 0) and `moves` needs: every face corner and both ends
+// of every move. OR-ed into `used` (size = the mesh's vertex count), so several sequences can share it.
+void mark_used(const std::vector<std::uint32_t>& faces, const std::vector<VertexMove>& moves, std::vector<std::uint8_t>& used);
+
+// Canonical order (docs/lodstrips.md): used vertices no move removes first (input order), then the
+// vertices of the last collapse, ..., the vertices of the first collapse last, so level k uses a prefix.
+// Error(invalid), `what` first, when a vertex is removed twice.
+struct CanonicalOrder {
+    std::vector<std::uint32_t> canonical;     // input vertex → canonical vertex, no_vertex if unused
+    std::vector<std::uint32_t> input_vertex;  // canonical vertex → input vertex
+};
+CanonicalOrder canonical_order(const std::vector<std::uint8_t>& used, const std::vector<VertexMove>& moves, const char* what);
+
+// Colours (8-bit when every channel is exactly k/255), texcoords and materials of the canonical vertices.
+void copy_attributes(const Mesh& mesh, const std::vector<std::uint32_t>& input_vertex, ::lodstrips::Data& d);
+
+// Strips once at full detail, per material group, cut into pieces of at most max_strip_length indices at
+// even positions (a piece repeats the two indices before its cut, so no triangle is lost and winding
+// holds), laid into regions: restart mode, piece + restart index; degenerate mode, piece + the join to
+// the next piece, padded so every region is even and every piece starts even. Needs d.vertex_count;
+// fills d.restart, strip_offsets, strip_materials, initial_indices.
+struct StripLayoutParams {
+    StripJoin join = StripJoin::restart;
+    std::size_t max_strip_length = 256;
+    std::size_t cache_size = 16;
+};
+void lay_out_strips(const std::vector<std::uint32_t>& faces, const std::vector<std::uint32_t>& face_group, std::size_t groups,
+                    const std::vector<std::uint32_t>& canonical, const StripLayoutParams& params, ::lodstrips::Data& d);
+
+// The offline replay: the first `count` collapses of (collapses, moves) applied to d.initial_indices; per
+// collapse every position of each removed vertex (rewritten to its target), then every degenerate run of
+// the strips it touched, each removed before the next is looked for. Needs the layout fields of d; fills
+// collapse_begin, targets, rewrite_begin, rewrite_positions, removal_begin, removals, triangles. Progress
+// goes from `from` to `to` under `stage`.
+struct RecordStats {
+    std::size_t removals_type1 = 0, removals_type2 = 0;
+};
+RecordStats record_collapses(const std::vector<Collapse>& collapses, const std::vector<VertexMove>& moves, std::size_t count,
+                             const std::vector<std::uint32_t>& canonical, ::lodstrips::Data& d, Progress* progress,
+                             double from, double to, const char* stage);
 
 }  // namespace lodforge::strip_replay

@@ -31,21 +31,6 @@
 namespace lodforge {
 namespace {
 
-constexpr std::uint32_t kUnused = 0xFFFFFFFFu;
-
-// The strips of one region while the sequence is replayed offline: `live` counts the used slots
-// (restart index included), the rest repeats the region's last slot. The steps are the builder's
-// (lodstrips_record.h), so the records replay as the runtime expects.
-struct Region {
-    std::uint32_t* p = nullptr;
-    std::uint32_t cap = 0, live = 0;
-    bool restart = true;
-    std::uint32_t drawn() const { return live - (restart ? 1u : 0u); }
-    std::size_t triangles() const { return strip_replay::region_triangles(p, drawn()); }
-    bool next_run(lodstrips::Removal& r) const { return strip_replay::find_degenerate_run(p, drawn(), r); }
-    void erase(const lodstrips::Removal& r) { strip_replay::remove_run(p, cap, live, r); }
-};
-
 template <class T>
 void put(std::vector<std::uint8_t>& out, const T& v) {
     const auto* p = reinterpret_cast<const std::uint8_t*>(&v);
@@ -104,14 +89,73 @@ std::vector<std::uint8_t> frames_payload(const lodstrips::MorphData& d, MorphEnc
     return out;
 }
 
+void put_varint(std::vector<std::uint8_t>& out, std::uint64_t v) {
+    for (; v >= 0x80; v >>= 7) out.push_back(static_cast<std::uint8_t>(v | 0x80));
+    out.push_back(static_cast<std::uint8_t>(v));
+}
+
+void put_zigzag(std::vector<std::uint8_t>& out, std::int64_t v) {
+    put_varint(out, (static_cast<std::uint64_t>(v) << 1) ^ static_cast<std::uint64_t>(v >> 63));
+}
+
+// Section SETS (version 2, docs/morph.md): every change set's frame, then per further set its numbering
+// and its records (vertices, targets, rewrite positions, removals, triangles lost per collapse).
+std::vector<std::uint8_t> sets_payload(const lodstrips::MorphData& d) {
+    const std::uint32_t n = d.strips.vertex_count;
+    std::vector<std::uint8_t> out;
+    put_varint(out, d.change_set_count());
+    put_varint(out, d.strips_frame);
+    for (const lodstrips::MorphChangeSet& cs : d.frame_sets) put_varint(out, cs.frame);
+    for (std::size_t i = 0; i < d.frame_sets.size(); ++i) {
+        const lodstrips::MorphChangeSet& cs = d.frame_sets[i];
+        const lodstrips::Data& r = cs.records;
+        const std::string what = "morph strips: change set " + std::to_string(i + 1);
+        if (cs.to_base.size() != n) throw Error(Error::Kind::invalid, what + ": numbering has the wrong size");
+        for (std::uint32_t v : cs.to_base) put_varint(out, v);
+        const std::size_t C = r.collapse_count();
+        const auto ranges = [](const std::vector<std::uint32_t>& begin, std::size_t end) {
+            return !begin.empty() && begin.front() == 0 && begin.back() == end && std::is_sorted(begin.begin(), begin.end());
+        };
+        if (r.triangles.size() != C + 1 || r.removal_begin.size() != C + 1 || r.rewrite_begin.size() != r.targets.size() + 1 ||
+            !ranges(r.collapse_begin, r.targets.size()) || !ranges(r.rewrite_begin, r.rewrite_positions.size()) ||
+            !ranges(r.removal_begin, r.removals.size()) || r.targets.size() > n)
+            throw Error(Error::Kind::invalid, what + ": records have inconsistent sizes");
+        put_varint(out, C);
+        for (std::size_t k = 0; k < C; ++k) {
+            put_varint(out, r.collapse_begin[k + 1] - r.collapse_begin[k]);
+            put_zigzag(out, std::int64_t(r.triangles[k]) - std::int64_t(r.triangles[k + 1]));
+            for (std::uint32_t o = r.collapse_begin[k]; o < r.collapse_begin[k + 1]; ++o) {
+                const std::uint32_t v = n - 1 - o;
+                if (r.targets[o] >= v) throw Error(Error::Kind::invalid, what + ": a target is not below its vertex");
+                put_varint(out, v - r.targets[o]);
+                put_varint(out, r.rewrite_begin[o + 1] - r.rewrite_begin[o]);
+                for (std::uint32_t j = r.rewrite_begin[o]; j < r.rewrite_begin[o + 1]; ++j) {
+                    if (j > r.rewrite_begin[o] && r.rewrite_positions[j] <= r.rewrite_positions[j - 1])
+                        throw Error(Error::Kind::invalid, what + ": rewrite positions are not increasing");
+                    put_varint(out, j == r.rewrite_begin[o] ? r.rewrite_positions[j] : r.rewrite_positions[j] - r.rewrite_positions[j - 1] - 1);
+                }
+            }
+            put_varint(out, r.removal_begin[k + 1] - r.removal_begin[k]);
+            std::int64_t strip = 0;
+            for (std::uint32_t j = r.removal_begin[k]; j < r.removal_begin[k + 1]; ++j) {
+                const lodstrips::Removal& x = r.removals[j];
+                if (x.count == 0 || x.count % 2 || (x.type != 1 && x.type != 2))
+                    throw Error(Error::Kind::invalid, what + ": a removal has an odd count or unknown type");
+                put_zigzag(out, std::int64_t(x.strip) - strip);
+                strip = x.strip;
+                put_varint(out, x.pos);
+                put_varint(out, std::uint64_t(x.count / 2 - 1) << 1 | std::uint64_t(x.type - 1));
+            }
+        }
+    }
+    return out;
+}
+
 }  // namespace
 
 MorphStripsBuild build_morph_lodstrips(const MorphMesh& morph, const MorphLod& lod, const MorphStripsParams& params,
                                        Progress* progress) {
-    if (lod.sequences.size() != 1)
-        throw Error(Error::Kind::unsupported,
-                    "morph strips: the LOD has " + std::to_string(lod.sequences.size()) +
-                        " collapse sequences (per-frame order); one strip set needs one order (use --order single)");
+    if (lod.sequences.empty()) throw Error(Error::Kind::argument, "morph strips: the LOD has no collapse sequence");
     if (params.max_strip_length < 16 || params.max_strip_length > 65000)
         throw Error(Error::Kind::argument, "morph strips: max_strip_length must be in [16, 65000]");
     const Mesh& mesh = morph.base;
@@ -119,49 +163,50 @@ MorphStripsBuild build_morph_lodstrips(const MorphMesh& morph, const MorphLod& l
     if (mesh.triangle_count() == 0 || morph.frame_count() == 0)
         throw Error(Error::Kind::argument, "morph strips: the morph mesh has no triangles or no frames");
     if (nv >= lodstrips::restart_index) throw Error(Error::Kind::argument, "morph strips: too many vertices");
-    const MorphSequence& seq = lod.sequences.front();
+    const std::size_t Q = lod.sequences.size();
+    if (Q > morph.frame_count()) throw Error(Error::Kind::invalid, "morph strips: more sequences than frames");
 
-    // The sequence up to the coarsest level: the runtime's go_to_lod(f) then is morph_collapses_for(f).
-    SimplifyResult s;
-    s.input_points = seq.sequence.input_points;
-    const std::size_t C = seq.level_collapses.empty() ? 0 : seq.level_collapses.back();
-    if (C > seq.sequence.collapses.size()) throw Error(Error::Kind::invalid, "morph strips: level beyond the sequence");
-    s.collapses.assign(seq.sequence.collapses.begin(), seq.sequence.collapses.begin() + std::ptrdiff_t(C));
-    s.moves.assign(seq.sequence.moves.begin(),
-                   seq.sequence.moves.begin() + std::ptrdiff_t(C ? s.collapses.back().moves_end : 0));
+    // Each sequence up to its coarsest level: the runtime's go_to_lod(f) then is morph_collapses_for(f).
+    std::vector<SimplifyResult> seqs(Q);
+    for (std::size_t q = 0; q < Q; ++q) {
+        const MorphSequence& seq = lod.sequences[q];
+        if (seq.frame >= morph.frame_count() || (q > 0 && seq.frame <= lod.sequences[q - 1].frame))
+            throw Error(Error::Kind::invalid, "morph strips: sequence frames must be increasing keyframes");
+        if (seq.sequence.input_points != lod.sequences.front().sequence.input_points)
+            throw Error(Error::Kind::invalid, "morph strips: the sequences disagree on the points");
+        SimplifyResult& s = seqs[q];
+        s.input_points = seq.sequence.input_points;
+        const std::size_t C = seq.level_collapses.empty() ? 0 : seq.level_collapses.back();
+        if (C > seq.sequence.collapses.size()) throw Error(Error::Kind::invalid, "morph strips: level beyond the sequence");
+        s.collapses.assign(seq.sequence.collapses.begin(), seq.sequence.collapses.begin() + std::ptrdiff_t(C));
+        s.moves.assign(seq.sequence.moves.begin(),
+                       seq.sequence.moves.begin() + std::ptrdiff_t(C ? s.collapses.back().moves_end : 0));
+    }
     check_progress(progress, 0.0, "morph strips");
 
-    // Full detail = replay at 0 (faces degenerate on points dropped), matched back to input faces for
-    // their materials: they are a subsequence of the input faces, in order.
-    const std::vector<std::uint32_t> faces = replay_collapses(mesh, s, 0);
-    const std::size_t nf = faces.size() / 3;
+    // Full detail = replay at 0 (faces degenerate on points dropped; the same for every sequence, which
+    // share the points), matched back to input faces for their materials.
+    const std::vector<std::uint32_t> faces = replay_collapses(mesh, seqs.front(), 0);
     const std::vector<std::uint32_t> face_group = strip_replay::face_groups(mesh, faces, "morph strips");
     const std::size_t groups = std::max<std::size_t>(1, mesh.materials.size());
 
-    // Canonical order: never-removed vertices first (input order), then the last collapse's, ..., the
-    // first collapse's vertices last, so level k uses a prefix.
+    // One vertex set for every change set (a vertex some sequence moves is in all of them), so every
+    // set's canonical order is a permutation of the same N vertices.
+    std::vector<std::uint8_t> used(nv, 0);
+    for (const SimplifyResult& s : seqs) strip_replay::mark_used(faces, s.moves, used);
     MorphStripsBuild out;
-    std::vector<std::uint8_t> used(nv, 0), removed(nv, 0);
-    for (std::uint32_t v : faces) used[v] = 1;
-    for (const VertexMove& m : s.moves) {
-        if (removed[m.from]) throw Error(Error::Kind::invalid, "morph strips: vertex " + std::to_string(m.from) + " removed twice");
-        removed[m.from] = 1;
-        used[m.from] = used[m.to] = 1;
+    {
+        strip_replay::CanonicalOrder order = strip_replay::canonical_order(used, seqs.front().moves, "morph strips");
+        out.canonical = std::move(order.canonical);
+        out.input_vertex = std::move(order.input_vertex);
     }
-    const auto N = static_cast<std::uint32_t>(std::count(used.begin(), used.end(), std::uint8_t(1)));
-    out.canonical.assign(nv, kUnused);
-    std::uint32_t next = 0;
-    for (std::size_t v = 0; v < nv; ++v)
-        if (used[v] && !removed[v]) out.canonical[v] = next++;
-    for (std::size_t o = 0; o < s.moves.size(); ++o) out.canonical[s.moves[o].from] = N - 1 - static_cast<std::uint32_t>(o);
-    out.input_vertex.assign(N, 0);
-    for (std::size_t v = 0; v < nv; ++v)
-        if (out.canonical[v] != kUnused) out.input_vertex[out.canonical[v]] = static_cast<std::uint32_t>(v);
+    const auto N = static_cast<std::uint32_t>(out.input_vertex.size());
 
     lodstrips::MorphData& md = out.data;
     lodstrips::Data& d = md.strips;
     d.vertex_count = N;
     md.frame_count = static_cast<std::uint32_t>(morph.frame_count());
+    md.strips_frame = static_cast<std::uint32_t>(lod.sequences.front().frame);
     md.frame_positions.resize(std::size_t(md.frame_count) * 3u * N);
     md.frame_normals.resize(md.frame_positions.size());
     for (std::size_t k = 0; k < morph.frame_count(); ++k)
@@ -175,139 +220,44 @@ MorphStripsBuild build_morph_lodstrips(const MorphMesh& morph, const MorphLod& l
         }
     d.positions.assign(md.frame_positions.begin(), md.frame_positions.begin() + std::ptrdiff_t(3u * N));
     d.normals.assign(md.frame_normals.begin(), md.frame_normals.begin() + std::ptrdiff_t(3u * N));
-    if (mesh.has_colors()) {
-        d.colors.resize(4u * N);
-        d.colors_8bit = true;
-        for (std::uint32_t c = 0; c < N; ++c) {
-            const Vec4f col = mesh.colors[out.input_vertex[c]];
-            const float ch[4] = {col.x, col.y, col.z, col.w};
-            for (int i = 0; i < 4; ++i) {
-                d.colors[4 * c + std::uint32_t(i)] = ch[i];
-                const float q = std::round(ch[i] * 255.f);
-                if (!(q >= 0.f && q <= 255.f) || q / 255.f != ch[i]) d.colors_8bit = false;
-            }
-        }
-    }
-    for (const auto& set : mesh.texcoords) {
-        std::vector<float>& t = d.texcoords.emplace_back(2u * N);
-        for (std::uint32_t c = 0; c < N; ++c) t[2 * c] = set[out.input_vertex[c]].x, t[2 * c + 1] = set[out.input_vertex[c]].y;
-    }
-    for (const Material& m : mesh.materials) d.materials.push_back(strip_replay::strip_material(m, mesh.texcoords.size()));
+    strip_replay::copy_attributes(mesh, out.input_vertex, d);
     check_progress(progress, 0.2, "morph strips");
 
-    // Strips once at full detail, per material, cut into pieces at even positions (a piece repeats the
-    // two indices before its cut, so no triangle is lost and winding holds).
-    const auto piece = static_cast<std::uint32_t>(params.max_strip_length & ~std::size_t(1));
-    d.restart = params.join == StripJoin::restart;
-    d.strip_offsets.assign(1, 0);
-    std::vector<std::vector<std::uint32_t>> pieces;
-    for (std::uint32_t g = 0; g < groups; ++g) {
-        std::vector<std::uint32_t> tri;
-        for (std::size_t f = 0; f < nf; ++f)
-            if (face_group[f] == g)
-                for (int c = 0; c < 3; ++c) tri.push_back(out.canonical[faces[3 * f + std::size_t(c)]]);
-        if (tri.empty()) continue;
-        StripifyParams sp;
-        sp.join = StripJoin::restart;
-        sp.cache_size = params.cache_size;
-        for (const auto& strip : stripify(tri, N, sp).strips) {
-            std::size_t at = 0;
-            for (; strip.size() - at > piece; at += piece - 2) {
-                pieces.emplace_back(strip.begin() + std::ptrdiff_t(at), strip.begin() + std::ptrdiff_t(at + piece));
-                d.strip_materials.push_back(g);
-            }
-            pieces.emplace_back(strip.begin() + std::ptrdiff_t(at), strip.end());
-            d.strip_materials.push_back(g);
-        }
-    }
-    // Regions: restart mode, piece + restart index; degenerate mode, piece + the join to the next piece,
-    // padded so that every region is even and every piece starts on an even position.
-    std::vector<std::uint32_t>& buf0 = d.initial_indices;
-    for (std::size_t i = 0; i < pieces.size(); ++i) {
-        buf0.insert(buf0.end(), pieces[i].begin(), pieces[i].end());
-        const std::size_t len = pieces[i].size();
-        if (d.restart) {
-            buf0.push_back(lodstrips::restart_index);
-        } else if (i + 1 < pieces.size()) {
-            buf0.push_back(pieces[i].back());
-            buf0.push_back(pieces[i + 1].front());
-            if (len % 2) buf0.push_back(pieces[i + 1].front());
-        } else if (len % 2) {
-            buf0.push_back(pieces[i].back());
-        }
-        d.strip_offsets.push_back(static_cast<std::uint32_t>(buf0.size()));
-    }
-    const std::size_t S = pieces.size();
-    pieces.clear();
+    // One strip set, in change set 0's numbering (the file's base numbering).
+    strip_replay::lay_out_strips(faces, face_group, groups, out.canonical,
+                                 {params.join, params.max_strip_length, params.cache_size}, d);
     check_progress(progress, 0.4, "morph strips");
 
-    // Offline replay: per collapse, every position of each removed vertex (rewritten to its target), then
-    // every degenerate run of the strips it touched, each removed before the next is looked for.
-    std::vector<std::uint32_t> buf = d.initial_indices;
-    std::vector<Region> regions(S);
-    for (std::size_t r = 0; r < S; ++r) {
-        const std::uint32_t a = d.strip_offsets[r], b = d.strip_offsets[r + 1];
-        regions[r] = {buf.data() + a, b - a, b - a, d.restart};
+    const double share = 0.6 / double(Q);
+    auto record = [&](std::size_t q, const std::vector<std::uint32_t>& canonical, lodstrips::Data& into) {
+        const SimplifyResult& s = seqs[q];
+        const strip_replay::RecordStats rs =
+            strip_replay::record_collapses(s.collapses, s.moves, s.collapses.size(), canonical, into, progress,
+                                           0.4 + share * double(q), 0.4 + share * double(q + 1), "morph strips");
+        out.degenerate_runs += rs.removals_type1 + rs.removals_type2;
+    };
+    record(0, out.canonical, d);
+
+    // Per-frame orders: change set q's canonical order is its own sequence's; the shared strips are the
+    // base strips renumbered into it, and to_base maps its numbering back.
+    for (std::size_t q = 1; q < Q; ++q) {
+        const strip_replay::CanonicalOrder order = strip_replay::canonical_order(used, seqs[q].moves, "morph strips");
+        lodstrips::MorphChangeSet& set = md.frame_sets.emplace_back();
+        set.frame = static_cast<std::uint32_t>(lod.sequences[q].frame);
+        set.to_base.resize(N);
+        for (std::uint32_t c = 0; c < N; ++c) set.to_base[c] = out.canonical[order.input_vertex[c]];
+        lodstrips::Data& r = set.records;
+        r.vertex_count = N;
+        r.restart = d.restart;
+        r.strip_offsets = d.strip_offsets;
+        r.initial_indices = d.initial_indices;
+        for (std::uint32_t& e : r.initial_indices)
+            if (e != lodstrips::restart_index) e = order.canonical[out.input_vertex[e]];
+        record(q, order.canonical, r);
+        // Only the records travel: the layout is the base strips'.
+        std::vector<std::uint32_t>().swap(r.strip_offsets);
+        std::vector<std::uint32_t>().swap(r.initial_indices);
     }
-    std::vector<std::vector<std::uint32_t>> strips_of(N);  // strips holding each vertex (sorted on use)
-    for (std::size_t r = 0; r < S; ++r)
-        for (std::uint32_t e = d.strip_offsets[r]; e < d.strip_offsets[r + 1]; ++e)
-            if (buf[e] != lodstrips::restart_index && (strips_of[buf[e]].empty() || strips_of[buf[e]].back() != r))
-                strips_of[buf[e]].push_back(static_cast<std::uint32_t>(r));
-    std::size_t tris = 0;
-    for (const Region& r : regions) tris += r.triangles();
-    d.collapse_begin.assign(1, 0);
-    d.rewrite_begin.assign(1, 0);
-    d.removal_begin.assign(1, 0);
-    d.triangles.assign(1, static_cast<std::uint32_t>(tris));
-    std::vector<std::uint32_t> touched;
-    for (std::size_t k = 0; k < C; ++k) {
-        if (k % 4096 == 0) check_progress(progress, 0.4 + 0.6 * double(k) / double(C), "morph strips");
-        const Collapse& c = s.collapses[k];
-        touched.clear();
-        for (std::uint32_t m = c.moves_begin; m < c.moves_end; ++m) {
-            const auto& list = strips_of[out.canonical[s.moves[m].from]];
-            touched.insert(touched.end(), list.begin(), list.end());
-        }
-        std::sort(touched.begin(), touched.end());
-        touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
-        std::size_t before = 0;
-        for (std::uint32_t r : touched) before += regions[r].triangles();
-        for (std::uint32_t m = c.moves_begin; m < c.moves_end; ++m) {
-            const std::uint32_t v = out.canonical[s.moves[m].from], t = out.canonical[s.moves[m].to];
-            d.targets.push_back(t);
-            std::sort(strips_of[v].begin(), strips_of[v].end());  // records in strip order, as in the file
-            for (std::uint32_t r : strips_of[v]) {
-                Region& g = regions[r];
-                // degenerate joins: the fill repeats the last index and must keep doing so
-                const std::uint32_t end = d.restart ? g.drawn() : g.cap;
-                for (std::uint32_t i = 0; i < end; ++i)
-                    if (g.p[i] == v) {
-                        g.p[i] = t;
-                        d.rewrite_positions.push_back(d.strip_offsets[r] + i);
-                    }
-                if (std::find(strips_of[t].begin(), strips_of[t].end(), r) == strips_of[t].end()) strips_of[t].push_back(r);
-            }
-            std::vector<std::uint32_t>().swap(strips_of[v]);
-            d.rewrite_begin.push_back(static_cast<std::uint32_t>(d.rewrite_positions.size()));
-        }
-        std::size_t after = 0;
-        for (std::uint32_t r : touched) {
-            Region& g = regions[r];
-            lodstrips::Removal rm;
-            while (g.next_run(rm)) {
-                rm.strip = r;
-                d.removals.push_back(rm);
-                g.erase(rm);
-            }
-            after += g.triangles();
-        }
-        tris = tris - before + after;
-        d.collapse_begin.push_back(static_cast<std::uint32_t>(d.targets.size()));
-        d.removal_begin.push_back(static_cast<std::uint32_t>(d.removals.size()));
-        d.triangles.push_back(static_cast<std::uint32_t>(tris));
-    }
-    out.degenerate_runs = d.removals.size();
     check_progress(progress, 1.0, "morph strips");
     return out;
 }
@@ -318,14 +268,16 @@ std::vector<std::uint8_t> encode_morph_lodstrips(const lodstrips::MorphData& dat
         throw Error(Error::Kind::invalid, "morph strips: frame arrays have inconsistent sizes");
     const std::vector<std::uint8_t> strips = encode_lodstrips(data.strips);
     const std::vector<std::uint8_t> frames = frames_payload(data, encoding);
+    const std::vector<std::uint8_t> sets = sets_payload(data);
     std::vector<std::uint8_t> out(lodstrips::morph_file_magic, lodstrips::morph_file_magic + 8);
     put(out, lodstrips::morph_format_version);
     put(out, lodstrips::endian_tag);
-    put(out, std::uint32_t{2});
+    put(out, std::uint32_t{3});
     put(out, lodstrips::detail::crc32(out.data(), 20));
-    put(out, static_cast<std::uint64_t>(32 + 12 + strips.size() + 12 + frames.size()));
+    put(out, static_cast<std::uint64_t>(32 + 12 + strips.size() + 12 + frames.size() + 12 + sets.size()));
     put_section(out, "LSTR", strips);
     put_section(out, "FRMS", frames);
+    put_section(out, "SETS", sets);
     return out;
 }
 
@@ -333,8 +285,9 @@ MorphStripsStorage morph_lodstrips_storage(const lodstrips::MorphData& data, Mor
     MorphStripsStorage st;
     st.strips_bytes = encode_lodstrips(data.strips).size();
     st.frame_bytes = std::size_t(data.strips.vertex_count) * (encoding == MorphEncoding::quantized16 ? 10u : 24u);
+    st.sets_bytes = sets_payload(data).size();
     st.file_bytes = 32 + 12 + st.strips_bytes + 12 + 12 + (encoding == MorphEncoding::quantized16 ? 24u : 0u) +
-                    st.frame_bytes * data.frame_count;
+                    st.frame_bytes * data.frame_count + 12 + st.sets_bytes;
     st.bytes_per_frame = data.frame_count ? double(st.file_bytes) / double(data.frame_count) : 0.0;
     return st;
 }

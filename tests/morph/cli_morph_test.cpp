@@ -139,36 +139,66 @@ TEST(CliMorph, BuildWithGltfWritesTheGlbAndTheMorphStripsNextToIt) {
 
 // `morph extract` from the strips file (the runtime's set_frame + go_to_lod) writes the same triangles as
 // from the .lfmorph file (extract_morph), at several times and LOD factors.
+namespace {
+
+// Triangles as position triples, rotated so the smallest corner comes first (winding kept), sorted.
+std::vector<std::array<float, 9>> position_triangles(const lodforge::Mesh& m) {
+    std::vector<std::array<float, 9>> out;
+    for (std::size_t f = 0; f < m.triangle_count(); ++f) {
+        std::array<std::array<float, 3>, 3> c;
+        for (int k = 0; k < 3; ++k) {
+            const lodforge::Vec3f p = m.positions[m.indices[3 * f + std::size_t(k)]];
+            c[std::size_t(k)] = {p.x, p.y, p.z};
+        }
+        std::rotate(c.begin(), std::min_element(c.begin(), c.end()), c.end());
+        out.push_back({c[0][0], c[0][1], c[0][2], c[1][0], c[1][1], c[1][2], c[2][0], c[2][1], c[2][2]});
+    }
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+// Builds the horse (3 frames) with `order` and --strips, then checks `morph extract` of the .lfmstrips
+// against `morph extract` of the .lfmorph, triangle for triangle in space, at each of `cases`. Returns
+// the build's output.
+std::string build_and_compare_extracts(const lodforge::test::ScratchDir& dir, const std::string& order,
+                                       std::initializer_list<const char*> cases) {
+    const std::string lfm = dir.file("h.lfmorph"), strips = dir.file("h.lfmstrips");
+    const auto built = run_cli("morph build " + quoted(horse()) + " -o " + quoted(lfm) +
+                               " --frames 3 --levels 0.5,0.1 --encoding float --order " + order + " --strips " + quoted(strips));
+    EXPECT_EQ(built.exit_code, 0) << built.out;
+    for (const char* args : cases) {
+        auto r = run_cli("morph extract " + quoted(lfm) + " " + args + " -o " + quoted(dir.file("a.ply")));
+        EXPECT_EQ(r.exit_code, 0) << r.out;
+        r = run_cli("morph extract " + quoted(strips) + " " + args + " -o " + quoted(dir.file("b.ply")));
+        EXPECT_EQ(r.exit_code, 0) << r.out;
+        const auto a = position_triangles(lodforge::read_mesh(dir.file("a.ply")));
+        EXPECT_GT(a.size(), 100u);
+        EXPECT_EQ(a, position_triangles(lodforge::read_mesh(dir.file("b.ply")))) << args;
+    }
+    return built.out;
+}
+
+}  // namespace
+
+TEST(CliMorph, PerFrameStripsExtractEqualsTheMorphFilesPerFrameExtract) {
+    lodforge::test::ScratchDir dir("cli-morph-strips-pf");
+    const std::string out =
+        build_and_compare_extracts(dir, "per-frame", {"--t 0 --lod 1", "--t 0.4 --lod 0.3", "--t 0.8 --lod 0.6", "--t 1 --lod 0"});
+    EXPECT_TRUE(contains(out, "3 change set(s)")) << out;
+    const auto r = run_cli("morph info " + quoted(dir.file("h.lfmstrips")) + " --json", false);
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["version"], 2);
+    ASSERT_EQ(j["change_sets"].size(), 3u);
+    EXPECT_EQ(j["change_sets"][2]["frame"], 2);
+    EXPECT_GT(j["change_sets"][2]["collapses"].get<int>(), 1000);
+}
+
 TEST(CliMorph, ExtractFromTheStripsFileEqualsExtractFromTheMorphFile) {
     lodforge::test::ScratchDir dir("cli-morph-strips");
-    const std::string lfm = dir.file("h.lfmorph"), strips = dir.file("h.lfmstrips");
-    auto r = run_cli("morph build " + quoted(horse()) + " -o " + quoted(lfm) +
-                     " --frames 3 --levels 0.5,0.1 --encoding float --strips " + quoted(strips));
-    ASSERT_EQ(r.exit_code, 0) << r.out;
-    auto triangles = [](const lodforge::Mesh& m) {
-        std::vector<std::array<float, 9>> out;
-        for (std::size_t f = 0; f < m.triangle_count(); ++f) {
-            std::array<std::array<float, 3>, 3> c;
-            for (int k = 0; k < 3; ++k) {
-                const lodforge::Vec3f p = m.positions[m.indices[3 * f + std::size_t(k)]];
-                c[std::size_t(k)] = {p.x, p.y, p.z};
-            }
-            std::rotate(c.begin(), std::min_element(c.begin(), c.end()), c.end());
-            out.push_back({c[0][0], c[0][1], c[0][2], c[1][0], c[1][1], c[1][2], c[2][0], c[2][1], c[2][2]});
-        }
-        std::sort(out.begin(), out.end());
-        return out;
-    };
-    for (const char* args : {"--t 0 --lod 1", "--t 0.4 --lod 0.3", "--t 1 --lod 0"}) {
-        r = run_cli("morph extract " + quoted(lfm) + " " + args + " -o " + quoted(dir.file("a.ply")));
-        ASSERT_EQ(r.exit_code, 0) << r.out;
-        r = run_cli("morph extract " + quoted(strips) + " " + args + " -o " + quoted(dir.file("b.ply")));
-        ASSERT_EQ(r.exit_code, 0) << r.out;
-        const auto a = triangles(lodforge::read_mesh(dir.file("a.ply")));
-        EXPECT_GT(a.size(), 100u);
-        EXPECT_EQ(a, triangles(lodforge::read_mesh(dir.file("b.ply")))) << args;
-    }
-    r = run_cli("morph info " + quoted(strips) + " --json", false);
+    const std::string strips = dir.file("h.lfmstrips");
+    build_and_compare_extracts(dir, "single", {"--t 0 --lod 1", "--t 0.4 --lod 0.3", "--t 1 --lod 0"});
+    auto r = run_cli("morph info " + quoted(strips) + " --json", false);
     ASSERT_EQ(r.exit_code, 0) << r.out;
     const auto j = nlohmann::json::parse(r.out);
     EXPECT_EQ(j["format"], "lfmstrips");

@@ -1,5 +1,6 @@
-// LODStrips on a morphing mesh: one strip set and one change set for every frame, with the frames'
-// positions and normals (docs/morph.md, "Morph LODStrips").
+// LODStrips on a morphing mesh: one strip set for every frame, with one change set per collapse sequence
+// of the MorphLod (single/naive: one; per-frame: one per keyframe) and the frames' positions and normals
+// (docs/morph.md, "Morph LODStrips").
 //
 //   MorphLod lod = build_morph_lod(morph, {});                    // the single collapse order
 //   MorphStripsBuild b = build_morph_lodstrips(morph, lod);
@@ -7,8 +8,8 @@
 //   lodstrips::MorphLodStrips rt;  rt.assign(b.data);             // morph_lodstrips_runtime.h
 //   rt.set_frame(0.4);  rt.go_to_lod(0.25);                       // same faces as extract_morph(.., 0.4, 0.25)
 //
-// The strips are recorded from the MorphLod's own collapse sequence (not a new simplification), so the
-// runtime's level for LOD factor f is exactly the face set extract_morph gives for f.
+// The strips are recorded from the MorphLod's own collapse sequences (not a new simplification), so the
+// runtime's level for LOD factor f at time t is exactly the face set extract_morph gives for (t, f).
 #pragma once
 
 #include "lodforge/morph.h"
@@ -33,13 +34,14 @@ struct MorphStripsParams {
 
 struct MorphStripsBuild {
     lodstrips::MorphData data;
-    std::vector<std::uint32_t> canonical;     // morph vertex → canonical vertex, UINT32_MAX if unused
-    std::vector<std::uint32_t> input_vertex;  // canonical vertex → morph vertex
-    std::size_t degenerate_runs = 0;          // removals recorded
+    std::vector<std::uint32_t> canonical;     // morph vertex → vertex of the file (change set 0's numbering), UINT32_MAX if unused
+    std::vector<std::uint32_t> input_vertex;  // vertex of the file → morph vertex
+    std::size_t degenerate_runs = 0;          // removals recorded, all change sets
 };
 
-// Needs a MorphLod with one sequence (single or naive order): per-frame orders would need one canonical
-// vertex order per sequence (Error(unsupported), see docs/morph.md). Error(argument) for bad params.
+// Change set q records lod.sequences[q] (up to its coarsest level) in its own canonical numbering over
+// the one strip set (laid out in sequence 0's numbering, the file's). Error(argument) for bad params,
+// Error(invalid) for a LOD whose sequences are not increasing keyframes or disagree on the points.
 MorphStripsBuild build_morph_lodstrips(const MorphMesh& morph, const MorphLod& lod, const MorphStripsParams& params = {},
                                        Progress* progress = nullptr);
 
@@ -47,6 +49,7 @@ struct MorphStripsStorage {
     std::size_t file_bytes = 0;
     std::size_t strips_bytes = 0;   // the embedded .lodstrips image (strips, changes, frame-0 vertices)
     std::size_t frame_bytes = 0;    // positions + normals of one frame
+    std::size_t sets_bytes = 0;     // section SETS: the change sets' frames and change sets 1.. (per-frame orders)
     double bytes_per_frame = 0;     // file_bytes / frames
 };
 
