@@ -6,16 +6,21 @@
 //    indices; the final frame is the last index's (the core's extraction count, real pixels).
 //  - Octree dock's view-dependent cut on the dragon (202 k triangles): a burst of camera moves; the cut
 //    shown is the last camera's, equal to the core's select_cut and extract_mesh for it.
+//  - LODStrips slider: the full-detail strips' scene is made on the chain's worker, and the slider's first
+//    move shows it (its triangles replaced) instead of making one on the GUI thread.
 #include "MainWindow.h"
 #include "PixelStats.h"
 #include "StudioSession.h"
 
+#include "lodforge/lodstrips_runtime.h"
 #include "lodforge/mc_octree.h"
 #include "lodforge/octree_select.h"
 #include "lodforge/octree_store.h"
 #include "lodforge/preset.h"
 #include "lodforge/widgets/LevelViews.h"
+#include "lodforge/widgets/LodLevels.h"
 #include "lodforge/widgets/McoPriorityPanel.h"
+#include "lodforge/widgets/MeshScene.h"
 #include "lodforge/widgets/OctreeTuningPanel.h"
 #include "lodforge/widgets/VtkView.h"
 
@@ -120,6 +125,7 @@ private slots:
     void mcoDragStaysResponsiveAndShowsTheLastIndex();
     void mcoCancelAndCloseDuringExtraction();
     void octreeCutFollowsACameraBurstOffTheGuiThread();
+    void lodstripsFirstMoveUsesTheWorkersScene();
 
 private:
     McoPriorityPanel* buildMco(const QString& path, std::size_t resolution);
@@ -389,6 +395,41 @@ void StudioWorkersTest::octreeCutFollowsACameraBurstOffTheGuiThread() {
     window_.reset();
     // The pool thread drops its copy of the work just after the job ends.
     QTRY_VERIFY_WITH_TIMEOUT(handle.expired(), 5000);
+}
+
+void StudioWorkersTest::lodstripsFirstMoveUsesTheWorkersScene() {
+    QVERIFY(lodforge::testing::loadInStudio(*window_, dragonRes3Path));
+    lodforge::Preset preset = window_->preset();
+    preset.method = lodforge::LodMethod::lodstrips;
+    preset.levels = {{lodforge::LodTarget::Kind::ratio, 0.5}, {lodforge::LodTarget::Kind::ratio, 0.05}};
+    QString message;
+    QVERIFY2(lodforge::testing::buildInStudio(*window_, preset, &message), qPrintable(message));
+    auto* levels = window_->levelViews();
+    QVERIFY(levels->hasContinuousLod());
+    const auto& data = levels->levels().front().continuous;
+    QVERIFY(data && data->fullScene);
+
+    // The chain's worker made the full-detail strips: every triangle and vertex of the runtime's level 0.
+    lodstrips::LodStrips reference;
+    std::string error;
+    QVERIFY2(reference.load_memory(data->lodstripsFile.data(), data->lodstripsFile.size(), &error), error.c_str());
+    std::size_t triangles = 0;
+    for (const auto& part : lodforge::widgets::describe(*data->fullScene).parts) triangles += part.triangles;
+    QCOMPARE(triangles, std::size_t(reference.triangle_count()));
+
+    // The slider's first move shows that scene (its triangles replaced), not one made on the GUI thread.
+    VtkView* view = window_->view();
+    const QImage full = freshFrame(view);
+    levels->continuousSlider()->setValue(300);
+    QVERIFY(levels->continuousActive());
+    QVERIFY(view->scene() == data->fullScene);
+    reference.go_to_lod(0.3);
+    QCOMPARE(levels->continuousTriangles(), std::size_t(reference.triangle_count()));
+    const QImage coarse = freshFrame(view);
+    const double differ = differingFraction(full, coarse, viewBackgroundColor());
+    qInfo("LODStrips on dragon res3: %zu triangles at full detail, %zu at 0.3; %.3f of the pixels differ", triangles,
+          levels->continuousTriangles(), differ);
+    QVERIFY(differ > 0.02);
 }
 
 QTEST_MAIN(StudioWorkersTest)
