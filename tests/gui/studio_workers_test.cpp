@@ -2,7 +2,7 @@
 // GUI thread"): the event loop keeps turning while it runs, requests made meanwhile coalesce into the
 // newest one, a result that is no longer wanted never reaches the view, and closing the window or loading
 // another file while the work runs ends it cleanly (the data it held is freed).
-//  - MC octree dock on frag_115 (a coloured RGB-D scan): a fast drag of the priority slider through many
+//  - MC octree dock on frag_115 (a coloured RGB-D scan, resolution 64): a fast drag of the priority slider through many
 //    indices; the final frame is the last index's (the core's extraction count, real pixels).
 //  - Octree dock's view-dependent cut on the dragon (202 k triangles): a burst of camera moves; the cut
 //    shown is the last camera's, equal to the core's select_cut and extract_mesh for it.
@@ -22,6 +22,7 @@
 #include "lodforge/widgets/McoPriorityPanel.h"
 #include "lodforge/widgets/MeshScene.h"
 #include "lodforge/widgets/OctreeTuningPanel.h"
+#include "lodforge/widgets/ViewOptions.h"
 #include "lodforge/widgets/VtkView.h"
 
 #include <QApplication>
@@ -101,17 +102,6 @@ private:
     qint64 longestGapMs_ = 0;
 };
 
-// The panel's extraction (on its worker) has caught up with the last request.
-bool settled(const McoPriorityPanel* panel, int timeoutMs = 60000) {
-    return QTest::qWaitFor([&] { return !panel->isExtracting(); }, timeoutMs) &&
-           panel->priority() == panel->requestedPriority();
-}
-
-// The view-dependent cut has caught up with the last request.
-bool cutSettled(const OctreeTuningPanel* panel) {
-    return QTest::qWaitFor([&] { return !panel->isCutting(); }, 60000);
-}
-
 }  // namespace
 
 class StudioWorkersTest : public QObject {
@@ -158,7 +148,7 @@ McoPriorityPanel* StudioWorkersTest::buildMco(const QString& path, std::size_t r
     QSignalSpy built(panel, &McoPriorityPanel::built);
     panel->build();
     if (!built.wait(120000) || !built.at(0).at(0).toBool()) return nullptr;
-    if (!settled(panel)) return nullptr;
+    if (!lodforge::testing::mcoSettled(panel)) return nullptr;
     return panel;
 }
 
@@ -199,7 +189,7 @@ void StudioWorkersTest::mcoDragStaysResponsiveAndShowsTheLastIndex() {
     const QString lastCount = QLocale().toString(qulonglong(lodforge::mc_triangles_at(*tree, last)));
     QVERIFY2(panel->label()->text().contains(QStringLiteral("extracting priority %1").arg(QLocale().toString(qulonglong(last)))),
              qPrintable(panel->label()->text()));
-    QVERIFY(settled(panel));
+    QVERIFY(lodforge::testing::mcoSettled(panel));
     const int runs = panel->extractionsRun() - runsBefore, dropped = panel->resultsDropped() - droppedBefore;
     const int cancelled = panel->extractionsCancelled() - cancelledBefore;
     qInfo("drag: %d moves, %d extractions shown, %d dropped, %d cancelled early; event loop ticked %d times "
@@ -220,30 +210,37 @@ void StudioWorkersTest::mcoDragStaysResponsiveAndShowsTheLastIndex() {
     QVERIFY(panel->label()->text().contains(lastCount + QStringLiteral(" triangles")));
     QCOMPARE(window_->levelViews()->singleLabel()->text(), panel->labelText());
 
-    // Full-detail extractions from the coarse end: the event loop turns while the worker has them (a
-    // busy machine may leave the GUI thread few turns, so over four).
+    // Full-detail extractions with the cut's cells (the cells scene of 120 k boxes is most of the
+    // worker's time) from the coarse end: the event loop turns while the worker has them. Each coarse
+    // frame is drawn before the fine request (drawing is the GUI thread's), and a busy machine may leave
+    // the GUI thread few turns, so over two.
     {
+        lodforge::widgets::ViewOptions options = window_->viewOptions();
+        options.cells = true;
+        window_->setViewOptions(options);
         LoopProbe single([panel] { return panel->isWorkerBusy(); });
-        for (int i = 0; i < 4; ++i) {
+        for (int i = 0; i < 2; ++i) {
             panel->setPriority(top / 40);
-            QVERIFY(settled(panel));
-            freshFrame(window_->view());  // drawn before the next request: drawing is the GUI thread's
+            QVERIFY(lodforge::testing::mcoSettled(panel));
+            freshFrame(window_->view());
             panel->setPriority(top);
             QVERIFY(single.waitUntil([panel] { return !panel->isExtracting(); }));
-            freshFrame(window_->view());
+            QVERIFY(panel->cutCells() > 0);
         }
-        qInfo("four full-detail extractions: the event loop ticked %d times while the worker extracted; %s",
-              single.busyTicks(), qPrintable(panel->timing()));
+        qInfo("two full-detail extractions with cells: the event loop ticked %d times while the worker "
+              "extracted; %s", single.busyTicks(), qPrintable(panel->timing()));
         QVERIFY2(single.busyTicks() >= 1, "the event loop did not turn while the worker extracted");
+        options.cells = false;
+        window_->setViewOptions(options);
     }
     QCOMPARE(panel->triangles(), lodforge::mc_triangles_at(*tree, top));
 
     // Two indices, two pictures: the frame is the one of the index shown.
     panel->setPriority(last);
-    QVERIFY(settled(panel));
+    QVERIFY(lodforge::testing::mcoSettled(panel));
     const QImage atLast = freshFrame(window_->view());
     panel->setPriority(top / 40);
-    QVERIFY(settled(panel));
+    QVERIFY(lodforge::testing::mcoSettled(panel));
     QCOMPARE(panel->triangles(), lodforge::extract_mc_octree(*tree, top / 40).mesh.triangle_count());
     const QImage coarse = freshFrame(window_->view());
     const double differ = differingFraction(atLast, coarse, viewBackgroundColor());
@@ -257,7 +254,8 @@ void StudioWorkersTest::mcoDragStaysResponsiveAndShowsTheLastIndex() {
     int flips = 0;
     QTimer flipper;
     connect(&flipper, &QTimer::timeout, this, [&] { panel->slider()->setValue(int(++flips % 2 ? top : top / 2)); });
-    flipper.start(15);
+    flipper.start(5);
+    QVERIFY(QTest::qWaitFor([panel] { return panel->isWorkerBusy(); }, 10000));
     QSignalSpy loaded(window_.get(), &MainWindow::loadFinished);
     QSignalSpy extracted(panel, &McoPriorityPanel::extracted);
     window_->openFile(spotPath);
@@ -320,7 +318,7 @@ void StudioWorkersTest::octreeCutFollowsACameraBurstOffTheGuiThread() {
     panel->setFrustumCulling(false);
     panel->setScreenError(1);
     panel->setViewDependent(true);
-    QVERIFY(cutSettled(panel));
+    QVERIFY(lodforge::testing::cutSettled(panel));
     QCOMPARE(panel->cutsShown(), 1);
     const VtkView::ViewCamera start = view->viewCamera();
 
@@ -336,7 +334,7 @@ void StudioWorkersTest::octreeCutFollowsACameraBurstOffTheGuiThread() {
         view->setViewCamera(c);
         if (i % 3 == 2) QTest::qWait(4);
     }
-    QVERIFY(cutSettled(panel));
+    QVERIFY(lodforge::testing::cutSettled(panel));
     const int shown = panel->cutsShown() - shownBefore, dropped = panel->cutsDropped() - droppedBefore;
     qInfo("camera burst: %d moves, %d cuts shown, %d dropped (superseded or cancelled); %s", moves, shown,
           dropped, qPrintable(panel->cutLabel()->text()));
@@ -345,17 +343,18 @@ void StudioWorkersTest::octreeCutFollowsACameraBurstOffTheGuiThread() {
     QVERIFY(shown >= 1);
 
     // Cuts of the whole model at full resolution, one after the other: the event loop turns while the
-    // worker makes them (a busy machine may leave the GUI thread few turns, so over four cuts). Each
+    // worker makes them (a cut takes 30-150 ms here and a busy machine may leave the GUI thread few
+    // turns, so over ten cuts). Each
     // result is drawn before the next cut is asked for: drawing is the GUI thread's (OpenGL), and on
     // llvmpipe 200 k triangles take a while.
     {
         LoopProbe probe([panel] { return panel->isCutWorkerBusy(); });
-        for (int i = 0; i < 4; ++i) {
+        for (int i = 0; i < 10; ++i) {
             panel->updateCut();
             QVERIFY(probe.waitUntil([panel] { return !panel->isCutting(); }));
             freshFrame(view);
         }
-        qInfo("four cuts: the event loop ticked %d times while the worker ran; %s; %s", probe.busyTicks(),
+        qInfo("ten cuts: the event loop ticked %d times while the worker ran; %s; %s", probe.busyTicks(),
               qPrintable(panel->cutLabel()->text()),
               qPrintable(panel->findChild<QLabel*>(QStringLiteral("octreeStatus"))->text()));
         QVERIFY2(probe.busyTicks() >= 1, "the event loop did not turn while the cut was made");

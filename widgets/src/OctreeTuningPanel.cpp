@@ -545,8 +545,12 @@ void OctreeTuningPanel::startCut() {
         },
         this);
     Job* job = cutJob_;
-    connect(job, &Job::progressChanged, this, [this, job](double fraction, const QString& stage) {
-        if (job == cutJob_) status_->setText(tr("Cut: %1 %2 %").arg(stage).arg(int(fraction * 100)));
+    // In steps of 10 %: every repaint of the dock is a composition of the window on the GUI thread.
+    connect(job, &Job::progressChanged, this, [this, job, shown = -1](double fraction, const QString& stage) mutable {
+        const int step = int(fraction * 10);
+        if (job != cutJob_ || step == shown) return;
+        shown = step;
+        status_->setText(tr("Cut: %1 %2 %").arg(stage).arg(step * 10));
     });
     connect(job, &Job::finished, this, [this, job, out, generation, select](const JobResult& r) {
         job->deleteLater();
