@@ -5,6 +5,8 @@
 #include "MainWindow.h"
 
 #include "lodforge/preset.h"
+#include "lodforge/widgets/McoPriorityPanel.h"
+#include "lodforge/widgets/OctreeTuningPanel.h"
 #include "lodforge/widgets/VtkView.h"
 
 #include <QImage>
@@ -51,6 +53,17 @@ inline QImage freshFrame(widgets::VtkView* view) {
     view->update();
     if (!QTest::qWaitFor([&] { return view->frameCount() > before; }, 5000)) qWarning("no new frame");
     return view->grabFramebuffer().convertToFormat(QImage::Format_RGB32);
+}
+
+// The MC octree dock's extraction (on its worker) has caught up with the last request.
+inline bool mcoSettled(const widgets::McoPriorityPanel* panel, int timeoutMs = 60000) {
+    return QTest::qWaitFor([&] { return !panel->isExtracting(); }, timeoutMs) &&
+           panel->priority() == panel->requestedPriority();
+}
+
+// The Octree dock's view-dependent cut (made on its worker) has caught up with the last request.
+inline bool cutSettled(const widgets::OctreeTuningPanel* panel, int timeoutMs = 60000) {
+    return QTest::qWaitFor([&] { return !panel->isCutting(); }, timeoutMs);
 }
 
 }  // namespace lodforge::testing

@@ -162,7 +162,8 @@ void StructureInspectTest::mcoPrioritySliderExtractsColouredLevels() {
         const std::size_t p = top * std::size_t(i * i) / 100;  // denser at the coarse end
         panel->slider()->setValue(int(p));
         const QString expected = QLocale().toString(qulonglong(lodforge::mc_triangles_at(*tree, p)));
-        QTRY_VERIFY_WITH_TIMEOUT(panel->label()->text().contains(expected + QStringLiteral(" triangles")), 5000);
+        QVERIFY(lodforge::testing::mcoSettled(panel));
+        QVERIFY(panel->label()->text().contains(expected + QStringLiteral(" triangles")));
         QCOMPARE(panel->priority(), p);
         QCOMPARE(panel->triangles(), lodforge::mc_triangles_at(*tree, p));
         QCOMPARE(levelLabel->text(), panel->labelText());
@@ -174,14 +175,17 @@ void StructureInspectTest::mcoPrioritySliderExtractsColouredLevels() {
 
     // The triangle budget box: the finest index within the budget.
     panel->budgetBox()->setValue(20000);
+    QVERIFY(lodforge::testing::mcoSettled(panel));
     QVERIFY(panel->triangles() <= 20000 && panel->priority() < top);
     QVERIFY(lodforge::mc_triangles_at(*tree, panel->priority() + 1) > 20000);
 
     // Coarse and fine frames differ; the scan's colours show.
     panel->setPriority(top / 50);
+    QVERIFY(lodforge::testing::mcoSettled(panel));
     const std::uint64_t coarseTriangles = panel->triangles();
     const QImage coarse = freshFrame(view);
     panel->setPriority(top);
+    QVERIFY(lodforge::testing::mcoSettled(panel));
     QVERIFY(panel->triangles() > 2 * coarseTriangles);
     const QImage fine = freshFrame(view);
     const double differ = differingFraction(coarse, fine, viewBackgroundColor());
@@ -208,10 +212,12 @@ void StructureInspectTest::mcoPrioritySliderExtractsColouredLevels() {
 
     // The cells overlay is the cut at the slider's index: more cells, and more line pixels, when finer.
     setCells(true);
+    QVERIFY(lodforge::testing::mcoSettled(panel));
     const QImage fineCells = freshFrame(view);
     const std::size_t fineCellCount = panel->cutCells();
     QCOMPARE(lodforge::widgets::describe(*view->overlayScene()).lines, 12 * fineCellCount);
     panel->setPriority(top / 50);
+    QVERIFY(lodforge::testing::mcoSettled(panel));
     const QImage coarseCells = freshFrame(view);
     const std::size_t coarseCellCount = panel->cutCells();
     QCOMPARE(lodforge::widgets::describe(*view->overlayScene()).lines, 12 * coarseCellCount);
@@ -333,6 +339,7 @@ void StructureInspectTest::octreeViewDependentCutAndNodeScrub() {
     panel->setFrustumCulling(false);  // every node in the cut: only the distance decides
     panel->setScreenError(2);
     panel->setViewDependent(true);
+    QVERIFY(lodforge::testing::cutSettled(panel));
     QVERIFY(window_->levelViews()->inspectionOwner() == panel);
     const std::uint64_t atReset = panel->cutTriangles();
     QVERIFY(lodforge::is_valid_cut(store, panel->cut()));
@@ -363,6 +370,7 @@ void StructureInspectTest::octreeViewDependentCutAndNodeScrub() {
     panel->screenErrorSlider()->setValue(40);  // 20 px, through the slider's signal
     QTRY_VERIFY_WITH_TIMEOUT(panel->cutTriangles() < atReset, 5000);
     panel->setScreenError(2);
+    QVERIFY(lodforge::testing::cutSettled(panel));
     QCOMPARE(panel->cutTriangles(), atReset);
 
     // The cut's nodes as cells, one box each, coloured by level: the frame changes where they are drawn.
@@ -381,6 +389,7 @@ void StructureInspectTest::octreeViewDependentCutAndNodeScrub() {
     pick->setChecked(true);
     QTest::mouseClick(view, Qt::LeftButton, {}, centre);
     QVERIFY2(panel->pinnedNode().has_value(), "no node picked at the view's centre");
+    QVERIFY(lodforge::testing::cutSettled(panel));
     const std::uint32_t picked = *panel->pinnedNode();
     const std::uint64_t beforeScrub = panel->cutTriangles();
     QCOMPARE(beforeScrub, atReset);  // pinning at its own level changes nothing
@@ -391,6 +400,7 @@ void StructureInspectTest::octreeViewDependentCutAndNodeScrub() {
     QVERIFY(QTest::qWaitForWindowActive(window_.get()));
     for (int i = 0; i < 3; ++i) {
         QTest::keyClick(view, Qt::Key_BracketRight);  // the Coarser shortcut
+        QVERIFY(lodforge::testing::cutSettled(panel));
         coarsest = panel->cutTriangles();
         QVERIFY(lodforge::is_valid_cut(store, panel->cut()));
         QCOMPARE(borderEdges(panel->cutMesh()), inputBorders);
@@ -401,8 +411,10 @@ void StructureInspectTest::octreeViewDependentCutAndNodeScrub() {
     QVERIFY(window_->levelViews()->singleLabel()->text().contains(QStringLiteral("level %1").arg(panel->pinnedLevel())));
     QVERIFY(differingFraction(beforeFrame, freshFrame(view), viewBackgroundColor()) > 0.005);
     QTest::keyClick(view, Qt::Key_BracketLeft);  // the Finer shortcut
+    QVERIFY(lodforge::testing::cutSettled(panel));
     QVERIFY(panel->cutTriangles() > coarsest);
     while (panel->pinnedLevel() > 0) panel->finer();
+    QVERIFY(lodforge::testing::cutSettled(panel));
     QVERIFY(panel->cutTriangles() > beforeScrub);
     QVERIFY(lodforge::is_valid_cut(store, panel->cut()));
     QCOMPARE(borderEdges(panel->cutMesh()), inputBorders);
@@ -413,6 +425,7 @@ void StructureInspectTest::octreeViewDependentCutAndNodeScrub() {
         QSignalSpy updated(panel, &OctreeTuningPanel::cutUpdated);
         window_->resize(800, 560);
         QVERIFY(updated.wait(5000));
+        QVERIFY(lodforge::testing::cutSettled(panel));
         qInfo("resized view: %llu -> %llu triangles", qulonglong(large), qulonglong(panel->cutTriangles()));
         QVERIFY(panel->cutTriangles() < large);
         QVERIFY(lodforge::is_valid_cut(store, panel->cut()));

@@ -170,7 +170,8 @@ void LevelViews::setContinuousFactor(double factor) {
         // The full-detail strips once, with every vertex the runtime has (level 0 uses them all); later
         // moves only replace this scene's triangles.
         runtime_->go_to_level(0);
-        fullStrips_ = buildMeshScene(lodstrips_mesh(*runtime_), continuousData_->images);
+        fullStrips_ = continuousData_->fullScene ? continuousData_->fullScene
+                                                 : buildMeshScene(lodstrips_mesh(*runtime_), continuousData_->images);
         patchable_ = fullStrips_->parts.size() == 1 &&
                      std::size_t(fullStrips_->parts.front().polyData->GetNumberOfPoints()) == runtime_->vertex_count();
     }

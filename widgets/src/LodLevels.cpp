@@ -3,6 +3,8 @@
 #include "lodforge/error.h"
 #include "lodforge/lod_chain.h"
 #include "lodforge/lod_methods.h"
+#include "lodforge/lodstrips.h"
+#include "lodforge/lodstrips_runtime.h"
 #include "lodforge/metrics.h"
 #include "lodforge/progress_range.h"
 #include "lodforge/simplify_cluster.h"
@@ -170,6 +172,11 @@ std::vector<LevelData> buildStructureLevels(const LevelData& original, const Pre
         auto continuous = std::make_shared<ContinuousLodData>();
         continuous->lodstripsFile = std::move(built.lodstrips_file);
         continuous->images = images;
+        lodstrips::LodStrips runtime;
+        if (runtime.load_memory(continuous->lodstripsFile.data(), continuous->lodstripsFile.size())) {
+            runtime.go_to_level(0);
+            continuous->fullScene = buildMeshScene(lodstrips_mesh(runtime), images);
+        }
         levels.front().continuous = std::move(continuous);
     }
     if (preset.method == LodMethod::octree) {

@@ -1,6 +1,7 @@
 #include "lodforge/widgets/McoPriorityPanel.h"
 
 #include "CoalescedUpdate.h"
+#include "lodforge/error.h"
 #include "lodforge/lod_methods.h"
 #include "lodforge/widgets/Job.h"
 #include "lodforge/widgets/LevelViews.h"
@@ -11,6 +12,7 @@
 #include <QHBoxLayout>
 #include <QLabel>
 #include <QLocale>
+#include <QProgressBar>
 #include <QPushButton>
 #include <QSlider>
 #include <QSpinBox>
@@ -18,9 +20,40 @@
 
 #include <algorithm>
 #include <limits>
+#include <mutex>
 #include <vector>
 
 namespace lodforge::widgets {
+
+// The extractor is not thread-safe and keeps a pointer to the tree: both live here, at a fixed address,
+// shared by the panel and every extraction job. An extraction that was let go (a newer request, Cancel)
+// may still be finishing when the next one starts; the lock makes the next one wait for it.
+struct McoPriorityPanel::Built {
+    explicit Built(McOctree t) : tree(std::move(t)), extractor(tree) {}
+    const McOctree tree;
+    std::mutex mutex;
+    McOctreeExtractor extractor;
+};
+
+// What an extraction job hands back; written on the worker, read on the GUI thread after finished().
+struct McoPriorityPanel::Extraction {
+    std::uint64_t triangles = 0;
+    std::size_t cells = 0;
+    std::shared_ptr<const MeshScene> scene;
+    std::shared_ptr<const MeshScene> cellsScene;
+    double ms = 0;
+    QString timing;
+};
+
+namespace {
+
+void checkCancelled(Progress* progress) {
+    if (progress && progress->cancelled()) throw Error(Error::Kind::cancelled, "MC octree extraction cancelled");
+}
+
+double msSince(const QElapsedTimer& clock, qint64 since) { return double(clock.nsecsElapsed() - since) / 1e6; }
+
+}  // namespace
 
 McoPriorityPanel::McoPriorityPanel(LevelViews* views, QWidget* parent) : QWidget(parent), views_(views) {
     auto* layout = new QVBoxLayout(this);
@@ -31,6 +64,7 @@ McoPriorityPanel::McoPriorityPanel(LevelViews* views, QWidget* parent) : QWidget
                                 "Parameters' marching-cube resolution"));
     cancelButton_ = new QPushButton(tr("Cancel"), this);
     cancelButton_->setObjectName(QStringLiteral("mcoCancel"));
+    cancelButton_->setToolTip(tr("Stop the build or the extraction; the view keeps the mesh it shows"));
     buttons->addWidget(buildButton_);
     buttons->addWidget(cancelButton_);
     buttons->addStretch(1);
@@ -39,6 +73,15 @@ McoPriorityPanel::McoPriorityPanel(LevelViews* views, QWidget* parent) : QWidget
     status_->setObjectName(QStringLiteral("mcoStatus"));
     status_->setWordWrap(true);
     layout->addWidget(status_);
+    progress_ = new QProgressBar(this);
+    progress_->setObjectName(QStringLiteral("mcoProgress"));
+    progress_->setRange(0, 1000);
+    progress_->setTextVisible(false);
+    QSizePolicy keepSpace = progress_->sizePolicy();
+    keepSpace.setRetainSizeWhenHidden(true);  // shown while busy without moving the slider under the mouse
+    progress_->setSizePolicy(keepSpace);
+    progress_->setVisible(false);
+    layout->addWidget(progress_);
     layout->addWidget(new QLabel(tr("Priority (0 = the root alone, right = every leaf)"), this));
     slider_ = new QSlider(Qt::Horizontal, this);
     slider_->setObjectName(QStringLiteral("mcoPrioritySlider"));
@@ -47,6 +90,7 @@ McoPriorityPanel::McoPriorityPanel(LevelViews* views, QWidget* parent) : QWidget
     label_ = new QLabel(this);
     label_->setObjectName(QStringLiteral("mcoPriorityLabel"));
     label_->setTextFormat(Qt::PlainText);
+    label_->setWordWrap(true);
     layout->addWidget(label_);
     auto* budgetRow = new QHBoxLayout;
     budgetRow->addWidget(new QLabel(tr("At most"), this));
@@ -62,34 +106,54 @@ McoPriorityPanel::McoPriorityPanel(LevelViews* views, QWidget* parent) : QWidget
     layout->addLayout(budgetRow);
     layout->addStretch(1);
 
-    update_ = new CoalescedUpdate([this] { show(); }, this);
+    update_ = new CoalescedUpdate([this] { startExtraction(); }, this);
     connect(buildButton_, &QPushButton::clicked, this, &McoPriorityPanel::build);
     connect(budget_, &QSpinBox::valueChanged, this, [this](int value) { setTriangleBudget(std::uint64_t(value)); });
     connect(cancelButton_, &QPushButton::clicked, this, &McoPriorityPanel::cancel);
     connect(slider_, &QSlider::valueChanged, this, [this](int value) {
-        shown_ = std::size_t(std::max(0, value));
-        update_->request();
+        requested_ = std::size_t(std::max(0, value));
+        request();
     });
     connect(views_, &LevelViews::inspectionEnded, this, [this](const QObject* owner) {
-        if (owner == this) update_->cancel();
+        if (owner != this) return;
+        // Another view took the single view: nothing waits to be shown any more.
+        update_->cancel();
+        wanted_.reset();
+        if (extractJob_) extractJob_->cancel();
+        updateUi();
     });
     connect(views_, &LevelViews::viewOptionsChanged, this, [this](const ViewOptions& options) {
-        if (views_->inspectionOwner() == this && options.cells && !cellsBuilt_) update_->run();
+        if (views_->inspectionOwner() == this && options.cells && !cellsBuilt_) request();
     });
     updateUi();
 }
 
 McoPriorityPanel::~McoPriorityPanel() {
-    delete job_;  // cancels and waits: the work writes into state this panel shares
+    // Every job, also those let go that have not ended yet: each cancels and waits, since its work
+    // reports to it. They hold the tree themselves, so it goes with the last of them.
+    for (Job* job : findChildren<Job*>(Qt::FindDirectChildrenOnly)) job->cancel();
+    for (Job* job : findChildren<Job*>(Qt::FindDirectChildrenOnly)) delete job;
 }
+
+const McOctree* McoPriorityPanel::tree() const { return built_ ? &built_->tree : nullptr; }
+
+std::weak_ptr<const McOctree> McoPriorityPanel::treeHandle() const {
+    if (!built_) return {};
+    return std::shared_ptr<const McOctree>(built_, &built_->tree);
+}
+
+bool McoPriorityPanel::isExtracting() const { return extractJob_ != nullptr || wanted_.has_value(); }
+
+bool McoPriorityPanel::isWorkerBusy() const { return extractJob_ != nullptr && extractJob_->isRunning(); }
 
 void McoPriorityPanel::setModel(std::shared_ptr<const LoadedModel> model) {
     cancel();
     views_->clearInspection(this);
-    update_->cancel();
-    extractor_.reset();
-    tree_.reset();
+    built_.reset();  // running jobs keep their own reference until they end
     model_ = std::move(model);
+    shown_ = requested_ = 0;
+    shownTriangles_ = 0;
+    shownCells_ = 0;
     status_->clear();
     updateUi();
 }
@@ -103,17 +167,26 @@ void McoPriorityPanel::build() {
     if (!model_ || job_) return;
     struct Output {
         McOctreeBuildResult result;
+        std::shared_ptr<Built> built;
     };
     auto out = std::make_shared<Output>();
     McOctreeParams params;
     params.resolution = resolution_;
     const std::shared_ptr<const LoadedModel> model = model_;
     job_ = new Job(
-        tr("MC octree"), [out, model, params](Progress* p) { out->result = build_mc_octree(model->mesh, params, p); },
+        tr("MC octree"),
+        [out, model, params](Progress* p) {
+            out->result = build_mc_octree(model->mesh, params, p);
+            // The extractor's tables are built once per tree, here rather than on the GUI thread.
+            p->report(1.0, "extraction tables");
+            out->built = std::make_shared<Built>(std::move(out->result.tree));
+        },
         this);
     Job* job = job_;
-    connect(job, &Job::progressChanged, this, [this](double fraction, const QString& stage) {
+    connect(job, &Job::progressChanged, this, [this, job](double fraction, const QString& stage) {
+        if (job != job_) return;
         status_->setText(tr("%1 %2 %").arg(stage).arg(int(fraction * 100)));
+        progress_->setValue(int(fraction * 1000));
     });
     connect(job, &Job::finished, this, [this, job, out, model](const JobResult& r) {
         job->deleteLater();
@@ -123,23 +196,25 @@ void McoPriorityPanel::build() {
         const bool ok = r.ok() && model == model_;
         if (ok) {
             views_->clearInspection(this);
-            extractor_.reset();
-            tree_ = std::make_shared<McOctree>(std::move(out->result.tree));
-            extractor_ = std::make_unique<McOctreeExtractor>(*tree_);
+            dropExtraction();  // of the previous tree
+            built_ = std::move(out->built);
+            const McOctree& tree = built_->tree;
             message = tr("MC octree: %L1 nodes, %L2 priorities, %L3 to %L4 triangles, built in %5 ms")
-                          .arg(tree_->nodes.size())
-                          .arg(tree_->max_priority())
-                          .arg(tree_->triangle_counts.front())
-                          .arg(tree_->triangle_counts.back())
+                          .arg(tree.nodes.size())
+                          .arg(tree.max_priority())
+                          .arg(mc_triangles_at(tree, 0))
+                          .arg(mc_triangles_at(tree, tree.max_priority()))
                           .arg(r.elapsedMs);
             for (const std::string& w : out->result.warnings) message += QStringLiteral("; ") + QString::fromStdString(w);
             {
                 const QSignalBlocker block(slider_);
-                slider_->setRange(0, int(tree_->max_priority()));
-                slider_->setValue(int(tree_->max_priority()));
+                slider_->setRange(0, int(tree.max_priority()));
+                slider_->setValue(int(tree.max_priority()));
             }
+            shown_ = requested_ = tree.max_priority();
+            shownTriangles_ = 0;
             updateUi();
-            setPriority(tree_->max_priority());
+            setPriority(tree.max_priority());
         } else {
             message = r.status == JobResult::Status::cancelled ? tr("MC octree build cancelled") : r.error;
             updateUi();
@@ -153,77 +228,181 @@ void McoPriorityPanel::build() {
     job->start();
 }
 
+void McoPriorityPanel::dropExtraction() {
+    update_->cancel();
+    wanted_.reset();
+    if (extractJob_) {
+        extractJob_->cancel();
+        extractJob_ = nullptr;  // its result is dropped; it deletes itself when it ends
+    }
+}
+
 void McoPriorityPanel::cancel() {
-    if (!job_) return;
-    job_->cancel();
-    job_ = nullptr;  // its result is dropped; it deletes itself when it ends
+    if (job_) {
+        job_->cancel();
+        job_ = nullptr;  // its result is dropped; it deletes itself when it ends
+    }
+    if (isExtracting()) {
+        dropExtraction();
+        requested_ = shown_;
+        const QSignalBlocker block(slider_);
+        slider_->setValue(int(shown_));
+        status_->setText(tr("Extraction cancelled: the view keeps priority %L1").arg(shown_));
+    }
     updateUi();
 }
 
 void McoPriorityPanel::setPriority(std::size_t priority) {
-    if (!tree_) return;
-    shown_ = std::min(priority, tree_->max_priority());
+    if (!built_) return;
+    requested_ = std::min(priority, built_->tree.max_priority());
     {
         const QSignalBlocker block(slider_);
-        slider_->setValue(int(shown_));
+        slider_->setValue(int(requested_));
     }
-    update_->run();
+    request();
 }
 
 void McoPriorityPanel::setTriangleBudget(std::uint64_t triangles) {
-    if (tree_) setPriority(mc_priority_for_triangles(*tree_, triangles));
+    if (built_) setPriority(mc_priority_for_triangles(built_->tree, triangles));
 }
 
-double McoPriorityPanel::lastExtractMs() const { return update_->lastMs(); }
+void McoPriorityPanel::request() {
+    if (!built_) return;
+    wanted_ = Request{requested_, views_->viewOptions().cells};
+    // The running extraction's result would arrive superseded and be dropped: stop it at its next stage.
+    if (extractJob_ && running_ != *wanted_) extractJob_->cancel();
+    update_->request();  // the moves of this turn of the event loop make one request
+    updateUi();
+}
+
+void McoPriorityPanel::startExtraction() {
+    if (!built_ || !wanted_ || extractJob_) return;  // a running one starts the newest request when it ends
+    const Request request = *wanted_;
+    running_ = request;
+    const std::shared_ptr<Built> built = built_;
+    auto out = std::make_shared<Extraction>();
+    extractJob_ = new Job(
+        tr("MC octree extraction"),
+        [built, request, out](Progress* p) {
+            QElapsedTimer clock;
+            clock.start();
+            p->report(0.0, "extracting");
+            const std::lock_guard<std::mutex> lock(built->mutex);
+            const McExtraction& e = built->extractor.extract(request.priority);
+            const double extractMs = msSince(clock, 0);
+            out->triangles = e.mesh.triangle_count();
+            checkCancelled(p);
+            // The cut's cells only while the overlay is shown: on a fine cut they cost more than the mesh.
+            const qint64 cellsStart = clock.nsecsElapsed();
+            std::vector<StructureCell> cells;
+            if (request.cells) {
+                p->report(0.2, "cells");
+                for (const McCell& c : built->extractor.cells(request.priority)) {
+                    StructureCell cell;
+                    for (int k = 0; k < 3; ++k) cell.min[k] = c.min[k];
+                    cell.size = c.size;
+                    cell.depth = int(built->tree.levels) - int(c.level);  // McCell counts levels from the leaves
+                    cell.leaf = c.level == 0;
+                    cells.push_back(cell);
+                }
+                checkCancelled(p);
+            }
+            out->cells = cells.size();
+            const double cellsMs = msSince(clock, cellsStart);
+            p->report(0.3, "scene");
+            const qint64 sceneStart = clock.nsecsElapsed();
+            out->scene = buildMeshScene(e.mesh, {});
+            const double sceneMs = msSince(clock, sceneStart);
+            checkCancelled(p);
+            p->report(0.8, "cells scene");
+            const qint64 cellsSceneStart = clock.nsecsElapsed();
+            out->cellsScene = buildCellsScene(cells);
+            const double cellsSceneMs = msSince(clock, cellsSceneStart);
+            out->ms = msSince(clock, 0);
+            out->timing = QStringLiteral("extract %1 ms, cells %2 ms, scene %3 ms, cells scene %4 ms")
+                              .arg(extractMs, 0, 'f', 1)
+                              .arg(cellsMs, 0, 'f', 1)
+                              .arg(sceneMs, 0, 'f', 1)
+                              .arg(cellsSceneMs, 0, 'f', 1);
+        },
+        this);
+    Job* job = extractJob_;
+    connect(job, &Job::progressChanged, this, [this, job](double fraction, const QString&) {
+        if (job == extractJob_) progress_->setValue(int(fraction * 1000));
+    });
+    connect(job, &Job::finished, this,
+            [this, job, request, out](const JobResult& r) { extractionFinished(job, request, out, r); });
+    updateUi();
+    job->start();
+}
+
+void McoPriorityPanel::extractionFinished(Job* job, const Request& request, const std::shared_ptr<Extraction>& out,
+                                          const JobResult& r) {
+    job->deleteLater();
+    if (job != extractJob_) return;  // let go: another tree, or Cancel
+    extractJob_ = nullptr;
+    if (r.status == JobResult::Status::failed) {
+        wanted_.reset();
+        status_->setText(r.error);
+        emit logMessage(r.error);
+    } else if (r.ok() && wanted_ == request) {
+        wanted_.reset();
+        ++extractionsRun_;
+        QElapsedTimer clock;
+        clock.start();
+        shown_ = request.priority;
+        shownTriangles_ = out->triangles;
+        shownCells_ = out->cells;
+        cellsBuilt_ = request.cells;
+        views_->setInspection(this, out->scene, out->cellsScene, labelText());
+        lastWorkMs_ = out->ms;
+        lastShowMs_ = double(clock.nsecsElapsed()) / 1e6;
+        timing_ = out->timing + QStringLiteral(", view %1 ms").arg(lastShowMs_, 0, 'f', 1);
+        label_->setToolTip(timing_);
+        emit extracted(shown_, shownTriangles_);
+    } else if (r.ok()) {
+        ++resultsDropped_;  // arrived after a newer request
+    } else {
+        ++extractionsCancelled_;  // stopped for a newer request, or the view was taken over
+    }
+    startExtraction();  // the newest request, if one waits
+    updateUi();
+}
 
 QString McoPriorityPanel::labelText() const {
-    if (!tree_) return {};
-    return tr("MC octree priority %L1 / %L2 · %L3 triangles").arg(shown_).arg(tree_->max_priority()).arg(shownTriangles_);
+    if (!built_) return {};
+    return tr("MC octree priority %L1 / %L2 · %L3 triangles")
+        .arg(shown_)
+        .arg(built_->tree.max_priority())
+        .arg(shownTriangles_);
 }
 
-void McoPriorityPanel::show() {
-    if (!tree_ || !extractor_) return;
-    QElapsedTimer clock;
-    clock.start();
-    const McExtraction& e = extractor_->extract(shown_);
-    const qint64 extracted = clock.nsecsElapsed();
-    shownTriangles_ = e.mesh.triangle_count();
-    // The cut's cells only while the overlay is shown: on a fine cut they cost more than the mesh.
-    std::vector<StructureCell> cells;
-    cellsBuilt_ = views_->viewOptions().cells;
-    if (cellsBuilt_) {
-        for (const McCell& c : extractor_->cells(shown_)) {
-            StructureCell cell;
-            for (int k = 0; k < 3; ++k) cell.min[k] = c.min[k];
-            cell.size = c.size;
-            cell.depth = int(tree_->levels) - int(c.level);  // McCell counts levels from the leaves
-            cell.leaf = c.level == 0;
-            cells.push_back(cell);
-        }
+void McoPriorityPanel::updateLabel() {
+    if (!built_) {
+        label_->setText(model_ ? tr("Build the octree to extract its levels") : tr("Open a mesh first"));
+        return;
     }
-    shownCells_ = cells.size();
-    const qint64 celled = clock.nsecsElapsed();
-    std::shared_ptr<const MeshScene> scene = buildMeshScene(e.mesh, {});
-    const qint64 scened = clock.nsecsElapsed();
-    std::shared_ptr<const MeshScene> cellsScene = buildCellsScene(cells);
-    const qint64 done = clock.nsecsElapsed();
-    timing_ = tr("extract %1 ms, cells %2 ms, scene %3 ms, cells scene %4 ms")
-                  .arg(double(extracted) / 1e6, 0, 'f', 1)
-                  .arg(double(celled - extracted) / 1e6, 0, 'f', 1)
-                  .arg(double(scened - celled) / 1e6, 0, 'f', 1)
-                  .arg(double(done - scened) / 1e6, 0, 'f', 1);
-    label_->setText(labelText());
-    label_->setToolTip(timing_);
-    views_->setInspection(this, std::move(scene), std::move(cellsScene), labelText());
+    if (!isExtracting()) {
+        label_->setText(labelText());
+        return;
+    }
+    // The count of the index asked for is known before its mesh is (the tree's cumulative table).
+    label_->setText(tr("%1 · extracting priority %L2 (%L3 triangles)…")
+                        .arg(labelText())
+                        .arg(requested_)
+                        .arg(mc_triangles_at(built_->tree, requested_)));
 }
 
 void McoPriorityPanel::updateUi() {
     buildButton_->setEnabled(model_ && !job_);
     buildButton_->setText(tr("Build MC octree (resolution %1)").arg(resolution_));
-    cancelButton_->setEnabled(job_ != nullptr);
-    slider_->setEnabled(tree_ != nullptr);
-    budget_->setEnabled(tree_ != nullptr);
-    if (!tree_) label_->setText(model_ ? tr("Build the octree to extract its levels") : tr("Open a mesh first"));
+    cancelButton_->setEnabled(job_ != nullptr || isExtracting());
+    slider_->setEnabled(built_ != nullptr);
+    budget_->setEnabled(built_ != nullptr);
+    const bool busy = job_ != nullptr || isExtracting();
+    if (busy && !progress_->isVisible()) progress_->setValue(0);
+    progress_->setVisible(busy);
+    updateLabel();
 }
 
 }  // namespace lodforge::widgets

@@ -63,6 +63,37 @@ void subtreeCut(const OctreeStore& store, std::uint32_t node, int level, Cut& ou
     for (std::uint32_t c : store.children(node)) subtreeCut(store, c, level, out);
 }
 
+// The view's cut with the pinned node's subtree at the pinned level: cut nodes inside the subtree are
+// replaced by it; a cut node above the pinned node is replaced by the subtrees beside the path down to
+// it (simplified), so every root-to-leaf path still crosses the cut exactly once.
+Cut pinnedCut(const OctreeStore& store, const Cut& viewCut, std::uint32_t pin, int pinLevel) {
+    if (pin == UINT32_MAX) return viewCut;
+    Cut out;
+    std::vector<std::uint32_t> path;  // the pinned node's strict ancestors, root first
+    for (std::uint32_t n = store.node(pin).parent; n != UINT32_MAX && n < store.nodes().size();
+         n = store.node(n).parent)
+        path.insert(path.begin(), n);
+    for (const CutNode& c : viewCut) {
+        if (isUnder(store, c.node, pin)) continue;
+        const auto above = std::find(path.begin(), path.end(), c.node);
+        if (above == path.end()) {
+            out.push_back(c);
+            continue;
+        }
+        for (auto p = above; p != path.end(); ++p) {
+            const std::uint32_t next = p + 1 != path.end() ? *(p + 1) : pin;
+            for (std::uint32_t child : store.children(*p))
+                if (child != next) out.push_back({child, false});
+        }
+    }
+    subtreeCut(store, pin, pinLevel, out);
+    return out;
+}
+
+void checkCancelled(Progress* progress) {
+    if (progress && progress->cancelled()) throw Error(Error::Kind::cancelled, "octree cut cancelled");
+}
+
 }  // namespace
 
 OctreeTuningPanel::OctreeTuningPanel(LevelViews* views, QWidget* parent) : QWidget(parent), views_(views) {
@@ -182,7 +213,7 @@ OctreeTuningPanel::OctreeTuningPanel(LevelViews* views, QWidget* parent) : QWidg
     connect(views_, &LevelViews::inspectionEnded, this, [this](const QObject* owner) {
         if (owner != this) return;
         viewDependent_ = false;
-        update_->cancel();
+        dropCut();
         const QSignalBlocker block(viewDependentBox_);
         viewDependentBox_->setChecked(false);
         updateUi();
@@ -198,11 +229,15 @@ bool OctreeTuningPanel::eventFilter(QObject* watched, QEvent* event) {
 }
 
 OctreeTuningPanel::~OctreeTuningPanel() {
-    delete job_;  // cancels and waits before the asset directory goes
+    // Every job, also those let go that have not ended yet: each cancels and waits, since its work
+    // reports to it; they hold the store and its directory themselves.
+    for (Job* job : findChildren<Job*>(Qt::FindDirectChildrenOnly)) job->cancel();
+    for (Job* job : findChildren<Job*>(Qt::FindDirectChildrenOnly)) delete job;
 }
 
 void OctreeTuningPanel::setModel(std::shared_ptr<const LoadedModel> model) {
     cancel();
+    dropCut();
     views_->clearInspection(this);
     viewDependent_ = false;
     {
@@ -210,6 +245,7 @@ void OctreeTuningPanel::setModel(std::shared_ptr<const LoadedModel> model) {
         viewDependentBox_->setChecked(false);
     }
     store_.reset();
+    storeLock_.reset();
     dir_.reset();
     stats_ = {};
     cut_.clear();
@@ -247,6 +283,10 @@ void OctreeTuningPanel::build() {
 
 void OctreeTuningPanel::cancel() {
     debounce_->stop();
+    if (isCutting()) {
+        dropCut();
+        status_->setText(tr("Cut cancelled: the view keeps the cut it shows"));
+    }
     if (job_) {
         job_->cancel();
         job_ = nullptr;  // its result is dropped; it deletes itself when it ends
@@ -302,7 +342,9 @@ void OctreeTuningPanel::startBuild() {
         QString message;
         const bool ok = r.ok() && model == model_;
         if (ok) {
+            dropCut();  // of the previous asset
             store_ = std::move(out->store);
+            storeLock_ = std::make_shared<std::mutex>();
             dir_ = dir;
             stats_ = store_->stats();
             builtParams_ = params;
@@ -365,7 +407,7 @@ void OctreeTuningPanel::setViewDependent(bool on) {
     if (on) {
         updateCut();
     } else {
-        update_->cancel();
+        dropCut();
         views_->clearInspection(this);
         showTreeCells();
     }
@@ -416,9 +458,34 @@ void OctreeTuningPanel::setFrustumCulling(bool on) {
     if (viewDependent_) updateCut();
 }
 
+bool OctreeTuningPanel::isCutting() const { return cutWanted_ || cutJob_ != nullptr; }
+
+bool OctreeTuningPanel::isCutWorkerBusy() const { return cutJob_ != nullptr && cutJob_->isRunning(); }
+
 void OctreeTuningPanel::updateCut() {
     update_->cancel();
     if (!store_ || !viewDependent_ || !model_) return;
+    ++cutRequest_;
+    cutWanted_ = true;
+    // The running cut's result would arrive superseded and be dropped: stop it at its next check.
+    if (cutJob_ && cutStarted_ != cutRequest_) cutJob_->cancel();
+    startCut();
+    updateUi();
+}
+
+void OctreeTuningPanel::dropCut() {
+    update_->cancel();
+    cutWanted_ = false;
+    if (cutJob_) {
+        cutJob_->cancel();
+        cutJob_ = nullptr;  // its result is dropped; it deletes itself when it ends
+        ++cutsDropped_;
+    }
+}
+
+void OctreeTuningPanel::startCut() {
+    if (!cutWanted_ || cutJob_ || !store_ || !model_) return;  // a running cut starts the newest when it ends
+    // The camera, viewport and pin of now: a request made while this runs asks for a newer one.
     VtkView* view = views_->singleView();
     const VtkView::ViewCamera c = view->viewCamera();
     Camera camera;
@@ -432,67 +499,90 @@ void OctreeTuningPanel::updateCut() {
     SelectParams select;
     select.screen_error_pixels = float(screenError());
     select.frustum_culling = culling_;
-    SelectResult s;
-    try {
-        s = select_cut(*store_, camera, select);
-        cut_ = pinnedCut(s.cut);
-        cutMesh_ = extract_mesh(*store_, cut_);
-    } catch (const Error& e) {
-        status_->setText(QString::fromUtf8(e.what()));
-        return;
-    }
-    cutMesh_.materials = model_->mesh.materials;
-    cutMesh_.source_dir = model_->mesh.source_dir;
-
-    std::vector<StructureCell> cells;
-    cells.reserve(cut_.size());
-    for (const CutNode& n : cut_) {
-        const OctreeNode& node = store_->node(n.node);
-        StructureCell cell;
-        std::copy(node.cell_min, node.cell_min + 3, cell.min);
-        cell.size = node.cell_size;
-        cell.depth = cutLevel(*store_, n);  // the overlay's depth colours show the level here
-        cell.leaf = node.is_leaf();
-        cell.triangles = n.raw ? node.raw_triangles : node.mesh_triangles;
-        cells.push_back(cell);
-    }
-    const QLocale locale;
-    QString text = tr("Octree cut · %1 px · %2 triangles · %3 nodes, %4 culled")
-                       .arg(screenError(), 0, 'f', 1)
-                       .arg(locale.toString(qulonglong(cutMesh_.triangle_count())))
-                       .arg(locale.toString(qulonglong(cut_.size())))
-                       .arg(locale.toString(qulonglong(s.culled_nodes)));
-    if (pin_ != UINT32_MAX) text += tr(" · node %1 at level %2").arg(pin_).arg(pinLevel_);
-    cutLabel_->setText(text);
-    views_->setInspection(this, buildMeshScene(cutMesh_, model_->images), buildCellsScene(cells), text);
-    emit cutUpdated();
-}
-
-// The view's cut with the pinned node's subtree at the pinned level: cut nodes inside the subtree are
-// replaced by it; a cut node above the pinned node is replaced by the subtrees beside the path down to
-// it (simplified), so every root-to-leaf path still crosses the cut exactly once.
-Cut OctreeTuningPanel::pinnedCut(const Cut& viewCut) const {
-    if (pin_ == UINT32_MAX || !store_) return viewCut;
-    Cut out;
-    std::vector<std::uint32_t> path;  // the pinned node's strict ancestors, root first
-    for (std::uint32_t n = store_->node(pin_).parent; n != UINT32_MAX && n < store_->nodes().size();
-         n = store_->node(n).parent)
-        path.insert(path.begin(), n);
-    for (const CutNode& c : viewCut) {
-        if (isUnder(*store_, c.node, pin_)) continue;
-        const auto above = std::find(path.begin(), path.end(), c.node);
-        if (above == path.end()) {
-            out.push_back(c);
-            continue;
+    struct Output {
+        Cut cut;
+        Mesh mesh;
+        std::size_t culled = 0;
+        std::shared_ptr<const MeshScene> scene;
+        std::shared_ptr<const MeshScene> cells;
+    };
+    auto out = std::make_shared<Output>();
+    const std::shared_ptr<QTemporaryDir> dir = dir_;  // the store reads its files from there
+    const std::shared_ptr<OctreeStore> store = store_;
+    const std::shared_ptr<std::mutex> lock = storeLock_;
+    const std::shared_ptr<const LoadedModel> model = model_;
+    const std::uint32_t pin = pin_;
+    const int pinLevel = pinLevel_;
+    cutStarted_ = cutRequest_;
+    const int generation = cutStarted_;
+    cutJob_ = new Job(
+        tr("Octree cut"),
+        [out, dir, store, lock, model, camera, select, pin, pinLevel](Progress* p) {
+            const std::lock_guard<std::mutex> guard(*lock);
+            const SelectResult s = select_cut(*store, camera, select);
+            out->culled = s.culled_nodes;
+            out->cut = pinnedCut(*store, s.cut, pin, pinLevel);
+            checkCancelled(p);
+            out->mesh = extract_mesh(*store, out->cut, p);
+            out->mesh.materials = model->mesh.materials;
+            out->mesh.source_dir = model->mesh.source_dir;
+            checkCancelled(p);
+            std::vector<StructureCell> cells;
+            cells.reserve(out->cut.size());
+            for (const CutNode& n : out->cut) {
+                const OctreeNode& node = store->node(n.node);
+                StructureCell cell;
+                std::copy(node.cell_min, node.cell_min + 3, cell.min);
+                cell.size = node.cell_size;
+                cell.depth = cutLevel(*store, n);  // the overlay's depth colours show the level here
+                cell.leaf = node.is_leaf();
+                cell.triangles = n.raw ? node.raw_triangles : node.mesh_triangles;
+                cells.push_back(cell);
+            }
+            out->scene = buildMeshScene(out->mesh, model->images);
+            checkCancelled(p);
+            out->cells = buildCellsScene(cells);
+        },
+        this);
+    Job* job = cutJob_;
+    // In steps of 10 %: every repaint of the dock is a composition of the window on the GUI thread.
+    connect(job, &Job::progressChanged, this, [this, job, shown = -1](double fraction, const QString& stage) mutable {
+        const int step = int(fraction * 10);
+        if (job != cutJob_ || step == shown) return;
+        shown = step;
+        status_->setText(tr("Cut: %1 %2 %").arg(stage).arg(step * 10));
+    });
+    connect(job, &Job::finished, this, [this, job, out, generation, select](const JobResult& r) {
+        job->deleteLater();
+        if (job != cutJob_) return;  // let go: another asset, the cut switched off, Cancel
+        cutJob_ = nullptr;
+        if (r.status == JobResult::Status::failed) {
+            cutWanted_ = false;
+            status_->setText(r.error);
+            emit logMessage(r.error);
+        } else if (r.ok() && cutWanted_ && generation == cutRequest_) {
+            cutWanted_ = false;
+            ++cutsShown_;
+            cut_ = std::move(out->cut);
+            cutMesh_ = std::move(out->mesh);
+            const QLocale locale;
+            QString text = tr("Octree cut · %1 px · %2 triangles · %3 nodes, %4 culled")
+                               .arg(double(select.screen_error_pixels), 0, 'f', 1)
+                               .arg(locale.toString(qulonglong(cutMesh_.triangle_count())))
+                               .arg(locale.toString(qulonglong(cut_.size())))
+                               .arg(locale.toString(qulonglong(out->culled)));
+            if (pin_ != UINT32_MAX) text += tr(" · node %1 at level %2").arg(pin_).arg(pinLevel_);
+            cutLabel_->setText(text);
+            status_->setText(tr("Cut made in %1 ms").arg(r.elapsedMs));
+            views_->setInspection(this, out->scene, out->cells, text);
+            emit cutUpdated();
+        } else {
+            ++cutsDropped_;  // superseded (cancelled for it, or arrived after a newer request)
         }
-        for (auto p = above; p != path.end(); ++p) {
-            const std::uint32_t next = p + 1 != path.end() ? *(p + 1) : pin_;
-            for (std::uint32_t child : store_->children(*p))
-                if (child != next) out.push_back({child, false});
-        }
-    }
-    subtreeCut(*store_, pin_, pinLevel_, out);
-    return out;
+        startCut();  // the newest request, if one waits
+        updateUi();
+    });
+    job->start();
 }
 
 bool OctreeTuningPanel::pickNodeAt(QPoint position) {
@@ -569,7 +659,7 @@ std::optional<std::uint32_t> OctreeTuningPanel::pinnedNode() const {
 
 void OctreeTuningPanel::updateUi() {
     buildButton_->setEnabled(model_ != nullptr);
-    cancelButton_->setEnabled(job_ != nullptr || debounce_->isActive());
+    cancelButton_->setEnabled(job_ != nullptr || debounce_->isActive() || isCutting());
     viewDependentBox_->setEnabled(store_ != nullptr);
     const bool cutShown = store_ && viewDependent_;
     pickButton_->setEnabled(cutShown);

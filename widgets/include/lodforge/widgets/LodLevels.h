@@ -23,6 +23,10 @@ class MeshScene;
 struct ContinuousLodData {
     std::vector<std::uint8_t> lodstripsFile;                     // MethodLevels::lodstrips_file
     std::vector<std::shared_ptr<const lodforge::Image>> images;  // per material, as for the levels
+    // The full-detail strips (level 0, every vertex of the runtime), made on the chain's worker: on the
+    // dragon it took 0.36 s on the GUI thread at the slider's first move. The continuous view replaces
+    // its triangles in place (LevelViews::showContinuous), so one LevelViews uses it at a time.
+    std::shared_ptr<const MeshScene> fullScene;
 };
 
 struct LevelData {
