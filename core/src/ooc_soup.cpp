@@ -30,6 +30,7 @@
 #include <exception>
 #include <mutex>
 #include <optional>
+#include <span>
 #include <thread>
 #include <cmath>
 #include <filesystem>
@@ -225,7 +226,7 @@ public:
                         std::memcpy(&keys[at], data, bytes);
                     });
                 }
-                radix_sort(keys, tmp_keys);
+                radix_sort(keys, tmp_keys, 2 * shift_);
                 for (std::size_t i = 0; i < keys.size();) {
                     std::size_t j = i + 1;
                     while (j < keys.size() && keys[j] == keys[i]) ++j;
@@ -265,22 +266,22 @@ public:
     }
 
 private:
-    // LSD radix sort, as few passes as the largest key needs, with digits of at most 11 bits: 2 048
+    // LSD radix sort, as few passes as the key width needs, with digits of at most 11 bits: 2 048
     // counters and write streams stay in the L1 cache and the store buffers, where 16-bit digits (65 536
     // scattered write streams) miss on nearly every store.
-    static void radix_sort(std::vector<std::uint64_t>& a, std::vector<std::uint64_t>& tmp) {
-        std::uint64_t top = 0;
-        for (std::uint64_t k : a) top |= k;
-        const int bits = static_cast<int>(std::bit_width(top));
-        if (bits == 0) return;
+    // `bits`: the keys' width (2 × bit_width(V), known up front: no pass to find the largest key).
+    static void radix_sort(std::vector<std::uint64_t>& a, std::vector<std::uint64_t>& tmp, int bits) {
         const int passes = (bits + 10) / 11;
         const int digit = (bits + passes - 1) / passes;
         const std::uint64_t mask = (std::uint64_t{1} << digit) - 1;
         tmp.resize(a.size());
-        std::vector<std::size_t> count(std::size_t{1} << digit);
-        for (int shift = 0; shift < bits; shift += digit) {
-            std::fill(count.begin(), count.end(), 0);
-            for (std::uint64_t k : a) ++count[(k >> shift) & mask];
+        // Every digit's histogram in one read of the keys.
+        const std::size_t radix = std::size_t{1} << digit;
+        std::vector<std::size_t> counts(static_cast<std::size_t>(passes) * radix, 0);
+        for (std::uint64_t k : a)
+            for (int p = 0; p < passes; ++p) ++counts[static_cast<std::size_t>(p) * radix + ((k >> (p * digit)) & mask)];
+        for (int p = 0, shift = 0; p < passes; ++p, shift += digit) {
+            const std::span<std::size_t> count(counts.data() + static_cast<std::size_t>(p) * radix, radix);
             std::size_t sum = 0;
             for (std::size_t& c : count) {
                 const std::size_t n = c;
