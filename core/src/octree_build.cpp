@@ -107,8 +107,13 @@ public:
         root.parent = ~0u;
         std::copy(root_min_, root_min_ + 3, root.cell_min);
         root.cell_size = root_size_;
-        NodeResult r = process_file(0, {soup_.path, 64, soup_.triangles, true}, 0);
-        (void)r;
+        if (!soup_.memory.empty()) {
+            // The soup was kept in memory (it fits the in-memory share of the budget): no file to read.
+            const std::size_t count = soup_.memory.size() / tri_bytes_;
+            process_loaded(0, soup_.memory.data(), count, 0);
+        } else {
+            process_file(0, {soup_.path, 64, soup_.triangles, true}, 0);
+        }
         // Table, footer, then the header with the final numbers.
         const std::uint64_t table = offset_;
         write(nodes_.data(), nodes_.size() * sizeof(OctreeNode));
@@ -201,6 +206,14 @@ private:
         return count <= p_.max_triangles || depth >= p_.max_depth;
     }
 
+    // The subtree of `id` whose `count` triangles are all in `data`.
+    NodeResult process_loaded(std::uint32_t id, const std::byte* data, std::size_t count, int depth) {
+        std::vector<std::uint32_t> order(count);
+        for (std::uint32_t i = 0; i < order.size(); ++i) order[i] = i;
+        std::vector<std::uint32_t> scratch(order.size());
+        return process_memory(id, data, order.data(), order.size(), scratch.data(), depth);
+    }
+
     NodeResult process_file(std::uint32_t id, TriangleFile in, int depth) {
         if (is_leaf(in.count, depth) || in.count <= in_memory_limit_) {
             std::vector<std::byte> data(static_cast<std::size_t>(in.count) * tri_bytes_);
@@ -209,10 +222,7 @@ private:
                 f.read_at(data.data(), data.size(), in.offset);
             }
             if (in.owned) remove_file(in.path);
-            std::vector<std::uint32_t> order(static_cast<std::size_t>(in.count));
-            for (std::uint32_t i = 0; i < order.size(); ++i) order[i] = i;
-            std::vector<std::uint32_t> scratch(order.size());
-            return process_memory(id, data.data(), order.data(), order.size(), scratch.data(), depth);
+            return process_loaded(id, data.data(), static_cast<std::size_t>(in.count), depth);
         }
         // Split by streaming: one read of the node's triangles, eight buffered child files.
         ++split_passes_;
@@ -617,11 +627,16 @@ OctreeBuildResult build_octree(const std::string& input_ply, const std::string& 
         const Clock::time_point t0 = Clock::now();
         SoupParams sp;
         sp.memory_bytes = params.memory_bytes;
+        // A soup the builder would read whole into memory anyway stays there (no write, no read back):
+        // 30 % of the budget in records is within the builder's in-memory share, 40 % of the budget
+        // at record + 16 bytes per triangle, for every record size (≥ 48 bytes).
+        sp.memory_soup_bytes = static_cast<std::size_t>(0.3 * static_cast<double>(params.memory_bytes));
         result.soup = convert_to_soup(input_ply, scratch.file("soup"), sp, progress);
         result.soup_seconds = seconds_since(t0);
         const Clock::time_point t1 = Clock::now();
         Builder b(params, result.soup, scratch.path(), asset, progress);
         b.run(result);
+        std::vector<std::byte>().swap(result.soup.memory);
         check_progress(progress, 1.0, "octree: simplifying");
         asset.commit();
         result.build_seconds = seconds_since(t1);
