@@ -21,12 +21,17 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <condition_variable>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <iterator>
 #include <memory>
+#include <mutex>
+#include <optional>
+#include <set>
 #include <system_error>
+#include <thread>
 
 namespace lodforge {
 namespace {
@@ -102,8 +107,13 @@ public:
         root.parent = ~0u;
         std::copy(root_min_, root_min_ + 3, root.cell_min);
         root.cell_size = root_size_;
-        NodeResult r = process_file(0, {soup_.path, 64, soup_.triangles, true}, 0);
-        (void)r;
+        if (!soup_.memory.empty()) {
+            // The soup was kept in memory (it fits the in-memory share of the budget): no file to read.
+            const std::size_t count = soup_.memory.size() / tri_bytes_;
+            process_loaded(0, soup_.memory.data(), count, 0);
+        } else {
+            process_file(0, {soup_.path, 64, soup_.triangles, true}, 0);
+        }
         // Table, footer, then the header with the final numbers.
         const std::uint64_t table = offset_;
         write(nodes_.data(), nodes_.size() * sizeof(OctreeNode));
@@ -146,14 +156,6 @@ private:
             throw_error(Error::Kind::io, asset_.target_path(), "write failed (disk full or I/O error)");
         offset_ += bytes;
     }
-    std::pair<std::uint64_t, std::uint64_t> write_mesh(const NodeMesh& m) {
-        if (m.triangle_count() == 0) return {0, 0};
-        const std::vector<char> bytes = encode_node_mesh(m);
-        const std::uint64_t at = offset_;
-        write(bytes.data(), bytes.size());
-        return {at, bytes.size()};
-    }
-
     // Wedge UVs split a vertex by its texcoord: the key is the input index with a 31-bit hash of the
     // u v bits above it (bit 63 stays clear for representatives), so every node derives the same key for
     // the same wedge and a UV seam becomes a pair of input border edges (docs/octree.md).
@@ -204,6 +206,14 @@ private:
         return count <= p_.max_triangles || depth >= p_.max_depth;
     }
 
+    // The subtree of `id` whose `count` triangles are all in `data`.
+    NodeResult process_loaded(std::uint32_t id, const std::byte* data, std::size_t count, int depth) {
+        std::vector<std::uint32_t> order(count);
+        for (std::uint32_t i = 0; i < order.size(); ++i) order[i] = i;
+        std::vector<std::uint32_t> scratch(order.size());
+        return process_memory(id, data, order.data(), order.size(), scratch.data(), depth);
+    }
+
     NodeResult process_file(std::uint32_t id, TriangleFile in, int depth) {
         if (is_leaf(in.count, depth) || in.count <= in_memory_limit_) {
             std::vector<std::byte> data(static_cast<std::size_t>(in.count) * tri_bytes_);
@@ -212,10 +222,7 @@ private:
                 f.read_at(data.data(), data.size(), in.offset);
             }
             if (in.owned) remove_file(in.path);
-            std::vector<std::uint32_t> order(static_cast<std::size_t>(in.count));
-            for (std::uint32_t i = 0; i < order.size(); ++i) order[i] = i;
-            std::vector<std::uint32_t> scratch(order.size());
-            return process_memory(id, data.data(), order.data(), order.size(), scratch.data(), depth);
+            return process_loaded(id, data.data(), static_cast<std::size_t>(in.count), depth);
         }
         // Split by streaming: one read of the node's triangles, eight buffered child files.
         ++split_passes_;
@@ -260,9 +267,60 @@ private:
         return finish_inner(id, children);
     }
 
-    NodeResult process_memory(std::uint32_t id, const std::byte* base, std::uint32_t* tris, std::size_t count,
-                              std::uint32_t* scratch, int depth) {
-        if (is_leaf(count, depth)) return finish_leaf(id, base, tris, count);
+    // What computing one node yields besides its NodeResult: the encoded chunks to append to the asset
+    // (raw leaf triangles, then the simplified mesh) and the counters, applied when it is committed.
+    struct NodeOutput {
+        std::vector<char> raw, mesh;
+        std::uint64_t leaf_triangles = 0;  // raw triangles (leaves), for progress and oversized leaves
+        std::uint64_t closed_components = 0, degenerate = 0;
+        double simplify_seconds = 0;
+    };
+
+    // Appends a computed node's chunks to the asset (in the serial post-order, so the asset does not
+    // depend on the thread count or the budget) and applies its counters.
+    void commit(std::uint32_t id, NodeOutput& out) {
+        OctreeNode& d = nodes_[id];
+        if (!out.raw.empty()) {
+            d.raw_offset = offset_;
+            d.raw_bytes = out.raw.size();
+            write(out.raw.data(), out.raw.size());
+        }
+        if (!out.mesh.empty()) {
+            d.mesh_offset = offset_;
+            d.mesh_bytes = out.mesh.size();
+            write(out.mesh.data(), out.mesh.size());
+        }
+        out.raw = {};
+        out.mesh = {};
+        if (out.leaf_triangles > p_.max_triangles) ++oversized_;
+        done_triangles_ += out.leaf_triangles;
+        closed_components_ += out.closed_components;
+        degenerate_ += out.degenerate;
+        simplify_seconds_ += out.simplify_seconds;
+    }
+
+    // One node of a subtree held in memory, in the serial post-order (children before parents).
+    struct Task {
+        std::uint32_t id = 0;
+        const std::uint32_t* tris = nullptr;  // a leaf's triangles
+        std::size_t count = 0;
+        std::vector<std::size_t> children;    // task indices (inner nodes)
+        std::size_t parent = ~std::size_t{0};
+    };
+
+    // Splits a subtree held in memory down to its leaves (counting sorts by octant), fixing every node id
+    // in the same order as a serial depth-first build, before any node is simplified: representative
+    // keys contain node ids, so the ids must not depend on which thread finishes first.
+    std::size_t plan(std::vector<Task>& tasks, std::uint32_t id, const std::byte* base, std::uint32_t* tris,
+                     std::size_t count, std::uint32_t* scratch, int depth) {
+        if (is_leaf(count, depth)) {
+            Task t;
+            t.id = id;
+            t.tris = tris;
+            t.count = count;
+            tasks.push_back(std::move(t));
+            return tasks.size() - 1;
+        }
         double mid[3];
         cell_mid(id, mid);
         std::array<std::uint64_t, 8> counts{};
@@ -274,27 +332,155 @@ private:
         // Counting sort of the triangle ids by octant (scratch holds the octant, then the sorted ids).
         std::array<std::size_t, 8> start{};
         for (int o = 1; o < 8; ++o) start[o] = start[o - 1] + counts[o - 1];
-        std::vector<std::uint32_t> sorted(count);
-        std::array<std::size_t, 8> fill = start;
-        for (std::size_t i = 0; i < count; ++i) sorted[fill[scratch[i]]++] = tris[i];
-        std::copy(sorted.begin(), sorted.end(), tris);
-        sorted.clear();
-        sorted.shrink_to_fit();
+        {
+            std::vector<std::uint32_t> sorted(count);
+            std::array<std::size_t, 8> fill = start;
+            for (std::size_t i = 0; i < count; ++i) sorted[fill[scratch[i]]++] = tris[i];
+            std::copy(sorted.begin(), sorted.end(), tris);
+        }
         const std::array<std::uint32_t, 8> ids = add_children(id, counts);
-        std::vector<NodeResult> children;
+        std::vector<std::size_t> children;
         for (int o = 0; o < 8; ++o)
-            if (counts[o])
-                children.push_back(process_memory(ids[o], base, tris + start[o], counts[o], scratch + start[o], depth + 1));
-        return finish_inner(id, children);
+            if (counts[o]) children.push_back(plan(tasks, ids[o], base, tris + start[o], counts[o], scratch + start[o], depth + 1));
+        Task t;
+        t.id = id;
+        t.children = std::move(children);
+        tasks.push_back(std::move(t));
+        const std::size_t self = tasks.size() - 1;
+        for (std::size_t c : tasks[self].children) tasks[c].parent = self;
+        return self;
     }
 
-    NodeResult finish_leaf(std::uint32_t id, const std::byte* base, const std::uint32_t* tris, std::size_t count) {
-        check_progress(progress_, fraction(), "octree: simplifying");
+    // Builds, simplifies and writes a subtree held in memory. Its nodes are computed by two threads
+    // (leaves are independent, an inner node waits for its children), always the lowest ready task
+    // first, so finished nodes rarely wait long to be committed; the main thread commits in the serial
+    // post-order and alone reports progress, polls cancel and writes.
+    NodeResult process_memory(std::uint32_t id, const std::byte* base, std::uint32_t* tris, std::size_t count,
+                              std::uint32_t* scratch, int depth) {
+        std::vector<Task> tasks;
+        plan(tasks, id, base, tris, count, scratch, depth);
+        const std::size_t n = tasks.size();
+        std::vector<std::optional<NodeResult>> results(n);
+        std::vector<NodeOutput> outputs(n);
+        auto compute = [&](std::size_t i) {
+            Task& t = tasks[i];
+            if (t.children.empty()) {
+                results[i] = compute_leaf(t.id, base, t.tris, t.count, outputs[i]);
+            } else {
+                std::vector<NodeResult> kids;
+                kids.reserve(t.children.size());
+                for (std::size_t c : t.children) {
+                    kids.push_back(std::move(*results[c]));
+                    results[c].reset();
+                }
+                results[i] = compute_inner(t.id, kids, outputs[i]);
+            }
+        };
+        if (n == 1 || p_.threads <= 1) {
+            for (std::size_t i = 0; i < n; ++i) {
+                check_progress(progress_, fraction(), "octree: simplifying");
+                compute(i);
+                commit(tasks[i].id, outputs[i]);
+            }
+        } else {
+            std::mutex mutex;
+            std::condition_variable changed;
+            std::set<std::size_t> ready;
+            std::vector<std::size_t> waiting(n, 0);
+            std::vector<std::uint8_t> done(n, 0);
+            for (std::size_t i = 0; i < n; ++i) {
+                waiting[i] = tasks[i].children.size();
+                if (!waiting[i]) ready.insert(i);
+            }
+            bool stop = false;
+            std::exception_ptr helper_error;
+            // Takes the lowest ready task, or returns n when none is ready (main) or all are taken (helper).
+            auto take = [&](std::unique_lock<std::mutex>& lock, bool main) {
+                for (;;) {
+                    if (stop) return n;
+                    if (!ready.empty()) {
+                        const std::size_t i = *ready.begin();
+                        ready.erase(ready.begin());
+                        return i;
+                    }
+                    if (main) return n;
+                    changed.wait(lock);
+                }
+            };
+            auto finish = [&](std::size_t i) {
+                std::lock_guard lock(mutex);
+                done[i] = 1;
+                const std::size_t parent = tasks[i].parent;
+                if (parent != ~std::size_t{0} && --waiting[parent] == 0) ready.insert(parent);
+                changed.notify_all();
+            };
+            std::thread helper([&] {
+                try {
+                    for (;;) {
+                        std::size_t i;
+                        {
+                            std::unique_lock lock(mutex);
+                            i = take(lock, false);
+                        }
+                        if (i == n) return;
+                        compute(i);
+                        finish(i);
+                    }
+                } catch (...) {
+                    std::lock_guard lock(mutex);
+                    helper_error = std::current_exception();
+                    stop = true;
+                    changed.notify_all();
+                }
+            });
+            auto halt = [&] {
+                {
+                    std::lock_guard lock(mutex);
+                    stop = true;
+                }
+                changed.notify_all();
+                helper.join();
+            };
+            try {
+                for (std::size_t next = 0; next < n;) {
+                    check_progress(progress_, fraction(), "octree: simplifying");
+                    std::size_t i = n;
+                    {
+                        std::unique_lock lock(mutex);
+                        if (helper_error) std::rethrow_exception(helper_error);
+                        if (done[next]) {
+                            lock.unlock();
+                            commit(tasks[next].id, outputs[next]);
+                            ++next;
+                            continue;
+                        }
+                        i = take(lock, true);
+                        if (i == n) {
+                            changed.wait(lock, [&] { return done[next] || !ready.empty() || helper_error; });
+                            continue;
+                        }
+                    }
+                    compute(i);
+                    finish(i);
+                }
+            } catch (...) {
+                halt();
+                throw;
+            }
+            halt();
+        }
+        return std::move(*results[n - 1]);
+    }
+
+    NodeResult compute_leaf(std::uint32_t id, const std::byte* base, const std::uint32_t* tris, std::size_t count,
+                            NodeOutput& out) {
         const std::size_t f = layout_.floats();
         NodeResult r(frame_.attribute_dimension());
         NodeMesh raw;
         raw.layout = layout_;
         raw.indices.reserve(3 * count);
+        raw.keys.reserve(count);
+        raw.vertices.reserve(count * f);
         ooc::FlatMap map(count);
         for (std::size_t i = 0; i < count; ++i) {
             const std::byte* tri = base + std::size_t{tris[i]} * tri_bytes_;
@@ -317,19 +503,14 @@ private:
             r.quadric.add_triangle(frame_, v[0], v[1], v[2]);
         }
         r.triangles = count;
-        OctreeNode& d = nodes_[id];
-        const auto [raw_at, raw_bytes] = write_mesh(raw);
-        d.raw_offset = raw_at;
-        d.raw_bytes = raw_bytes;
-        d.raw_triangles = static_cast<std::uint32_t>(count);
-        if (count > p_.max_triangles) ++oversized_;
-        simplify_into(id, raw, r);
-        done_triangles_ += count;
+        nodes_[id].raw_triangles = static_cast<std::uint32_t>(count);
+        if (count) out.raw = encode_node_mesh(raw);
+        out.leaf_triangles = count;
+        simplify_into(id, raw, r, out);
         return r;
     }
 
-    NodeResult finish_inner(std::uint32_t id, std::vector<NodeResult>& children) {
-        check_progress(progress_, fraction(), "octree: simplifying");
+    NodeResult compute_inner(std::uint32_t id, std::vector<NodeResult>& children, NodeOutput& out) {
         NodeResult r(frame_.attribute_dimension());
         std::vector<const NodeMesh*> parts;
         for (NodeResult& c : children) {
@@ -351,11 +532,21 @@ private:
         }
         std::sort(r.chords.begin(), r.chords.end());
         r.chords.erase(std::unique(r.chords.begin(), r.chords.end()), r.chords.end());
-        simplify_into(id, merged, r);
+        simplify_into(id, merged, r, out);
         return r;
     }
 
-    void simplify_into(std::uint32_t id, const NodeMesh& input, NodeResult& r) {
+    NodeResult finish_inner(std::uint32_t id, std::vector<NodeResult>& children) {
+        check_progress(progress_, fraction(), "octree: simplifying");
+        NodeOutput out;
+        NodeResult r = compute_inner(id, children, out);
+        commit(id, out);
+        return r;
+    }
+
+    // Runs the operator and fills the node's table entry (except the chunk offsets, set by commit).
+    // Touches only nodes_[id] and `out`, so different nodes may run on different threads.
+    void simplify_into(std::uint32_t id, const NodeMesh& input, NodeResult& r, NodeOutput& out) {
         NodeSimplifyStats st;
         OctreeNode& d = nodes_[id];
         const Clock::time_point t0 = Clock::now();
@@ -371,26 +562,23 @@ private:
             all.erase(std::unique(all.begin(), all.end()), all.end());
             r.chords.swap(all);
         }
-        simplify_seconds_ += seconds_since(t0);
-        closed_components_ += st.closed_components;
-        if (d.is_leaf()) degenerate_ += st.degenerate_dropped;
+        out.simplify_seconds += seconds_since(t0);
+        out.closed_components += st.closed_components;
+        if (d.is_leaf()) out.degenerate += st.degenerate_dropped;
         r.error = std::max(r.error, static_cast<float>(st.error));
-        const auto [at, bytes] = write_mesh(r.mesh);
-        OctreeNode& e = nodes_[id];  // write_mesh does not touch nodes_, but keep the reference fresh
-        e.mesh_offset = at;
-        e.mesh_bytes = bytes;
-        e.mesh_triangles = static_cast<std::uint32_t>(r.mesh.triangle_count());
-        e.height = static_cast<std::uint8_t>(r.height);
-        e.error = r.error;
-        e.subtree_triangles = r.triangles;
-        e.flags = st.closed_components ? 1 : 0;
+        if (r.mesh.triangle_count()) out.mesh = encode_node_mesh(r.mesh);
+        d.mesh_triangles = static_cast<std::uint32_t>(r.mesh.triangle_count());
+        d.height = static_cast<std::uint8_t>(r.height);
+        d.error = r.error;
+        d.subtree_triangles = r.triangles;
+        d.flags = st.closed_components ? 1 : 0;
         if (!r.bounds.empty()) {
-            e.bounds_min[0] = r.bounds.min.x;
-            e.bounds_min[1] = r.bounds.min.y;
-            e.bounds_min[2] = r.bounds.min.z;
-            e.bounds_max[0] = r.bounds.max.x;
-            e.bounds_max[1] = r.bounds.max.y;
-            e.bounds_max[2] = r.bounds.max.z;
+            d.bounds_min[0] = r.bounds.min.x;
+            d.bounds_min[1] = r.bounds.min.y;
+            d.bounds_min[2] = r.bounds.min.z;
+            d.bounds_max[0] = r.bounds.max.x;
+            d.bounds_max[1] = r.bounds.max.y;
+            d.bounds_max[2] = r.bounds.max.z;
         }
     }
 
@@ -431,6 +619,7 @@ OctreeBuildResult build_octree(const std::string& input_ply, const std::string& 
     if (params.max_depth < 0 || params.max_depth > 20)
         throw Error(Error::Kind::argument, "octree: max depth must be in [0, 20], got " + std::to_string(params.max_depth));
     if (params.memory_bytes < (std::size_t{4} << 20)) throw Error(Error::Kind::argument, "octree: the memory budget must be at least 4 MB");
+    if (params.threads < 1 || params.threads > 2) throw Error(Error::Kind::argument, "octree: threads must be 1 or 2");
     OctreeBuildResult result;
     {
         AtomicFile asset(asset_path);
@@ -438,11 +627,16 @@ OctreeBuildResult build_octree(const std::string& input_ply, const std::string& 
         const Clock::time_point t0 = Clock::now();
         SoupParams sp;
         sp.memory_bytes = params.memory_bytes;
+        // A soup the builder would read whole into memory anyway stays there (no write, no read back):
+        // 30 % of the budget in records is within the builder's in-memory share, 40 % of the budget
+        // at record + 16 bytes per triangle, for every record size (≥ 48 bytes).
+        sp.memory_soup_bytes = static_cast<std::size_t>(0.3 * static_cast<double>(params.memory_bytes));
         result.soup = convert_to_soup(input_ply, scratch.file("soup"), sp, progress);
         result.soup_seconds = seconds_since(t0);
         const Clock::time_point t1 = Clock::now();
         Builder b(params, result.soup, scratch.path(), asset, progress);
         b.run(result);
+        std::vector<std::byte>().swap(result.soup.memory);
         check_progress(progress, 1.0, "octree: simplifying");
         asset.commit();
         result.build_seconds = seconds_since(t1);

@@ -29,6 +29,8 @@
 #include <deque>
 #include <exception>
 #include <mutex>
+#include <optional>
+#include <span>
 #include <thread>
 #include <cmath>
 #include <filesystem>
@@ -171,25 +173,38 @@ private:
 class EdgeCounter {
 public:
     EdgeCounter(const std::string& path, std::uint64_t vertices, std::uint64_t expected_edges, std::size_t budget, bool enabled)
-        : enabled_(enabled), shift_(std::max<int>(1, static_cast<int>(std::bit_width(vertices)))), buckets_(static_cast<std::size_t>(std::max<std::uint64_t>(
-              2, (expected_edges * 16 + static_cast<std::uint64_t>(0.15 * budget) - 1) / static_cast<std::uint64_t>(0.15 * budget)))),
-          spill_(path, buckets_, 8,
-                 std::clamp<std::size_t>(static_cast<std::size_t>(0.1 * budget) / buckets_, 4096, std::size_t{1} << 20)) {}
+        : enabled_(enabled), shift_(std::max<int>(1, static_cast<int>(std::bit_width(vertices)))),
+          // When every key fits in 15 % of the budget they stay in memory (two buckets, one per sort thread:
+          // keys plus one sort buffer per thread stay within the 30 % the spilled version uses).
+          in_memory_(expected_edges * 8 <= static_cast<std::uint64_t>(0.15 * budget)),
+          buckets_(in_memory_ ? 2 : static_cast<std::size_t>(std::max<std::uint64_t>(
+              2, (expected_edges * 16 + static_cast<std::uint64_t>(0.15 * budget) - 1) / static_cast<std::uint64_t>(0.15 * budget)))) {
+        if (!enabled_) return;
+        if (in_memory_) {
+            resident_.resize(buckets_);
+            for (auto& b : resident_) b.reserve(static_cast<std::size_t>(expected_edges / buckets_ + expected_edges / 64 + 16));
+        } else {
+            spill_.emplace(path, buckets_, 8,
+                           std::clamp<std::size_t>(static_cast<std::size_t>(0.1 * budget) / buckets_, 4096, std::size_t{1} << 20));
+        }
+    }
     void add_triangle(const std::uint32_t* v) {
         if (!enabled_ || v[0] == v[1] || v[1] == v[2] || v[0] == v[2]) return;
         for (int k = 0; k < 3; ++k) {
             const std::uint32_t a = v[k], b = v[(k + 1) % 3];
             // Packed to 2 × bit_width(V) bits so the radix sort needs as few passes as possible.
             const std::uint64_t key = a < b ? (std::uint64_t{a} << shift_ | b) : (std::uint64_t{b} << shift_ | a);
-            spill_.add(buckets_ == 1 ? 0 : ooc::mix64(key) % buckets_, &key);
+            const std::size_t bucket = ooc::mix64(key) % buckets_;
+            if (in_memory_) resident_[bucket].push_back(key);
+            else spill_->add(bucket, &key);
         }
     }
     // The odd non-manifold edges; `border` receives the edges used exactly once. Both sorted.
     std::vector<std::uint64_t> odd_non_manifold(Progress* progress, double from, double to, std::vector<std::uint64_t>& border) {
-        spill_.finish();
         std::vector<std::uint64_t> out;
         border.clear();
         if (!enabled_) return out;
+        if (spill_) spill_->finish();
         // Two threads take alternate buckets (each bucket with its sort buffer fits in 15 % of the
         // budget, so both together stay within the 30 % the single-threaded version used).
         struct Part {
@@ -202,12 +217,16 @@ public:
             for (std::size_t b = static_cast<std::size_t>(t); b < buckets_ && !stop; b += 2) {
                 if (t == 0) check_progress(progress, from + (to - from) * static_cast<double>(b) / buckets_, "soup: counting edges");
                 keys.clear();
-                spill_.for_each_block(b, tmp, [&](const char* data, std::size_t bytes) {
-                    const std::size_t at = keys.size();
-                    keys.resize(at + bytes / 8);
-                    std::memcpy(&keys[at], data, bytes);
-                });
-                radix_sort(keys, tmp_keys);
+                if (in_memory_) {
+                    keys.swap(resident_[b]);
+                } else {
+                    spill_->for_each_block(b, tmp, [&](const char* data, std::size_t bytes) {
+                        const std::size_t at = keys.size();
+                        keys.resize(at + bytes / 8);
+                        std::memcpy(&keys[at], data, bytes);
+                    });
+                }
+                radix_sort(keys, tmp_keys, 2 * shift_);
                 for (std::size_t i = 0; i < keys.size();) {
                     std::size_t j = i + 1;
                     while (j < keys.size() && keys[j] == keys[i]) ++j;
@@ -247,29 +266,38 @@ public:
     }
 
 private:
-    // LSD radix sort on 16-bit digits, only as many passes as the largest key needs.
-    static void radix_sort(std::vector<std::uint64_t>& a, std::vector<std::uint64_t>& tmp) {
-        std::uint64_t top = 0;
-        for (std::uint64_t k : a) top |= k;
+    // LSD radix sort, as few passes as the key width needs, with digits of at most 11 bits: 2 048
+    // counters and write streams stay in the L1 cache and the store buffers, where 16-bit digits (65 536
+    // scattered write streams) miss on nearly every store.
+    // `bits`: the keys' width (2 × bit_width(V), known up front: no pass to find the largest key).
+    static void radix_sort(std::vector<std::uint64_t>& a, std::vector<std::uint64_t>& tmp, int bits) {
+        const int passes = (bits + 10) / 11;
+        const int digit = (bits + passes - 1) / passes;
+        const std::uint64_t mask = (std::uint64_t{1} << digit) - 1;
         tmp.resize(a.size());
-        std::vector<std::size_t> count(65536);
-        for (int shift = 0; shift < 64 && (top >> shift) != 0; shift += 16) {
-            std::fill(count.begin(), count.end(), 0);
-            for (std::uint64_t k : a) ++count[(k >> shift) & 0xffff];
+        // Every digit's histogram in one read of the keys.
+        const std::size_t radix = std::size_t{1} << digit;
+        std::vector<std::size_t> counts(static_cast<std::size_t>(passes) * radix, 0);
+        for (std::uint64_t k : a)
+            for (int p = 0; p < passes; ++p) ++counts[static_cast<std::size_t>(p) * radix + ((k >> (p * digit)) & mask)];
+        for (int p = 0, shift = 0; p < passes; ++p, shift += digit) {
+            const std::span<std::size_t> count(counts.data() + static_cast<std::size_t>(p) * radix, radix);
             std::size_t sum = 0;
             for (std::size_t& c : count) {
                 const std::size_t n = c;
                 c = sum;
                 sum += n;
             }
-            for (std::uint64_t k : a) tmp[count[(k >> shift) & 0xffff]++] = k;
+            for (std::uint64_t k : a) tmp[count[(k >> shift) & mask]++] = k;
             a.swap(tmp);
         }
     }
     bool enabled_;
     int shift_;
+    bool in_memory_;
     std::size_t buckets_;
-    BucketSpill spill_;
+    std::vector<std::vector<std::uint64_t>> resident_;  // in memory: the keys of each bucket
+    std::optional<BucketSpill> spill_;                  // otherwise: spilled to disk
 };
 
 // Runs an EdgeCounter on a second thread, fed the face chunks in file order (so the spill, and
@@ -352,21 +380,32 @@ void write_header(File& f, const SoupResult& r) {
     f.write_at(&h, sizeof h, 0);
 }
 
+// Writes the soup file; or, given `memory_cap`, keeps the records in memory while they fit in it (the
+// octree then takes them without a write and a read of the file) and falls back to the file, written
+// from the start, the moment they do not.
 class SoupWriter {
 public:
-    SoupWriter(const std::string& path, const VertexLayout& layout)
-        : out_(path, 1 << 20), corner_(soup_corner_bytes(layout)) {
-        const char zero[kSoupHeaderBytes] = {};
-        out_.write(zero, sizeof zero);
+    SoupWriter(const std::string& path, const VertexLayout& layout, std::size_t memory_cap = 0)
+        : path_(path), corner_(soup_corner_bytes(layout)), cap_(memory_cap) {
+        if (cap_ == 0) open();
     }
     // Appends a corner: vertex id + its record; bounds grow by its position.
     void corner(std::uint32_t id, const float* record) {
-        out_.write(&id, 4);
-        out_.write(record, corner_ - 4);
+        if (!out_ && memory_.size() + corner_ > cap_) spill();
+        if (out_) {
+            out_->write(&id, 4);
+            out_->write(record, corner_ - 4);
+        } else {
+            const std::size_t at = memory_.size();
+            memory_.resize(at + corner_);
+            std::memcpy(memory_.data() + at, &id, 4);
+            std::memcpy(memory_.data() + at + 4, record, corner_ - 4);
+        }
         grow(record);
     }
     void raw(const char* corners, std::size_t bytes) {
-        out_.write(corners, bytes);
+        if (!out_) spill();
+        out_->write(corners, bytes);
         for (std::size_t o = 0; o < bytes; o += corner_) {
             float p[3];
             std::memcpy(p, corners + o + 4, sizeof p);
@@ -374,16 +413,36 @@ public:
         }
     }
     void finish(SoupResult& r) {
-        out_.close();
         r.bounds = Bounds{};
         if (lo_[0] <= hi_[0]) {
             r.bounds.add({lo_[0], lo_[1], lo_[2]});
             r.bounds.add({hi_[0], hi_[1], hi_[2]});
         }
+        if (!out_) {
+            r.memory = std::move(memory_);
+            r.kept_in_memory = true;
+            return;
+        }
+        out_->close();
         File f(r.path, O_WRONLY);
         write_header(f, r);
     }
-    std::uint64_t bytes() const { return out_.offset(); }
+    std::uint64_t bytes() const { return out_ ? out_->offset() : memory_.size(); }
+    void reserve(std::uint64_t bytes) {
+        if (!out_) memory_.reserve(static_cast<std::size_t>(bytes));
+    }
+
+private:
+    void open() {
+        out_.emplace(path_, 1 << 20);
+        const char zero[kSoupHeaderBytes] = {};
+        out_->write(zero, sizeof zero);
+    }
+    void spill() {
+        open();
+        out_->write(memory_.data(), memory_.size());
+        std::vector<std::byte>().swap(memory_);
+    }
 
 private:
     // Positions are finite (the reader refuses NaN), so plain min/max suffice.
@@ -393,8 +452,11 @@ private:
             hi_[a] = std::max(hi_[a], p[a]);
         }
     }
-    SequentialWriter out_;
+    std::string path_;
+    std::optional<SequentialWriter> out_;
+    std::vector<std::byte> memory_;
     std::size_t corner_;
+    std::size_t cap_;
     float lo_[3] = {INFINITY, INFINITY, INFINITY};
     float hi_[3] = {-INFINITY, -INFINITY, -INFINITY};
 };
@@ -453,40 +515,24 @@ namespace {
 // Vertices duplicated at one position (UV or normal seams stored as split vertices, common in PLY and
 // OBJ exports) make an interior edge look like two border edges by index. Those are not free: each side
 // may lie in another node, and shrinking them separately would open the seam. So an index border edge
-// counts as a border only when no other index border edge joins the same two positions. One pass over
-// the soup, touching only the (few) border edges; docs/octree.md, "Coarse levels".
-void drop_seam_borders(SoupResult& r) {
-    if (r.border_edges.empty()) return;
-    struct Use {
-        std::array<float, 6> ends;  // the two positions, smaller first
-        std::uint64_t edge;
-        bool operator<(const Use& o) const { return ends < o.ends; }
-    };
-    std::vector<Use> uses;
-    uses.reserve(r.border_edges.size());
-    SoupReader reader(r.path);
-    const std::size_t corner = soup_corner_bytes(reader.layout());
-    std::vector<std::byte> block;
-    while (const std::size_t n = reader.read(1 << 14, block)) {
-        for (std::size_t t = 0; t < n; ++t) {
-            const std::byte* tri = block.data() + t * 3 * corner;
-            for (int k = 0; k < 3; ++k) {
-                const std::byte* ca = tri + k * corner;
-                const std::byte* cb = tri + ((k + 1) % 3) * corner;
-                std::uint32_t a, b;
-                std::memcpy(&a, ca, 4);
-                std::memcpy(&b, cb, 4);
-                if (a == b) continue;
-                const std::uint64_t edge = a < b ? (std::uint64_t{a} << 32 | b) : (std::uint64_t{b} << 32 | a);
-                if (!std::binary_search(r.border_edges.begin(), r.border_edges.end(), edge)) continue;
-                std::array<float, 3> pa, pb;
-                std::memcpy(pa.data(), ca + 4, 12);
-                std::memcpy(pb.data(), cb + 4, 12);
-                if (pb < pa) std::swap(pa, pb);
-                uses.push_back({{pa[0], pa[1], pa[2], pb[0], pb[1], pb[2]}, edge});
-            }
-        }
-    }
+// counts as a border only when no other index border edge joins the same two positions (docs/octree.md,
+// "Coarse levels").
+struct SeamUse {
+    std::array<float, 6> ends;  // the two positions, smaller first
+    std::uint64_t edge;
+    bool operator<(const SeamUse& o) const { return ends < o.ends; }
+};
+
+SeamUse seam_use(const float* pa_in, const float* pb_in, std::uint64_t edge) {
+    std::array<float, 3> pa, pb;
+    std::memcpy(pa.data(), pa_in, 12);
+    std::memcpy(pb.data(), pb_in, 12);
+    if (pb < pa) std::swap(pa, pb);
+    return {{pa[0], pa[1], pa[2], pb[0], pb[1], pb[2]}, edge};
+}
+
+// Removes from r.border_edges every edge whose two positions another use shares.
+void remove_seams(SoupResult& r, std::vector<SeamUse>& uses) {
     std::sort(uses.begin(), uses.end());
     std::vector<std::uint64_t> seams;
     for (std::size_t i = 0; i < uses.size();) {
@@ -502,6 +548,57 @@ void drop_seam_borders(SoupResult& r) {
     kept.reserve(r.border_edges.size() - std::min(seams.size(), r.border_edges.size()));
     std::set_difference(r.border_edges.begin(), r.border_edges.end(), seams.begin(), seams.end(), std::back_inserter(kept));
     r.border_edges.swap(kept);
+}
+
+// In-memory path: the vertex table is still resident, so the border edges' positions are looked up
+// directly (no pass over the soup). A border edge is used by exactly one non-degenerate triangle, and a
+// degenerate one (a, a, b) reaches it too: it is a use as well, as in the soup pass below.
+void drop_seam_borders(SoupResult& r, const float* vertices, std::size_t floats, const std::vector<std::uint64_t>& degenerate_uses) {
+    if (r.border_edges.empty()) return;
+    std::vector<SeamUse> uses;
+    uses.reserve(r.border_edges.size());
+    auto add = [&](std::uint64_t edge) {
+        const std::size_t a = static_cast<std::size_t>(edge >> 32), b = static_cast<std::size_t>(edge & 0xffffffffu);
+        uses.push_back(seam_use(vertices + a * floats, vertices + b * floats, edge));
+    };
+    for (std::uint64_t edge : r.border_edges) add(edge);
+    for (std::uint64_t edge : degenerate_uses)
+        if (std::binary_search(r.border_edges.begin(), r.border_edges.end(), edge)) add(edge);
+    remove_seams(r, uses);
+}
+
+// External path: one pass over the soup, touching only the (few) border edges; a bit filter over the
+// vertex ids skips the binary search for almost every other edge.
+void drop_seam_borders(SoupResult& r, std::size_t budget) {
+    if (r.border_edges.empty()) return;
+    std::vector<SeamUse> uses;
+    uses.reserve(r.border_edges.size());
+    const std::uint64_t filter_bits = std::bit_floor(std::clamp<std::uint64_t>(r.vertices, 64, std::uint64_t{budget} / 16 * 8));
+    std::vector<std::uint64_t> filter(static_cast<std::size_t>(filter_bits / 64), 0);
+    auto bit = [&](std::uint64_t v) { return v & (filter_bits - 1); };
+    for (std::uint64_t e : r.border_edges)
+        for (std::uint64_t v : {e >> 32, e & 0xffffffffu}) filter[bit(v) >> 6] |= std::uint64_t{1} << (bit(v) & 63);
+    auto marked = [&](std::uint32_t v) { return (filter[bit(v) >> 6] >> (bit(v) & 63)) & 1u; };
+    SoupReader reader(r.path);
+    const std::size_t corner = soup_corner_bytes(reader.layout());
+    std::vector<std::byte> block;
+    while (const std::size_t n = reader.read(1 << 14, block)) {
+        for (std::size_t t = 0; t < n; ++t) {
+            const std::byte* tri = block.data() + t * 3 * corner;
+            for (int k = 0; k < 3; ++k) {
+                const std::byte* ca = tri + k * corner;
+                const std::byte* cb = tri + ((k + 1) % 3) * corner;
+                std::uint32_t a, b;
+                std::memcpy(&a, ca, 4);
+                std::memcpy(&b, cb, 4);
+                if (a == b || !marked(a) || !marked(b)) continue;
+                const std::uint64_t edge = a < b ? (std::uint64_t{a} << 32 | b) : (std::uint64_t{b} << 32 | a);
+                if (!std::binary_search(r.border_edges.begin(), r.border_edges.end(), edge)) continue;
+                uses.push_back(seam_use(reinterpret_cast<const float*>(ca + 4), reinterpret_cast<const float*>(cb + 4), edge));
+            }
+        }
+    }
+    remove_seams(r, uses);
 }
 
 }  // namespace
@@ -551,9 +648,19 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
     const std::string edges_path = (fs::path(soup_path).parent_path() / "edges.tmp").string();
     if (!r.external) {
         std::vector<float> vertices(static_cast<std::size_t>(r.vertices) * floats);
-        SoupWriter out(soup_path, L);
+        // The records stay in memory when asked and when they fit beside the vertex table in 60 % of the
+        // budget (with the edge sort's 30 %, still within it).
+        const double room = 0.6 * static_cast<double>(budget) - static_cast<double>(vertices.size()) * 4;
+        // Not even tried when the header's face count (as triangles) already exceeds it; polygons that
+        // fan into more triangles than expected spill to the file.
+        std::size_t cap = room > 0 ? std::min<std::size_t>(params.memory_soup_bytes, static_cast<std::size_t>(room)) : 0;
+        const std::uint64_t expected_bytes = expected_edges * corner;  // expected_edges = 3 × faces
+        if (expected_bytes > cap) cap = 0;
+        SoupWriter out(soup_path, L, cap);
+        out.reserve(expected_bytes);
         EdgeCounter edges(edges_path, r.vertices, expected_edges, budget, params.count_edges);
         EdgeWorker edge_worker(edges, params.count_edges);
+        std::vector<std::uint64_t> degenerate_uses;  // edges of triangles with a repeated vertex
         std::uint64_t loaded = 0;
         try {
             while (reader.current_element()) {
@@ -567,6 +674,14 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
                     reader.read_faces(kFaceChunk, faces);
                     r.skipped_faces += faces.skipped_faces;
                     edge_worker.push(faces.indices);
+                    for (std::size_t t = 0; t + 2 < faces.indices.size(); t += 3) {
+                        const std::uint32_t* v = &faces.indices[t];
+                        if (v[0] != v[1] && v[1] != v[2] && v[0] != v[2]) continue;
+                        for (int k = 0; k < 3; ++k) {
+                            const std::uint32_t a = v[k], b = v[(k + 1) % 3];
+                            if (a != b) degenerate_uses.push_back(a < b ? (std::uint64_t{a} << 32 | b) : (std::uint64_t{b} << 32 | a));
+                        }
+                    }
                     if (r.wedge_texcoords) {
                         for (std::size_t c = 0; c < faces.indices.size(); ++c) {
                             const std::uint32_t id = faces.indices[c];
@@ -585,10 +700,10 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
             check_triangle_count(ply_path, r.triangles);
             if (r.triangles == 0) throw_error(Error::Kind::invalid, ply_path, "no triangles");
             out.finish(r);
-            std::vector<float>().swap(vertices);
             edge_worker.finish();
             r.odd_non_manifold_edges = edges.odd_non_manifold(progress, 0.9, 1.0, r.border_edges);
-            drop_seam_borders(r);
+            drop_seam_borders(r, vertices.data(), floats, degenerate_uses);
+            std::vector<float>().swap(vertices);
             r.temp_bytes_peak = out.bytes();
         } catch (...) {
             std::error_code ignored;
@@ -721,7 +836,7 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
                 out.raw(slots.data(), slots.size());
             }
             out.finish(r);
-            drop_seam_borders(r);
+            drop_seam_borders(r, budget);
             r.temp_bytes_peak = std::max(r.temp_bytes_peak, refs.bytes() + placed.bytes() + out.bytes());
         }
     } catch (...) {

@@ -1,4 +1,5 @@
 #include "lodforge/error.h"
+#include "lodforge/mesh_io.h"
 #include "lodforge/ooc_soup.h"
 #include "lodforge/ply.h"
 
@@ -11,6 +12,7 @@
 #include <fstream>
 #include <iterator>
 #include <map>
+#include <set>
 
 namespace lodforge {
 namespace {
@@ -165,6 +167,81 @@ TEST(OocSoup, WedgeTexcoordsTravelWithTheirCornerOnBothPaths) {
     EXPECT_TRUE(e.external);
     EXPECT_TRUE(e.wedge_texcoords);
     EXPECT_EQ(file_text(e.path), file_text(r.path));
+}
+
+// The soup's border list by brute force: index border edges (one use by a non-degenerate triangle,
+// degenerate triangles' edges counting as further uses) whose two positions no other such use joins.
+std::vector<std::uint64_t> expected_borders(const Mesh& m) {
+    std::map<std::uint64_t, int> uses, proper;
+    for (std::size_t t = 0; t < m.triangle_count(); ++t) {
+        const std::uint32_t* v = &m.indices[3 * t];
+        const bool degenerate = v[0] == v[1] || v[1] == v[2] || v[0] == v[2];
+        for (int k = 0; k < 3; ++k) {
+            std::uint32_t a = v[k], b = v[(k + 1) % 3];
+            if (a == b) continue;
+            if (a > b) std::swap(a, b);
+            ++uses[std::uint64_t{a} << 32 | b];
+            if (!degenerate) ++proper[std::uint64_t{a} << 32 | b];
+        }
+    }
+    std::map<std::array<float, 6>, int> at;
+    std::vector<std::pair<std::array<float, 6>, std::uint64_t>> border;
+    for (const auto& [e, n] : proper) {
+        if (n != 1) continue;
+        Vec3f pa = m.positions[e >> 32], pb = m.positions[e & 0xffffffffu];
+        std::array<float, 3> a{pa.x, pa.y, pa.z}, b{pb.x, pb.y, pb.z};
+        if (b < a) std::swap(a, b);
+        const std::array<float, 6> key{a[0], a[1], a[2], b[0], b[1], b[2]};
+        at[key] += uses[e];
+        border.emplace_back(key, e);
+    }
+    std::vector<std::uint64_t> out;
+    for (const auto& [key, e] : border)
+        if (at[key] == 1) out.push_back(e);
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+// Writes `m` (positions and faces) as an ASCII PLY, the faces first when `faces_first` (the external path).
+void write_positions_ply(const Mesh& m, const std::string& path, bool faces_first) {
+    std::ofstream f(path);
+    const std::string vh = "element vertex " + std::to_string(m.vertex_count()) + "\nproperty float x\nproperty float y\nproperty float z\n";
+    const std::string fh = "element face " + std::to_string(m.triangle_count()) + "\nproperty list uchar int vertex_indices\n";
+    f << "ply\nformat ascii 1.0\n" << (faces_first ? fh + vh : vh + fh) << "end_header\n";
+    f.precision(9);
+    auto vertices = [&] {
+        for (const Vec3f& p : m.positions) f << p.x << ' ' << p.y << ' ' << p.z << '\n';
+    };
+    auto faces = [&] {
+        for (std::size_t t = 0; t < m.triangle_count(); ++t)
+            f << "3 " << m.indices[3 * t] << ' ' << m.indices[3 * t + 1] << ' ' << m.indices[3 * t + 2] << '\n';
+    };
+    if (faces_first) faces(), vertices();
+    else vertices(), faces();
+}
+
+TEST(OocSoup, BorderEdgesDropSeamsOfSplitVerticesOnBothPaths) {
+    // Spot's UV seams are vertices split at one position (index borders, not real ones); the bunny has
+    // real holes. Both paths must give the brute-force list (the in-memory path looks positions up in the
+    // vertex table, the external one makes a pass over the soup).
+    ScratchDir dir("soup-borders");
+    for (const std::string& name : {std::string("tex-spot/spot_triangulated.obj"), std::string("scan-bunny/bun_zipper.ply")}) {
+        const Mesh mesh = read_mesh(shared_data(name));
+        const std::string in_memory = dir.file("vertices_first.ply"), external = dir.file("faces_first.ply");
+        write_positions_ply(mesh, in_memory, false);
+        write_positions_ply(mesh, external, true);
+        const Mesh input = read_ply(in_memory);
+        const std::vector<std::uint64_t> expected = expected_borders(input);
+        // Spot: 576 index borders, all seams; the bunny: real holes.
+        EXPECT_EQ(expected.empty(), name.starts_with("tex-spot")) << name;
+        const SoupResult r = convert_to_soup(in_memory, dir.file("soup"));
+        const SoupResult e = convert_to_soup(external, dir.file("soup-external"));
+        EXPECT_FALSE(r.external);
+        EXPECT_TRUE(e.external);
+        EXPECT_EQ(r.border_edges, expected) << name;
+        EXPECT_EQ(e.border_edges, expected) << name;
+        EXPECT_EQ(r.odd_non_manifold_edges, e.odd_non_manifold_edges) << name;
+    }
 }
 
 TEST(OocSoup, TruncatedAndLyingInputsStopWithTheFileName) {

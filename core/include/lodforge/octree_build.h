@@ -30,6 +30,9 @@ struct OctreeBuildParams {
     std::size_t memory_bytes = std::size_t{256} << 20;  // working memory (≥ 4 MB)
     std::string temp_dir;               // empty: a temporary directory beside the asset
     SimplifyWeights weights;            // attribute weights of the generalized quadric
+    // 1 or 2: the nodes of a subtree held in memory are computed on two threads (the asset is the same
+    // byte for byte whatever this is).
+    int threads = 2;
 };
 
 struct OctreeBuildResult {
@@ -37,7 +40,7 @@ struct OctreeBuildResult {
     OctreeStats stats;
     double soup_seconds = 0;     // PLY → soup
     double build_seconds = 0;    // soup → octree + every node simplified + asset written
-    double simplify_seconds = 0; // the part of build_seconds spent in the node operator
+    double simplify_seconds = 0; // time in the node operator, summed over the threads (may exceed build_seconds)
     std::uint64_t split_passes = 0;       // nodes split by streaming over a temporary file
     std::uint64_t closed_components = 0;  // components without a boundary edge in their node (clustered), per node
     std::uint64_t degenerate_triangles = 0;  // input triangles with a repeated vertex (in no simplified mesh)

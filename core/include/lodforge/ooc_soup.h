@@ -66,6 +66,10 @@ struct SoupParams {
     // Find the odd non-manifold edges (SoupResult::odd_non_manifold_edges), which the octree needs
     // for watertight cuts; OoCS does not and skips the extra pass.
     bool count_edges = true;
+    // When > 0: on the in-memory path, soup records up to this many bytes are returned in
+    // SoupResult::memory instead of being written (the octree builder asks for this when the whole soup
+    // would be processed in memory anyway); larger soups are written as usual.
+    std::size_t memory_soup_bytes = 0;
 };
 
 struct SoupResult {
@@ -87,6 +91,10 @@ struct SoupResult {
     // Edges used by exactly one non-degenerate triangle (the input's borders), same keys, sorted: shared
     // with no other node, so coarse levels may simplify them (docs/octree.md, "Coarse levels").
     std::vector<std::uint64_t> border_edges;
+    // The triangle records (the file's body, without its header) when they were kept in memory
+    // (SoupParams::memory_soup_bytes); `path` then names no file.
+    std::vector<std::byte> memory;
+    bool kept_in_memory = false;  // stays true after the builder has consumed (and freed) `memory`
 };
 
 // Throws Error(io / format / invalid) for unreadable, malformed or unusable input (no triangles, no
