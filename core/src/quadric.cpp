@@ -32,21 +32,6 @@ Quadric Quadric::from_plane(Vec3d n, double d, double weight) {
     return q;
 }
 
-Quadric& Quadric::operator+=(const Quadric& q) {
-    a00 += q.a00; a01 += q.a01; a02 += q.a02; a11 += q.a11; a12 += q.a12; a22 += q.a22;
-    b0 += q.b0; b1 += q.b1; b2 += q.b2;
-    c += q.c;
-    weight += q.weight;
-    return *this;
-}
-
-double Quadric::evaluate(Vec3d p) const {
-    const double x = p.x, y = p.y, z = p.z;
-    const double r = a00 * x * x + a11 * y * y + a22 * z * z + 2 * (a01 * x * y + a02 * x * z + a12 * y * z) +
-                     2 * (b0 * x + b1 * y + b2 * z) + c;
-    return r > 0 ? r : 0;  // rounding can push a sum of squares slightly negative
-}
-
 AttributeQuadrics::AttributeQuadrics(std::size_t count, std::size_t dimension)
     : m_(dimension), data_(count * (11 + 4 * dimension), 0.0) {}
 

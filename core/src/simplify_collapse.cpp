@@ -72,21 +72,36 @@ std::vector<std::uint32_t> derive_points(const Mesh& mesh, bool weld, float tole
         }
     }
     if (weld && tolerance <= 0.f) {
-        // Sorted by position; the records carry their position so the sort never reads the mesh.
-        struct Entry {
-            Vec3f p;
-            std::uint32_t v;
+        // Open-addressing hash of the position bits (linear, where a sort was 5% of a run): each vertex
+        // joins the first earlier vertex at an equal position. -0 is hashed as +0, since they compare
+        // equal; NaN equals nothing, as with ==.
+        auto bits = [](float f) {
+            std::uint32_t b;
+            if (f == 0.f) f = 0.f;
+            std::memcpy(&b, &f, sizeof b);
+            return b;
         };
-        std::vector<Entry> order(n);
-        for (std::uint32_t v = 0; v < n; ++v) order[v] = {mesh.positions[v], v};
-        std::sort(order.begin(), order.end(), [](const Entry& a, const Entry& b) {
-            if (a.p.x != b.p.x) return a.p.x < b.p.x;
-            if (a.p.y != b.p.y) return a.p.y < b.p.y;
-            if (a.p.z != b.p.z) return a.p.z < b.p.z;
-            return a.v < b.v;
-        });
-        for (std::size_t i = 1; i < n; ++i)
-            if (order[i].p == order[i - 1].p) unite(parent, order[i - 1].v, order[i].v);
+        std::size_t size = 16;
+        while (size < 2 * n) size *= 2;
+        std::vector<std::uint32_t> table(size, kNone);
+        for (std::uint32_t v = 0; v < n; ++v) {
+            const Vec3f p = mesh.positions[v];
+            std::uint64_t h = (std::uint64_t(bits(p.x)) * 0x9E3779B97F4A7C15ull) ^
+                              (std::uint64_t(bits(p.y)) * 0xC2B2AE3D27D4EB4Full) ^
+                              (std::uint64_t(bits(p.z)) * 0x165667B19E3779F9ull);
+            h ^= h >> 29;
+            for (std::size_t i = h & (size - 1);; i = (i + 1) & (size - 1)) {
+                const std::uint32_t o = table[i];
+                if (o == kNone) {
+                    table[i] = v;
+                    break;
+                }
+                if (mesh.positions[o] == p) {
+                    unite(parent, o, v);
+                    break;
+                }
+            }
+        }
     } else if (weld) {
         // Grid of cell size `tolerance`: a vertex joins the first earlier vertex within tolerance found
         // in the 27 cells around it.
@@ -366,6 +381,9 @@ private:
         return {pfaces_[p].data(), pfaces_[p].size()};
     }
     void build_csr();
+    // A face killed earlier in the running pass: its CSR entries stay until the pass ends, and collapse()
+    // renamed its corners so that two coincide.
+    static bool killed(const std::uint32_t* fp) { return fp[0] == fp[1] || fp[1] == fp[2] || fp[0] == fp[2]; }
     void neighbours(std::uint32_t p, std::vector<std::uint32_t>& out);
     // The greedy order jumps across the mesh, so most of a collapse's points and faces are cold: their
     // loads are issued together ahead of use instead of one miss after another.
@@ -377,9 +395,7 @@ private:
 #endif
     }
     void prefetch_point(std::uint32_t p) const {
-        const auto* bytes = reinterpret_cast<const char*>(&pts_[p]);
-        prefetch(bytes);
-        prefetch(bytes + 64);
+        prefetch(&pts_[p]);
     }
     double evaluate(std::uint32_t u, std::uint32_t v, Plan& plan, bool full);
     // Extra frames (SimplifyParams::extra_frames): per-frame quadrics and positions, [point * frames + f].
@@ -388,6 +404,14 @@ private:
     double frames_cost(std::uint32_t u, std::uint32_t v, double geometric, double total, double weight) const;
     bool frames_valid(std::uint32_t u, std::uint32_t v) const;
     bool valid(std::uint32_t u, std::uint32_t v, const Plan& plan);
+    // Geometry only, half-edge: an interior point with one wedge onto a point with one wedge. The
+    // mapping is trivial and the cost is Q_u(p_v) over u's area, so plain_plan() and plain_valid() give
+    // evaluate(full) and valid() in one walk over u's faces.
+    bool plain_pair(std::uint32_t u, std::uint32_t v) const {
+        return plain_ && pts_[u].kind == Kind::interior && pts_[u].one_wedge && pts_[v].one_wedge;
+    }
+    double plain_plan(std::uint32_t u, std::uint32_t v, Plan& plan) const;
+    bool plain_valid(std::uint32_t u, std::uint32_t v, const Plan& plan);
     void collapse(std::uint32_t u, std::uint32_t v, const Plan& plan);
     std::uint32_t cheapest(std::uint32_t p, double& cost);
     std::uint32_t cheapest_valid(std::uint32_t p, std::uint32_t rejected, double& cost);
@@ -405,20 +429,20 @@ private:
     std::vector<std::uint32_t> pid_;          // wedge → point
     std::vector<std::uint32_t> representative_;
     std::size_t points_ = 0;
-    // Everything the collapse loop reads per point, packed in two adjacent cache lines, so that
-    // re-evaluating a neighbour costs one cold fetch instead of one per array: the geometric quadric,
-    // the position normalised (centre 0, diagonal 1), the target of the point's heap entry, its kind,
-    // whether it has exactly one wedge, and whether it is constrained (its entry is not its cheapest
-    // edge, that one being invalid; it is fully re-evaluated when its neighbourhood changes).
-    struct alignas(64) PointRec {
-        Quadric geo;
+    // What costing reads of a *neighbour* (its position and kind) and the per-round bookkeeping, packed in
+    // half a cache line, so a ring of neighbours costs a few cold lines; the quadric, read only for the
+    // point being costed (in index order) or collapsed, lives apart. `constrained`: the point's entry is
+    // not its cheapest edge, that one being invalid; it is fully re-costed when its neighbourhood changes.
+    struct alignas(32) PointRec {
         Vec3d pos;
         std::uint32_t best_to = kNone;
         Kind kind = Kind::interior;
         std::uint8_t one_wedge = 0;
         std::uint8_t constrained = 0;
+        std::uint8_t dirty = 0;  // pass schedule (see run_passes)
     };
-    static_assert(sizeof(PointRec) == 128);
+    static_assert(sizeof(PointRec) == 32);
+    std::vector<Quadric> geo_;
     std::vector<PointRec> pts_;
     Vec3d centre_;
     double scale_ = 1;                        // model units per normalised unit (the diagonal)
@@ -428,6 +452,8 @@ private:
     bool greedy_ = false;
     std::vector<std::vector<std::uint32_t>> pfaces_;          // greedy schedule
     std::vector<std::uint32_t> csr_begin_, csr_faces_;         // pass schedule
+    std::vector<std::uint32_t> live_faces_;                    // ascending; compacted by build_csr()
+    bool live_listed_ = false;
     std::vector<std::uint32_t> wedge_begin_, wedge_list_;  // point → its wedges (CSR)
     std::vector<std::uint8_t> point_alive_;
     AttributeQuadrics aq_;
@@ -466,6 +492,7 @@ void Simplifier::setup() {
     scale_ = diag > 0 ? diag : 1.0;
     centre_ = to3d(b.center());
     pts_.assign(points_, PointRec{});
+    geo_.assign(points_, Quadric{});
     for (std::size_t p = 0; p < points_; ++p) {
         const Vec3d q = to3d(mesh_.positions[representative_[p]]);
         pts_[p].pos = {(q.x - centre_.x) / scale_, (q.y - centre_.y) / scale_, (q.z - centre_.z) / scale_};
@@ -537,7 +564,7 @@ void Simplifier::setup() {
         const double area = 0.5 * len;
         const Vec3d un{n.x / len, n.y / len, n.z / len};
         const Quadric q = Quadric::from_plane(un, -dotd(un, p0), area);
-        for (int k = 0; k < 3; ++k) pts_[pid_[c[k]]].geo += q;
+        for (int k = 0; k < 3; ++k) geo_[pid_[c[k]]] += q;
         if (dims_ > 0)
             for (int k = 0; k < 3; ++k)
                 aq_.add_triangle(c[k], p0, p1, p2, attr(c[0]), attr(c[1]), attr(c[2]), area);
@@ -551,19 +578,25 @@ void Simplifier::setup() {
     if (!params_.extra_frames.empty()) setup_frames();
 }
 
-// Point → live faces (ascending face index), from the corners as they are now.
+// Point → live faces (ascending face index), from the corners as they are now. The live faces are kept as
+// a list compacted here, so late rounds (few faces left) do not scan the dead ones.
 void Simplifier::build_csr() {
+    if (!live_listed_) {
+        live_faces_.clear();
+        for (std::uint32_t f = 0; f < face_alive_.size(); ++f)
+            if (face_alive_[f]) live_faces_.push_back(f);
+        live_listed_ = true;
+    } else {
+        std::erase_if(live_faces_, [&](std::uint32_t f) { return !face_alive_[f]; });
+    }
     csr_begin_.assign(points_ + 1, 0);
-    const std::size_t nf = face_alive_.size();
-    for (std::size_t f = 0; f < nf; ++f)
-        if (face_alive_[f])
-            for (int k = 0; k < 3; ++k) ++csr_begin_[fpt_[3 * f + k] + 1];
+    for (std::uint32_t f : live_faces_)
+        for (int k = 0; k < 3; ++k) ++csr_begin_[fpt_[3 * f + k] + 1];
     for (std::size_t p = 0; p < points_; ++p) csr_begin_[p + 1] += csr_begin_[p];
     csr_faces_.resize(csr_begin_[points_]);
     scratch_fill_.assign(csr_begin_.begin(), csr_begin_.end() - 1);
-    for (std::uint32_t f = 0; f < nf; ++f)
-        if (face_alive_[f])
-            for (int k = 0; k < 3; ++k) csr_faces_[scratch_fill_[fpt_[3 * f + k]]++] = f;
+    for (std::uint32_t f : live_faces_)
+        for (int k = 0; k < 3; ++k) csr_faces_[scratch_fill_[fpt_[3 * f + k]]++] = f;
 }
 
 void Simplifier::setup_frames() {
@@ -637,7 +670,7 @@ bool Simplifier::frames_valid(std::uint32_t u, std::uint32_t v) const {
     const double min_dot = std::min(double(params_.min_normal_dot), kFrameMinDot);
     for (std::uint32_t face : faces_of(u)) {
         const std::uint32_t* c = &fpt_[3 * face];
-        if (c[0] == v || c[1] == v || c[2] == v) continue;
+        if (c[0] == v || c[1] == v || c[2] == v || killed(c)) continue;
         for (std::size_t f = 0; f < frames_; ++f) {
             Vec3d p[3], q[3];
             for (int k = 0; k < 3; ++k) {
@@ -674,8 +707,8 @@ void Simplifier::add_edge_plane(std::uint32_t p, std::uint32_t q) {
         m = {m.x / len, m.y / len, m.z / len};
         Quadric bq = Quadric::from_plane(m, -dotd(m, pts_[p].pos), dotd(e, e));
         bq.weight = 0;  // a constraint, not surface: it must not dilute the mean
-        pts_[p].geo += bq;
-        pts_[q].geo += bq;
+        geo_[p] += bq;
+        geo_[q] += bq;
         if (frames_ > 0) add_frame_border_planes(p, q, f);
         return;
     }
@@ -712,7 +745,7 @@ void Simplifier::classify_points() {
         counts.clear();
         for (std::uint32_t f : faces_of(p))
             for (int k = 0; k < 3; ++k) {
-                const std::uint32_t q = pid_[corners_[3 * f + k]];
+                const std::uint32_t q = fpt_[3 * f + k];
                 if (q == p) continue;
                 auto it = std::find_if(counts.begin(), counts.end(), [q](const auto& e) { return e.first == q; });
                 if (it == counts.end()) counts.emplace_back(q, 1);
@@ -746,7 +779,8 @@ void Simplifier::neighbours(std::uint32_t p, std::vector<std::uint32_t>& out) {
     for (std::uint32_t f : faces) prefetch(&fpt_[3 * f]);
     const std::uint32_t stamp = next_stamp(seen_, seen_stamp_);
     seen_[p] = stamp;
-    for (std::uint32_t f : faces)
+    for (std::uint32_t f : faces) {
+        if (killed(&fpt_[3 * f])) continue;
         for (int k = 0; k < 3; ++k) {
             const std::uint32_t q = fpt_[3 * f + k];
             if (seen_[q] != stamp) {
@@ -754,6 +788,7 @@ void Simplifier::neighbours(std::uint32_t p, std::vector<std::uint32_t>& out) {
                 out.push_back(q);
             }
         }
+    }
 }
 
 // Cost of moving point u onto point v (infinity when not allowed); fills the wedge mapping. Without
@@ -779,6 +814,7 @@ double Simplifier::evaluate(std::uint32_t u, std::uint32_t v, Plan& plan, bool f
     if (plan.count == 0) for (std::uint32_t f : faces_of(u)) {
         const std::uint32_t* c = &corners_[3 * f];
         const std::uint32_t* fp = &fpt_[3 * f];
+        if (killed(fp)) continue;
         std::uint32_t wu = kNone, wv = kNone;
         for (int k = 0; k < 3; ++k) {
             const std::uint32_t q = fp[k];
@@ -821,8 +857,8 @@ double Simplifier::evaluate(std::uint32_t u, std::uint32_t v, Plan& plan, bool f
     // region at p_v, a mean over u's area (adding v's area would let large points swallow neighbours
     // cheaply). Optimal placement moves both, so both quadrics count.
     const bool half_edge = params_.placement == Placement::half_edge;
-    Quadric q = pts_[u].geo;
-    if (!half_edge) q += pts_[v].geo;
+    Quadric q = geo_[u];
+    if (!half_edge) q += geo_[v];
     plan.position = pts_[v].pos;
     if (params_.placement == Placement::optimal) {
         Vec3d p;
@@ -887,7 +923,7 @@ bool Simplifier::valid(std::uint32_t u, std::uint32_t v, const Plan& plan) {
     for (std::uint32_t f : faces_of(u)) {
         const std::uint32_t* c = &fpt_[3 * f];
         const std::uint32_t a = c[0], b = c[1], cc = c[2];
-        if (a == v || b == v || cc == v) continue;  // removed with the collapse
+        if (a == v || b == v || cc == v || killed(c)) continue;  // removed with the collapse (or before)
         if (!face_ok(f, u)) return false;
         // A face whose other two points are both common neighbours may already exist around v
         // (tetrahedron-like configurations the vertex link test misses).
@@ -896,6 +932,7 @@ bool Simplifier::valid(std::uint32_t u, std::uint32_t v, const Plan& plan) {
         if (c1 && c2) {
             for (std::uint32_t g : faces_of(v)) {
                 const std::uint32_t* d = &fpt_[3 * g];
+                if (killed(d)) continue;
                 int hits = 0;
                 for (int k = 0; k < 3; ++k) hits += (d[k] == o1 || d[k] == o2);
                 if (hits == 2) return false;
@@ -905,11 +942,88 @@ bool Simplifier::valid(std::uint32_t u, std::uint32_t v, const Plan& plan) {
     if (params_.placement == Placement::optimal) {
         for (std::uint32_t f : faces_of(v)) {
             const std::uint32_t* c = &fpt_[3 * f];
-            if (c[0] == u || c[1] == u || c[2] == u) continue;
+            if (c[0] == u || c[1] == u || c[2] == u || killed(c)) continue;
             if (!face_ok(f, v)) return false;
         }
     }
     return frames_ == 0 || frames_valid(u, v);
+}
+
+double Simplifier::plain_plan(std::uint32_t u, std::uint32_t v, Plan& plan) const {
+    plan.count = 1;
+    plan.material[0] = 0;
+    plan.wedge[0] = wedge_list_[wedge_begin_[u]];
+    plan.target[0] = wedge_list_[wedge_begin_[v]];
+    plan.position = pts_[v].pos;
+    plan.edge_faces = -1;  // plain_valid() counts them
+    const Quadric& q = geo_[u];
+    const double e = q.evaluate(plan.position);
+    return q.weight > 0 ? e / q.weight : e * 1e12;
+}
+
+// valid() for a plain pair: v's ring is marked first, so u's neighbours, the common count, the faces
+// along uv, the flip and needle checks and the twin-face check all come from one walk over u's faces.
+// Leaves u's ring in scratch_a_ as valid() does.
+bool Simplifier::plain_valid(std::uint32_t u, std::uint32_t v, const Plan& plan) {
+    const std::uint32_t ring = next_stamp(in_ring_, ring_stamp_);
+    for (std::uint32_t g : faces_of(v)) {
+        const std::uint32_t* d = &fpt_[3 * g];
+        if (killed(d)) continue;
+        in_ring_[d[0]] = in_ring_[d[1]] = in_ring_[d[2]] = ring;
+    }
+    in_ring_[v] = 0;  // v's ring proper (u is in it, but never counted: it is not u's neighbour)
+    scratch_a_.clear();
+    const std::uint32_t stamp = next_stamp(seen_, seen_stamp_);
+    seen_[u] = stamp;
+    int common = 0, edge_faces = 0;
+    bool ok = true;
+    const double min_dot = params_.min_normal_dot;
+    const Vec3d pu = pts_[u].pos, pv = plan.position;
+    for (std::uint32_t f : faces_of(u)) {
+        const std::uint32_t* c = &fpt_[3 * f];
+        if (killed(c)) continue;
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t q = c[k];
+            if (seen_[q] != stamp) {
+                seen_[q] = stamp;
+                scratch_a_.push_back(q);
+                common += in_ring_[q] == ring;
+            }
+        }
+        if (!ok) continue;  // the ring is still needed whole
+        if (c[0] == v || c[1] == v || c[2] == v) {
+            ++edge_faces;
+            continue;
+        }
+        // u's other two points, in the face's winding: (u, o1, o2).
+        const int k = c[0] == u ? 0 : c[1] == u ? 1 : 2;
+        const std::uint32_t o1 = c[(k + 1) % 3], o2 = c[(k + 2) % 3];
+        const Vec3d p1 = pts_[o1].pos, p2 = pts_[o2].pos;
+        const Vec3d n0 = crossd(sub(p1, pu), sub(p2, pu));
+        const Vec3d n1 = crossd(sub(p1, pv), sub(p2, pv));
+        const double l0 = dotd(n0, n0), l1 = dotd(n1, n1);
+        if (l0 > 0) {
+            const Vec3d e0 = sub(p1, pv), e1 = sub(p2, p1), e2 = sub(pv, p2);
+            const double longest = std::max({dotd(e0, e0), dotd(e1, e1), dotd(e2, e2)});
+            if (!(l1 > 1e-12 * longest * longest) || dotd(n0, n1) < min_dot * std::sqrt(l0 * l1)) {
+                ok = false;
+                continue;
+            }
+        }
+        if (in_ring_[o1] == ring && in_ring_[o2] == ring) {
+            for (std::uint32_t g : faces_of(v)) {
+                const std::uint32_t* d = &fpt_[3 * g];
+                if (killed(d)) continue;
+                int hits = 0;
+                for (int j = 0; j < 3; ++j) hits += (d[j] == o1 || d[j] == o2);
+                if (hits == 2) {
+                    ok = false;
+                    break;
+                }
+            }
+        }
+    }
+    return ok && edge_faces > 0 && common == edge_faces;
 }
 
 void Simplifier::collapse(std::uint32_t u, std::uint32_t v, const Plan& plan) {
@@ -922,6 +1036,7 @@ void Simplifier::collapse(std::uint32_t u, std::uint32_t v, const Plan& plan) {
     for (std::uint32_t f : faces_of(u)) {
         std::uint32_t* c = &corners_[3 * f];
         std::uint32_t* fp = &fpt_[3 * f];
+        if (killed(fp)) continue;
         if (fp[0] == v || fp[1] == v || fp[2] == v) {
             face_alive_[f] = 0;
             --alive_faces_;
@@ -930,6 +1045,9 @@ void Simplifier::collapse(std::uint32_t u, std::uint32_t v, const Plan& plan) {
                     const std::uint32_t apex = fp[k];
                     if (apex != u && apex != v) std::erase(pfaces_[apex], f);
                 }
+            // The apex's CSR entry stays for the rest of the pass; two equal corners mark the face killed.
+            for (int k = 0; k < 3; ++k)
+                if (fp[k] == u) fp[k] = v;
             continue;
         }
         for (int k = 0; k < 3; ++k)
@@ -944,7 +1062,7 @@ void Simplifier::collapse(std::uint32_t u, std::uint32_t v, const Plan& plan) {
         std::erase_if(pfaces_[v], [&](std::uint32_t f) { return !face_alive_[f]; });
     }
 
-    pts_[v].geo += pts_[u].geo;
+    geo_[v] += geo_[u];
     for (std::size_t f = 0; f < frames_; ++f) frame_geo_[v * frames_ + f] += frame_geo_[u * frames_ + f];
     Collapse rec;
     rec.from_point = u;
@@ -970,7 +1088,7 @@ std::uint32_t Simplifier::cheapest(std::uint32_t p, double& best) {
         // Geometry only, half-edge, one wedge: the cost is Q_p at the neighbour over p's area (what
         // evaluate() computes without a face walk). The neighbours are read straight off the faces,
         // twice each rather than deduplicated.
-        const Quadric& q = pts_[p].geo;
+        const Quadric& q = geo_[p];
         Plan plan;
         const bool weighted = q.weight > 0;
         const auto faces = faces_of(p);
@@ -1126,22 +1244,32 @@ void Simplifier::report(std::size_t target) {
 // Pass schedule (after meshoptimizer's simplifier, Kapoulkine 2016-): every candidate (a point's cheapest
 // outgoing collapse) is costed once, all are sorted (radix sort on the float bits of the cost) and walked
 // cheapest first up to kPassSlack times the cost at rank kPassRank; a collapse u → v is applied when
-// neither u nor v is locked, and then locks u's whole ring (v included) for the rest of the pass. So
-// every face and neighbour set a later collapse of the pass reads is the one the pass started with: the
-// CSR adjacency stays exact without updates, the full link and flip checks stay exact, and each point is
-// touched by at most one collapse per pass. After the pass the CSR is rebuilt (linear, in index order) and
-// only the points whose neighbourhood changed are re-costed. Nothing depends on the target except where
-// the walk stops, so a run to a lower target starts with exactly the collapses of a run to a higher one.
+// neither u nor v is locked, and then locks u and v for the rest of the pass (meshoptimizer's rule; locking
+// u's whole ring as before took twice the passes). The CSR is not updated inside a pass, yet stays exact
+// for every unlocked point: a collapse only renames u to v in u's faces (v is locked, u is gone) and kills
+// uv's faces, which collapse() marks by making two corners equal (killed()), so every walk skips them. So
+// the link, flip and seam checks of a later collapse of the pass read the mesh as it is, and its cost is
+// unchanged (half-edge: Q_u and p_v only change when u or v collapse). After the pass the CSR is rebuilt
+// from the compacted live-face list and only the points whose neighbourhood changed are re-costed.
+// Nothing depends on the target except where the walk stops, so a run to a lower target starts with
+// exactly the collapses of a run to a higher one.
 constexpr double kPassRank = 0.25;
 constexpr double kPassSlack = 1.5;
 
 void Simplifier::run_passes(std::size_t target, double limit, double& max_cost) {
-    std::vector<double> cost(points_, std::numeric_limits<double>::infinity());
-    // Per point: 0 = entry current, kGained = compare the edge to gained[p], else re-cost fully.
+    // Per point: cost of its entry, the kept point of a collapse next to it (see kGained) and the round
+    // that locked it, together so the ring walk after a collapse reads one line per point.
+    struct Round {
+        double cost = std::numeric_limits<double>::infinity();
+        std::uint32_t gained = kNone;
+        std::uint32_t lock = 0;
+    };
+    std::vector<Round> round(points_);
+    // PointRec::dirty: 0 = entry current, kGained = compare the edge to Round::gained, else re-cost fully.
     constexpr std::uint8_t kGained = 2;
-    std::vector<std::uint8_t> dirty(points_, 1);
-    std::vector<std::uint32_t> gained(points_, kNone);
-    std::vector<std::uint32_t> lock(points_, 0);
+    for (PointRec& r : pts_) r.dirty = 1;
+    std::vector<std::uint32_t> alive(points_);
+    std::iota(alive.begin(), alive.end(), 0u);
     std::vector<std::uint64_t> order, tmp;
     order.reserve(points_);
     Plan plan;
@@ -1150,34 +1278,35 @@ void Simplifier::run_passes(std::size_t target, double limit, double& max_cost) 
         report(target);
         // Re-cost what changed, in index order (coherent memory), and gather the candidates.
         order.clear();
-        for (std::uint32_t a = 0; a < points_; ++a) {
-            if ((a & 0xffff) == 0xffff) report(target);
-            if (!point_alive_[a]) continue;
-            if (dirty[a] == kGained) {
+        std::erase_if(alive, [&](std::uint32_t a) { return !point_alive_[a]; });
+        for (std::size_t i = 0; i < alive.size(); ++i) {
+            const std::uint32_t a = alive[i];
+            if ((i & 0xffff) == 0xffff) report(target);
+            if (pts_[a].dirty == kGained) {
                 // Only a new edge to the kept point of a collapse appeared (half-edge: nothing else
                 // about this point's costs changed), so it is compared against the current entry.
-                dirty[a] = 0;
-                const std::uint32_t v = gained[a];
+                pts_[a].dirty = 0;
+                const std::uint32_t v = round[a].gained;
                 if (point_alive_[v]) {
                     const double c = evaluate(a, v, plan, false);
-                    if (c < cost[a]) {
-                        cost[a] = c;
+                    if (c < round[a].cost) {
+                        round[a].cost = c;
                         pts_[a].best_to = v;
                     }
                 }
-            } else if (dirty[a]) {
-                dirty[a] = 0;
+            } else if (pts_[a].dirty) {
+                pts_[a].dirty = 0;
                 double c;
                 const std::uint32_t to = pts_[a].constrained ? cheapest_valid(a, kNone, c) : cheapest(a, c);
                 pts_[a].constrained = 0;
                 pts_[a].best_to = to;
-                cost[a] = to == kNone ? std::numeric_limits<double>::infinity() : c;
+                round[a].cost = to == kNone ? std::numeric_limits<double>::infinity() : c;
             }
-            if (std::isfinite(cost[a])) {
+            if (std::isfinite(round[a].cost)) {
                 // Non-negative floats order as their bit patterns; the cost is rounded up so a key never
                 // undercuts its cost.
-                float key = static_cast<float>(cost[a]);
-                if (double(key) < cost[a]) key = std::nextafter(key, std::numeric_limits<float>::infinity());
+                float key = static_cast<float>(round[a].cost);
+                if (double(key) < round[a].cost) key = std::nextafter(key, std::numeric_limits<float>::infinity());
                 std::uint32_t bits;
                 std::memcpy(&bits, &key, sizeof bits);
                 order.push_back(std::uint64_t(bits) << 32 | a);
@@ -1194,47 +1323,78 @@ void Simplifier::run_passes(std::size_t target, double limit, double& max_cost) 
             order.swap(tmp);
         }
         const std::size_t rank = std::min(order.size() - 1, static_cast<std::size_t>(double(order.size()) * kPassRank));
-        const double threshold = kPassSlack * cost[static_cast<std::uint32_t>(order[rank])];
+        const double threshold = kPassSlack * round[static_cast<std::uint32_t>(order[rank])].cost;
         std::size_t applied = 0;
         bool limited = false, changed = false;
-        for (std::uint64_t e : order) {
-            const auto u = static_cast<std::uint32_t>(e);
-            if (cost[u] > threshold && applied > 0) break;  // a pass never ends empty-handed
+        // The walk jumps across the mesh in cost order, so each candidate's records are cold: they are
+        // prefetched in stages (the point, then its target and face list, then the faces' points) far
+        // enough ahead that each stage's addresses are loaded by the time the next needs them.
+        const std::size_t walk = order.size();
+        auto ahead = [&](std::size_t i) {
+            if (i + 16 < walk) {
+                const auto a = static_cast<std::uint32_t>(order[i + 16]);
+                prefetch(&pts_[a]);
+                prefetch(&round[a]);
+                prefetch(&csr_begin_[a]);
+            }
+            if (i + 8 < walk) {
+                const auto a = static_cast<std::uint32_t>(order[i + 8]);
+                prefetch(&csr_faces_[csr_begin_[a]]);
+                const std::uint32_t b = pts_[a].best_to;
+                if (b != kNone) {
+                    prefetch(&pts_[b]);
+                    prefetch(&round[b]);
+                    prefetch(&csr_begin_[b]);
+                }
+            }
+            if (i + 4 < walk) {
+                const auto a = static_cast<std::uint32_t>(order[i + 4]);
+                for (std::uint32_t k = csr_begin_[a], e = std::min(csr_begin_[a + 1], csr_begin_[a] + 8); k < e; ++k)
+                    prefetch(&fpt_[3 * csr_faces_[k]]);
+                const std::uint32_t b = pts_[a].best_to;
+                if (b != kNone) prefetch(&csr_faces_[csr_begin_[b]]);
+            }
+        };
+        for (std::size_t i = 0; i < walk; ++i) {
+            ahead(i);
+            const auto u = static_cast<std::uint32_t>(order[i]);
+            if (round[u].cost > threshold && applied > 0) break;  // a pass never ends empty-handed
             const std::uint32_t v = pts_[u].best_to;
-            if (lock[u] == pass || lock[v] == pass) continue;  // the next pass sees it again
-            const double c = evaluate(u, v, plan, true);
+            if (round[u].lock == pass || round[v].lock == pass) continue;  // the next pass sees it again
+            const bool plain = plain_pair(u, v);
+            const double c = plain ? plain_plan(u, v, plan) : evaluate(u, v, plan, true);
             if (!std::isfinite(c)) {  // the seam mapping forbids it
-                pts_[u].constrained = dirty[u] = 1;
+                pts_[u].constrained = pts_[u].dirty = 1;
                 changed = true;
                 continue;
             }
             if (c > limit) {
-                cost[u] = c;
+                round[u].cost = c;
                 limited = true;
                 continue;
             }
-            if (!valid(u, v, plan)) {
-                pts_[u].constrained = dirty[u] = 1;
+            if (!(plain ? plain_valid(u, v, plan) : valid(u, v, plan))) {
+                pts_[u].constrained = pts_[u].dirty = 1;
                 changed = true;
                 continue;
             }
             // valid() left u's ring in scratch_a_ and v's in scratch_b_.
             for (std::uint32_t n : scratch_a_) {
-                lock[n] = pass;
                 if (moves_kept || n == v || pts_[n].best_to == u || pts_[n].best_to == v || pts_[n].constrained ||
-                    !std::isfinite(cost[n]))
-                    dirty[n] = 1;
-                else if (dirty[n] == 0) {
-                    dirty[n] = kGained;
-                    gained[n] = v;
+                    !std::isfinite(round[n].cost) || (pts_[n].dirty == kGained && round[n].gained != v))
+                    pts_[n].dirty = 1;
+                else if (pts_[n].dirty == 0) {
+                    pts_[n].dirty = kGained;
+                    round[n].gained = v;
                 }
             }
+            round[v].lock = pass;
             if (moves_kept)
-                for (std::uint32_t n : scratch_b_) dirty[n] = 1;  // v moved: their edges to it changed
-            lock[u] = pass;
+                for (std::uint32_t n : scratch_b_) pts_[n].dirty = 1;  // v moved: their edges to it changed
+            round[u].lock = pass;
             max_cost = std::max(max_cost, c);
             collapse(u, v, plan);
-            cost[u] = std::numeric_limits<double>::infinity();
+            round[u].cost = std::numeric_limits<double>::infinity();
             changed = true;
             if (alive_faces_ <= target) {
                 result_.reason = SimplifyResult::StopReason::target_reached;

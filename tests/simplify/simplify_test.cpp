@@ -266,6 +266,30 @@ TEST(Simplify, WeldToleranceJoinsNearbyVertices) {
     EXPECT_THROW(weld_seams(m, -1.f), Error);
 }
 
+TEST(Simplify, ExactWeldJoinsEqualPositionsOnly) {
+    // Exact welding hashes the position bits: -0 and +0 compare equal and must join, NaN equals nothing,
+    // and positions one ulp apart stay apart. Vertices 0/3 (signed zeros) and 2/4 are the same positions.
+    Mesh m;
+    const float ulp = std::nextafter(1.f, 2.f);
+    m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {-0.f, -0.f, 0}, {0, 1, 0}, {ulp, 0, 0}};
+    m.indices = {0, 1, 2, 3, 4, 5};
+    const Mesh w = weld_seams(m);
+    EXPECT_EQ(w.point_count(), 4u);
+    EXPECT_EQ(w.vertex_count(), 6u);
+    Mesh with_nan = m;
+    with_nan.positions.push_back({std::nanf(""), 0, 0});
+    with_nan.positions.push_back({std::nanf(""), 0, 0});
+    EXPECT_EQ(weld_seams(with_nan).point_count(), 6u);
+    // The simplifier's own points agree (input_points: same ids for joined vertices).
+    SimplifyParams p;
+    p.target_triangles = 2;
+    const SimplifyResult r = simplify(m, p);
+    ASSERT_EQ(r.input_points.size(), 6u);
+    EXPECT_EQ(r.input_points[0], r.input_points[3]);
+    EXPECT_EQ(r.input_points[2], r.input_points[4]);
+    EXPECT_NE(r.input_points[1], r.input_points[5]);
+}
+
 TEST(Simplify, LockedBorderStaysPut) {
     const Mesh& in = bunny();
     SimplifyParams p = ratio(0.2f);
