@@ -191,7 +191,11 @@ public:
         scratch_d_.resize(keys.size());
         scratch_n_.resize(keys.size());
         parallel_for(keys.size(), threads_, [&](std::size_t b, std::size_t e) {
-            for (std::size_t i = b; i < e; ++i) query(keys[i], scratch_d_[i], scratch_n_[i]);
+            std::uint32_t hint = none;  // the previous key's nearest point: the keys come in flood order
+            for (std::size_t i = b; i < e; ++i) {
+                query(keys[i], scratch_d_[i], scratch_n_[i], hint);
+                hint = scratch_n_[i];
+            }
         });
         for (std::size_t i = 0; i < keys.size(); ++i) store(keys[i], scratch_d_[i], scratch_n_[i]);
         evaluated_ += keys.size();
@@ -242,14 +246,31 @@ private:
         valid_[b] |= std::uint64_t(1) << local(key);
         pending_[b] &= ~(std::uint64_t(1) << local(key));
     }
-    void query(std::uint64_t key, float& d, std::uint32_t& nearest) const {
+    // Squared distance as nanoflann's L2_Simple_Adaptor computes it (same order of operations).
+    float distance2(const float q[3], std::uint32_t i) const {
+        float r = 0;
+        for (int a = 0; a < 3; ++a) {
+            const float t = q[a] - pc_.points[i][a];
+            r += t * t;
+        }
+        return r;
+    }
+    // `hint` (a point near the key, or none) bounds the search: the kd-tree then prunes from its first
+    // leaf on. The bound sits strictly above the hint's distance, so every point at the minimum distance
+    // is still visited in the same order and the tree returns the same point as an unbounded search.
+    void query(std::uint64_t key, float& d, std::uint32_t& nearest, std::uint32_t hint = none) const {
         const Vec3f v = world(key);
         const float q[3] = {v.x, v.y, v.z};
         std::uint32_t idx = 0;
         float d2 = 0;
         nanoflann::KNNResultSet<float, std::uint32_t> rs(1);
         rs.init(&idx, &d2);
+        if (hint != none) {
+            const float bound = distance2(q, hint) * (1 + 1e-4f) + 1e-30f;
+            if (bound < d2) d2 = bound, idx = hint;
+        }
         tree_.findNeighbors(rs, q, nanoflann::SearchParams());
+        if (rs.size() == 0) d2 = distance2(q, idx);  // nothing below the bound: the hint itself (rounding)
         const Vec3f diff = v - pc_.points[idx];
         const float dist = std::sqrt(d2);
         // A corner on the tangent plane counts as outside, so every corner gets exactly one sign. So does
