@@ -469,9 +469,12 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
     // alone. Each new leaf adds its missing ancestors; each new ancestor's crossings descend (D5) to leaf
     // edges whose four cubes must be examined; the flood from those may add leaves, and so on. Only the new
     // nodes of a round are looked at, so the octree and its vertices are then built once.
+    // present[l]: the coarse nodes of level l so far, each with the index of its sample mask in
+    // coarse_inside (the octree below takes the masks from there instead of assembling them again).
+    std::vector<KeyMap> present;
+    std::vector<std::uint32_t> coarse_inside;
     {
         const auto& subs = mc::sub_edges();
-        std::vector<KeyMap> present;
         present.reserve(levels + 1);
         for (std::uint32_t l = 0; l <= levels; ++l) present.emplace_back(l == 0 ? 16 : leaves.size() >> (2 * l));
         std::vector<std::pair<std::uint32_t, std::uint64_t>> fresh;  // new coarse nodes: (level, packed x, y, z)
@@ -492,7 +495,7 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
                 for (std::uint32_t l = 1; l <= levels; ++l) {
                     const std::uint64_t key = pack(leaf.x >> l, leaf.y >> l, leaf.z >> l);
                     if (present[l].find(key) != none) break;
-                    present[l].insert(key, 0);
+                    present[l].insert(key, static_cast<std::uint32_t>(coarse_inside.size() + fresh.size()));
                     fresh.emplace_back(l, key);
                     for (int sm = 0; sm < 27; ++sm)
                         if (sm != 13) sample_keys.push_back(coarse_sample(l, key, sm));
@@ -504,6 +507,7 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
                 std::uint32_t inside = 0;
                 for (int sm = 0; sm < 27; ++sm)
                     if (sm != 13 && field.inside(coarse_sample(l, key, sm))) inside |= 1u << sm;
+                coarse_inside.push_back(inside);
                 for (int e = 0; e < mc::sub_edge_count; ++e) {
                     const mc::SubEdge& se = subs[e];
                     const bool a_inside = (inside >> se.a) & 1u;
@@ -636,6 +640,11 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
             for (std::size_t i = 0; i < lv[l].size(); ++i) {
                 const auto ni = static_cast<std::uint32_t>(offset[l] + i);
                 McNode& n = tree.nodes[ni];
+                const std::uint32_t closed = present[l].find(pack(n.x, n.y, n.z));
+                if (closed != none) {  // every node but those of a safety-net pass (below)
+                    n.inside = coarse_inside[closed];
+                    continue;
+                }
                 for (int sm = 0; sm < 27; ++sm) {
                     if (sm == 13) continue;
                     bool found = false;
