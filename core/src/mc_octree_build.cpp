@@ -640,7 +640,7 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
             for (std::size_t i = 0; i < lv[l].size(); ++i) {
                 const auto ni = static_cast<std::uint32_t>(offset[l] + i);
                 McNode& n = tree.nodes[ni];
-                const std::uint32_t closed = present[l].find(pack(n.x, n.y, n.z));
+                const std::uint32_t closed = present.empty() ? none : present[l].find(pack(n.x, n.y, n.z));
                 if (closed != none) {  // every node but those of a safety-net pass (below)
                     n.inside = coarse_inside[closed];
                     continue;
@@ -665,6 +665,8 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
             for (const auto& [ni, sm] : missing)
                 if (field.inside(sample_key(tree.nodes[ni], sm))) tree.nodes[ni].inside |= 1u << sm;
         }
+        std::vector<KeyMap>().swap(present);  // used once: the peak memory comes later
+        std::vector<std::uint32_t>().swap(coarse_inside);
 
         // Vertices: the crossing of an edge at any level is the crossing of the one leaf edge the recursive
         // edge-ratio extension lands on, so all levels share vertices by index.
