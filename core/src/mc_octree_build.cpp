@@ -191,7 +191,11 @@ public:
         scratch_d_.resize(keys.size());
         scratch_n_.resize(keys.size());
         parallel_for(keys.size(), threads_, [&](std::size_t b, std::size_t e) {
-            for (std::size_t i = b; i < e; ++i) query(keys[i], scratch_d_[i], scratch_n_[i]);
+            std::uint32_t hint = none;  // the previous key's nearest point: the keys come in flood order
+            for (std::size_t i = b; i < e; ++i) {
+                query(keys[i], scratch_d_[i], scratch_n_[i], hint);
+                hint = scratch_n_[i];
+            }
         });
         for (std::size_t i = 0; i < keys.size(); ++i) store(keys[i], scratch_d_[i], scratch_n_[i]);
         evaluated_ += keys.size();
@@ -242,14 +246,31 @@ private:
         valid_[b] |= std::uint64_t(1) << local(key);
         pending_[b] &= ~(std::uint64_t(1) << local(key));
     }
-    void query(std::uint64_t key, float& d, std::uint32_t& nearest) const {
+    // Squared distance as nanoflann's L2_Simple_Adaptor computes it (same order of operations).
+    float distance2(const float q[3], std::uint32_t i) const {
+        float r = 0;
+        for (int a = 0; a < 3; ++a) {
+            const float t = q[a] - pc_.points[i][a];
+            r += t * t;
+        }
+        return r;
+    }
+    // `hint` (a point near the key, or none) bounds the search: the kd-tree then prunes from its first
+    // leaf on. The bound sits strictly above the hint's distance, so every point at the minimum distance
+    // is still visited in the same order and the tree returns the same point as an unbounded search.
+    void query(std::uint64_t key, float& d, std::uint32_t& nearest, std::uint32_t hint = none) const {
         const Vec3f v = world(key);
         const float q[3] = {v.x, v.y, v.z};
         std::uint32_t idx = 0;
         float d2 = 0;
         nanoflann::KNNResultSet<float, std::uint32_t> rs(1);
         rs.init(&idx, &d2);
+        if (hint != none) {
+            const float bound = distance2(q, hint) * (1 + 1e-4f) + 1e-30f;
+            if (bound < d2) d2 = bound, idx = hint;
+        }
         tree_.findNeighbors(rs, q, nanoflann::SearchParams());
+        if (rs.size() == 0) d2 = distance2(q, idx);  // nothing below the bound: the hint itself (rounding)
         const Vec3f diff = v - pc_.points[idx];
         const float dist = std::sqrt(d2);
         // A corner on the tangent plane counts as outside, so every corner gets exactly one sign. So does
@@ -448,9 +469,12 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
     // alone. Each new leaf adds its missing ancestors; each new ancestor's crossings descend (D5) to leaf
     // edges whose four cubes must be examined; the flood from those may add leaves, and so on. Only the new
     // nodes of a round are looked at, so the octree and its vertices are then built once.
+    // present[l]: the coarse nodes of level l so far, each with the index of its sample mask in
+    // coarse_inside (the octree below takes the masks from there instead of assembling them again).
+    std::vector<KeyMap> present;
+    std::vector<std::uint32_t> coarse_inside;
     {
         const auto& subs = mc::sub_edges();
-        std::vector<KeyMap> present;
         present.reserve(levels + 1);
         for (std::uint32_t l = 0; l <= levels; ++l) present.emplace_back(l == 0 ? 16 : leaves.size() >> (2 * l));
         std::vector<std::pair<std::uint32_t, std::uint64_t>> fresh;  // new coarse nodes: (level, packed x, y, z)
@@ -471,7 +495,7 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
                 for (std::uint32_t l = 1; l <= levels; ++l) {
                     const std::uint64_t key = pack(leaf.x >> l, leaf.y >> l, leaf.z >> l);
                     if (present[l].find(key) != none) break;
-                    present[l].insert(key, 0);
+                    present[l].insert(key, static_cast<std::uint32_t>(coarse_inside.size() + fresh.size()));
                     fresh.emplace_back(l, key);
                     for (int sm = 0; sm < 27; ++sm)
                         if (sm != 13) sample_keys.push_back(coarse_sample(l, key, sm));
@@ -483,6 +507,7 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
                 std::uint32_t inside = 0;
                 for (int sm = 0; sm < 27; ++sm)
                     if (sm != 13 && field.inside(coarse_sample(l, key, sm))) inside |= 1u << sm;
+                coarse_inside.push_back(inside);
                 for (int e = 0; e < mc::sub_edge_count; ++e) {
                     const mc::SubEdge& se = subs[e];
                     const bool a_inside = (inside >> se.a) & 1u;
@@ -615,6 +640,11 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
             for (std::size_t i = 0; i < lv[l].size(); ++i) {
                 const auto ni = static_cast<std::uint32_t>(offset[l] + i);
                 McNode& n = tree.nodes[ni];
+                const std::uint32_t closed = present.empty() ? none : present[l].find(pack(n.x, n.y, n.z));
+                if (closed != none) {  // every node but those of a safety-net pass (below)
+                    n.inside = coarse_inside[closed];
+                    continue;
+                }
                 for (int sm = 0; sm < 27; ++sm) {
                     if (sm == 13) continue;
                     bool found = false;
@@ -635,6 +665,8 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
             for (const auto& [ni, sm] : missing)
                 if (field.inside(sample_key(tree.nodes[ni], sm))) tree.nodes[ni].inside |= 1u << sm;
         }
+        std::vector<KeyMap>().swap(present);  // used once: the peak memory comes later
+        std::vector<std::uint32_t>().swap(coarse_inside);
 
         // Vertices: the crossing of an edge at any level is the crossing of the one leaf edge the recursive
         // edge-ratio extension lands on, so all levels share vertices by index.

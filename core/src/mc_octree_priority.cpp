@@ -43,10 +43,10 @@ std::size_t number_mc_octree(McOctree& tree, const std::vector<KeyMap>& maps, Pr
     // Dense copy of the priorities: the seam masks read 18 neighbours' priorities per node, and a 4-byte
     // array keeps those reads in cache where the 40-byte node records do not.
     std::vector<std::uint32_t> prio(n, none);
-    auto refine_of = [&](std::uint32_t node, std::uint64_t expanded_up_to) -> std::uint32_t {
-        if (tree.nodes[node].level == 0) return 0;
-        return refine_mask(tree, node, expanded_up_to, [&](std::uint32_t m) { return prio[m]; });
-    };
+    // Each node's seam mask (refine_mask at the current rank), kept up to date as its same-level
+    // neighbours are expanded instead of re-reading its 18 neighbours' priorities at every change.
+    std::vector<std::uint32_t> refine(n, 0);
+    const auto& slot_bits = slot_refinement();
 
     // offset (dx, dy, dz) -> neighbour slot for faces and edges; corners (-1) go through the level's map
     int slot_of[27];
@@ -115,7 +115,8 @@ std::size_t number_mc_octree(McOctree& tree, const std::vector<KeyMap>& maps, Pr
                 if (m != none && prio[m] == none) ++count;
             }
             blockers[c] = count;
-            triangles[c] = static_cast<std::uint32_t>(node_triangle_count(tree, c, refine_of(c, numbered), seams));
+            // No same-level neighbour of c is expanded yet: each touches x, which blocked it until now.
+            triangles[c] = static_cast<std::uint32_t>(node_triangle_count(tree, c, 0, seams));
             total += triangles[c];
             if (count == 0) push(c);
         }
@@ -140,9 +141,9 @@ std::size_t number_mc_octree(McOctree& tree, const std::vector<KeyMap>& maps, Pr
                         }
                     } else if (nb.parent == none || prio[nb.parent] != none) {
                         const bool shares_edge = (dx == 0) + (dy == 0) + (dz == 0) >= 1;
-                        if (!shares_edge) continue;
-                        const auto now = static_cast<std::uint32_t>(
-                            node_triangle_count(tree, m, refine_of(m, numbered), seams));
+                        if (!shares_edge || nb.level == 0) continue;
+                        refine[m] |= slot_bits[std::size_t(slot_of[(1 - dx) + 3 * (1 - dy) + 9 * (1 - dz)])];
+                        const auto now = static_cast<std::uint32_t>(node_triangle_count(tree, m, refine[m], seams));
                         total = total - triangles[m] + now;
                         triangles[m] = now;
                     }
