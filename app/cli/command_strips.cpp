@@ -66,6 +66,7 @@ void add_strips_command(CLI::App& app, const GlobalOptions& global) {
         bool restart = false, degenerate = false, lock_border = false, json = false;
         double coarsest = 0.01;
         std::size_t max_strip_length = 256;
+        std::string strip_order = "run-off";
         std::string info_file;
         bool info_json = false;
         std::string extract_file, extract_output;
@@ -87,6 +88,11 @@ void add_strips_command(CLI::App& app, const GlobalOptions& global) {
         ->check(CLI::Range(16, 65000))
         ->capture_default_str();
     cmd->add_flag("--lock-border", o->lock_border, "Never move border vertices");
+    cmd->add_option("--strip-order", o->strip_order,
+                    "run-off: fewest indices (smaller file); cache: meshoptimizer's vertex-cache order, "
+                    "a few more indices, lower ACMR (docs/stripify.md)")
+        ->check(CLI::IsMember({"run-off", "cache"}))
+        ->capture_default_str();
     cmd->add_flag("--json", o->json, "Print the summary as JSON");
     cmd->require_subcommand(0, 1);
 
@@ -128,6 +134,7 @@ void add_strips_command(CLI::App& app, const GlobalOptions& global) {
         params.coarsest_ratio = static_cast<float>(o->coarsest);
         params.max_strip_length = o->max_strip_length;
         params.lock_border = o->lock_border;
+        params.strip_order = o->strip_order == "cache" ? StripOrder::cache : StripOrder::run_off;
         TerminalProgress progress(!global.quiet && stderr_is_terminal());
         const Mesh mesh = read_mesh(o->input, {}, &progress);
         const LodStripsBuild b = build_lodstrips(mesh, params, &progress);

@@ -88,7 +88,7 @@ LodStripsBuild build_lodstrips(const Mesh& mesh, const LodStripsParams& params, 
     strip_replay::copy_attributes(mesh, out.input_vertex, d);
 
     strip_replay::lay_out_strips(base, face_group, group_count, out.canonical,
-                                 {params.join, params.max_strip_length, params.cache_size}, d);
+                                 {params.join, params.max_strip_length, params.cache_size, params.strip_order}, d);
     check_progress(progress, 0.7, "recording strip changes");
     const strip_replay::RecordStats rs = strip_replay::record_collapses(s.collapses, s.moves, s.collapses.size(), out.canonical,
                                                                         d, progress, 0.7, 1.0, "recording strip changes");

@@ -77,6 +77,7 @@ void lay_out_strips(const std::vector<std::uint32_t>& faces, const std::vector<s
         StripifyParams sp;
         sp.join = StripJoin::restart;
         sp.cache_size = params.cache_size;
+        sp.order = params.strip_order;
         for (const auto& strip : stripify(tri, d.vertex_count, sp).strips) {
             std::size_t at = 0;
             for (; strip.size() - at > piece; at += piece - 2) {

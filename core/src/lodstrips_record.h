@@ -145,6 +145,7 @@ struct StripLayoutParams {
     StripJoin join = StripJoin::restart;
     std::size_t max_strip_length = 256;
     std::size_t cache_size = 16;
+    StripOrder strip_order = StripOrder::run_off;
 };
 void lay_out_strips(const std::vector<std::uint32_t>& faces, const std::vector<std::uint32_t>& face_group, std::size_t groups,
                     const std::vector<std::uint32_t>& canonical, const StripLayoutParams& params, ::lodstrips::Data& d);

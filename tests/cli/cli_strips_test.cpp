@@ -56,6 +56,27 @@ TEST(CliStrips, BuildInfoExtractInBothJoinModes) {
     }
 }
 
+TEST(CliStrips, StripOrderCacheKeepsTheTrianglesAndMakesMoreStrips) {
+    lodforge::test::ScratchDir dir("cli-strips-order");
+    const std::string in = lodforge::test::shared_data("scan-dragon/dragon_vrip_res4.ply");
+    nlohmann::json info[2];
+    const char* orders[2] = {"run-off", "cache"};
+    for (int i = 0; i < 2; ++i) {
+        const std::string out = dir.file(std::string(orders[i]) + ".lodstrips");
+        CliRun r = run_cli("strips " + quoted(in) + " -o " + quoted(out) + " --strip-order " + orders[i] + " --json", false);
+        ASSERT_EQ(r.exit_code, 0) << r.out;
+        info[i] = nlohmann::json::parse(r.out);
+    }
+    // Same collapse sequence, so the same triangles per level; meshoptimizer's order cuts more strips.
+    EXPECT_EQ(info[0]["triangles"], info[1]["triangles"]);
+    EXPECT_EQ(info[0]["collapses"], info[1]["collapses"]);
+    EXPECT_GT(info[1]["strips"].get<int>(), info[0]["strips"].get<int>());
+    CliRun r = run_cli("strips " + quoted(in) + " -o " + quoted(dir.file("x.lodstrips")) + " --strip-order fifo");
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_TRUE(contains(r.out, "--strip-order")) << r.out;
+    EXPECT_FALSE(std::filesystem::exists(dir.file("x.lodstrips")));
+}
+
 TEST(CliStrips, BadInputSaysWhatAndWhere) {
     lodforge::test::ScratchDir dir("cli-strips-bad");
     CliRun r = run_cli("strips info " + quoted(dir.file("missing.lodstrips")));

@@ -17,20 +17,23 @@ using test::BuiltModel;
 struct Case {
     std::string mesh;
     StripJoin join;
+    StripOrder order = StripOrder::run_off;
 };
 
 void PrintTo(const Case& c, std::ostream* os) {
     *os << c.mesh << ' ';
     PrintTo(c.join, os);
+    if (c.order == StripOrder::cache) *os << " cache order";
 }
 
 std::string case_name(const ::testing::TestParamInfo<Case>& info) {
-    return info.param.mesh + (info.param.join == StripJoin::restart ? "_restart" : "_degenerate");
+    return info.param.mesh + (info.param.join == StripJoin::restart ? "_restart" : "_degenerate") +
+           (info.param.order == StripOrder::cache ? "_cache" : "");
 }
 
 class LodStripsReal : public ::testing::TestWithParam<Case> {
 protected:
-    const BuiltModel& model() const { return built(GetParam().mesh, GetParam().join); }
+    const BuiltModel& model() const { return built(GetParam().mesh, GetParam().join, GetParam().order); }
     lodstrips::LodStrips runtime() const {
         lodstrips::LodStrips rt;
         std::string why;
@@ -206,7 +209,11 @@ INSTANTIATE_TEST_SUITE_P(RealMeshes, LodStripsReal,
                                            Case{"dragon_res3", StripJoin::restart},
                                            Case{"dragon_res3", StripJoin::degenerate},
                                            Case{"dragon_res4", StripJoin::restart},
-                                           Case{"dragon_res4", StripJoin::degenerate}),
+                                           Case{"dragon_res4", StripJoin::degenerate},
+                                           // The cache strip order (meshoptimizer's order) through the same checks.
+                                           Case{"bunny", StripJoin::restart, StripOrder::cache},
+                                           Case{"spot", StripJoin::degenerate, StripOrder::cache},
+                                           Case{"frag_115", StripJoin::degenerate, StripOrder::cache}),
                          case_name);
 
 TEST(LodStrips, SpotKeepsSeamWedgesAndTexcoords) {

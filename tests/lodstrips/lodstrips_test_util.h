@@ -37,14 +37,15 @@ inline std::string lodstrips_mesh_path(const std::string& name) {
     return shared_data(paths.at(name));
 }
 
-inline const BuiltModel& built(const std::string& name, StripJoin join) {
+inline const BuiltModel& built(const std::string& name, StripJoin join, StripOrder order = StripOrder::run_off) {
     static std::map<std::pair<std::string, int>, std::unique_ptr<BuiltModel>> cache;
-    auto& slot = cache[{name, static_cast<int>(join)}];
+    auto& slot = cache[{name, static_cast<int>(join) * 2 + static_cast<int>(order == StripOrder::cache)}];
     if (!slot) {
         slot = std::make_unique<BuiltModel>();
         slot->mesh = read_mesh(lodstrips_mesh_path(name));
         LodStripsParams p;
         p.join = join;
+        p.strip_order = order;
         slot->build = build_lodstrips(slot->mesh, p);
     }
     return *slot;
