@@ -746,20 +746,29 @@ bool Simplifier::is_seam_edge(std::uint32_t p, std::uint32_t q) const {
 
 void Simplifier::classify_points() {
     // Neighbour counts per point: an edge with one face is a border edge, with more than two non-manifold.
-    std::vector<std::pair<std::uint32_t, int>> counts;
+    // The neighbours keep their order of first appearance (the constraint planes are added in it); the
+    // stamped marks replace a search of the list, and counts saturate (only 1, 2 and more matter).
+    std::vector<std::uint32_t> ring;
+    std::vector<std::uint8_t> count(points_, 0);
     for (std::uint32_t p = 0; p < points_; ++p) {
-        counts.clear();
+        ring.clear();
+        const std::uint32_t stamp = next_stamp(seen_, seen_stamp_);
         for (std::uint32_t f : faces_of(p))
             for (int k = 0; k < 3; ++k) {
                 const std::uint32_t q = fpt_[3 * f + k];
                 if (q == p) continue;
-                auto it = std::find_if(counts.begin(), counts.end(), [q](const auto& e) { return e.first == q; });
-                if (it == counts.end()) counts.emplace_back(q, 1);
-                else ++it->second;
+                if (seen_[q] != stamp) {
+                    seen_[q] = stamp;
+                    count[q] = 1;
+                    ring.push_back(q);
+                } else if (count[q] < 3) {
+                    ++count[q];
+                }
             }
         int border = 0;
         bool complex = false;
-        for (const auto& [q, c] : counts) {
+        for (const std::uint32_t q : ring) {
+            const int c = count[q];
             if (c == 2 && q > p && !(pts_[p].one_wedge && pts_[q].one_wedge) && is_seam_edge(p, q)) {
                 add_edge_plane(p, q);
             } else if (c == 1) {
