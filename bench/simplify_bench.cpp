@@ -9,12 +9,13 @@
 //
 //   lodforge_bench_simplify [--quick] [--models dragon,bunny,frag,duck,bottle] [--ratios 0.5,0.1,0.01]
 //                           [--reps N] [--samples N] [--no-vtk] [--no-openmesh] [--openmesh-dragon-all]
-//                           [--greedy]
+//                           [--greedy] [--no-attributes]
 //
 // --quick: dragon and bunny at 10 % only, without OpenMesh. OpenMesh runs on the full dragon at 10 % only
 // (it takes ~20 s per level) unless --openmesh-dragon-all. With --reps N > 1 the time is the median of N
 // runs of each method (errors are measured on the last run). --greedy adds lodforge's heap schedule
-// (SimplifyParams::Schedule::greedy, the engine before the round schedule) as a method.
+// (SimplifyParams::Schedule::greedy, the engine before the round schedule) as a method. --no-attributes
+// leaves out the attribute-aware run (geometry-only profiles).
 
 #include "bench_util.h"
 #include "lodforge/error.h"
@@ -241,7 +242,7 @@ int main(int argc, char** argv) {
     std::vector<float> ratios = {0.5f, 0.1f, 0.01f};
     int reps = 1;
     std::size_t samples = 0;
-    bool vtk = true, openmesh = true, openmesh_dragon_all = false, greedy = false;
+    bool vtk = true, openmesh = true, openmesh_dragon_all = false, greedy = false, attributes = true;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         auto next = [&]() -> std::string {
@@ -270,12 +271,15 @@ int main(int argc, char** argv) {
             openmesh = false;
         } else if (a == "--greedy") {
             greedy = true;
+        } else if (a == "--no-attributes") {
+            attributes = false;
         } else if (a == "--openmesh-dragon-all") {
             openmesh_dragon_all = true;
         } else {
             std::fprintf(stderr,
                          "usage: %s [--quick] [--models dragon,bunny,frag,duck,bottle] [--ratios 0.5,0.1,0.01] "
-                         "[--reps N] [--samples N] [--no-vtk] [--no-openmesh] [--openmesh-dragon-all] [--greedy]\n",
+                         "[--reps N] [--samples N] [--no-vtk] [--no-openmesh] [--openmesh-dragon-all] [--greedy] "
+                         "[--no-attributes]\n",
                          argv[0]);
             return 2;
         }
@@ -296,7 +300,7 @@ int main(int argc, char** argv) {
             std::fprintf(stderr, "%s: %s\n", it->path.c_str(), e.what());
             return 1;
         }
-        const bool has_attributes = in.has_normals() || in.has_colors() || in.has_texcoords();
+        const bool has_attributes = attributes && (in.has_normals() || in.has_colors() || in.has_texcoords());
         for (float r : ratios) {
             struct Method {
                 std::string name;

@@ -356,6 +356,9 @@ Vec3d sub(Vec3d a, Vec3d b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
 Vec3d crossd(Vec3d a, Vec3d b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
 double dotd(Vec3d a, Vec3d b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 
+// Faces of a border point that cheapest_plain_border() takes on its stack (more: the general path).
+constexpr std::size_t kPlainBorderFaces = 32;
+
 class Simplifier {
 public:
     Simplifier(const Mesh& mesh, const SimplifyParams& params, Progress* progress)
@@ -404,12 +407,15 @@ private:
     double frames_cost(std::uint32_t u, std::uint32_t v, double geometric, double total, double weight) const;
     bool frames_valid(std::uint32_t u, std::uint32_t v) const;
     bool valid(std::uint32_t u, std::uint32_t v, const Plan& plan);
-    // Geometry only, half-edge: an interior point with one wedge onto a point with one wedge. The
-    // mapping is trivial and the cost is Q_u(p_v) over u's area, so plain_plan() and plain_valid() give
-    // evaluate(full) and valid() in one walk over u's faces.
+    // Geometry only, half-edge: an interior or border point with one wedge onto a point with one wedge.
+    // The mapping is trivial and the cost is Q_u(p_v) over u's area, so plain_plan() and plain_valid()
+    // give evaluate(full) and valid() in one walk over u's faces (a border point's edge count, which
+    // evaluate() checks, included).
     bool plain_pair(std::uint32_t u, std::uint32_t v) const {
-        return plain_ && pts_[u].kind == Kind::interior && pts_[u].one_wedge && pts_[v].one_wedge;
+        return plain_ && (pts_[u].kind == Kind::interior || pts_[u].kind == Kind::border) && pts_[u].one_wedge &&
+               pts_[v].one_wedge;
     }
+    std::uint32_t cheapest_plain_border(std::uint32_t p, double& best);
     double plain_plan(std::uint32_t u, std::uint32_t v, Plan& plan) const;
     bool plain_valid(std::uint32_t u, std::uint32_t v, const Plan& plan);
     void collapse(std::uint32_t u, std::uint32_t v, const Plan& plan);
@@ -740,20 +746,29 @@ bool Simplifier::is_seam_edge(std::uint32_t p, std::uint32_t q) const {
 
 void Simplifier::classify_points() {
     // Neighbour counts per point: an edge with one face is a border edge, with more than two non-manifold.
-    std::vector<std::pair<std::uint32_t, int>> counts;
+    // The neighbours keep their order of first appearance (the constraint planes are added in it); the
+    // stamped marks replace a search of the list, and counts saturate (only 1, 2 and more matter).
+    std::vector<std::uint32_t> ring;
+    std::vector<std::uint8_t> count(points_, 0);
     for (std::uint32_t p = 0; p < points_; ++p) {
-        counts.clear();
+        ring.clear();
+        const std::uint32_t stamp = next_stamp(seen_, seen_stamp_);
         for (std::uint32_t f : faces_of(p))
             for (int k = 0; k < 3; ++k) {
                 const std::uint32_t q = fpt_[3 * f + k];
                 if (q == p) continue;
-                auto it = std::find_if(counts.begin(), counts.end(), [q](const auto& e) { return e.first == q; });
-                if (it == counts.end()) counts.emplace_back(q, 1);
-                else ++it->second;
+                if (seen_[q] != stamp) {
+                    seen_[q] = stamp;
+                    count[q] = 1;
+                    ring.push_back(q);
+                } else if (count[q] < 3) {
+                    ++count[q];
+                }
             }
         int border = 0;
         bool complex = false;
-        for (const auto& [q, c] : counts) {
+        for (const std::uint32_t q : ring) {
+            const int c = count[q];
             if (c == 2 && q > p && !(pts_[p].one_wedge && pts_[q].one_wedge) && is_seam_edge(p, q)) {
                 add_edge_plane(p, q);
             } else if (c == 1) {
@@ -1023,6 +1038,8 @@ bool Simplifier::plain_valid(std::uint32_t u, std::uint32_t v, const Plan& plan)
             }
         }
     }
+    // A border point slides along its border: onto a neighbour over one face only (as in evaluate()).
+    if (pts_[u].kind == Kind::border && edge_faces != 1) return false;
     return ok && edge_faces > 0 && common == edge_faces;
 }
 
@@ -1088,36 +1105,90 @@ std::uint32_t Simplifier::cheapest(std::uint32_t p, double& best) {
         // Geometry only, half-edge, one wedge: the cost is Q_p at the neighbour over p's area (what
         // evaluate() computes without a face walk). The neighbours are read straight off the faces,
         // twice each rather than deduplicated.
+        // The one-wedge neighbours are compared by Q_p alone and only the least is divided by the
+        // area (a division per neighbour was a fifth of re-costing): the same cost, and the same
+        // target unless two errors round to one cost.
         const Quadric& q = geo_[p];
         Plan plan;
-        const bool weighted = q.weight > 0;
         const auto faces = faces_of(p);
         for (std::uint32_t f : faces) prefetch(&fpt_[3 * f]);
         for (std::uint32_t f : faces)
             for (int k = 0; k < 3; ++k) prefetch_point(fpt_[3 * f + k]);
+        double least = std::numeric_limits<double>::infinity();
+        std::uint32_t least_to = kNone;
+        std::size_t least_at = 0, best_at = 0, at = 0;
         for (std::uint32_t f : faces)
-            for (int k = 0; k < 3; ++k) {
+            for (int k = 0; k < 3; ++k, ++at) {
                 const std::uint32_t n = fpt_[3 * f + k];
                 if (n == p) continue;
-                double c;
                 if (pts_[n].one_wedge) {
                     const double e = q.evaluate(pts_[n].pos);
-                    c = weighted ? e / q.weight : e * 1e12;
+                    if (e < least) {
+                        least = e;
+                        least_to = n;
+                        least_at = at;
+                    }
                 } else {
-                    c = evaluate(p, n, plan, false);  // onto a seam point: the wedge mapping decides
-                }
-                if (c < best) {
-                    best = c;
-                    to = n;
+                    const double c = evaluate(p, n, plan, false);  // onto a seam point: the wedge mapping decides
+                    if (c < best) {
+                        best = c;
+                        to = n;
+                        best_at = at;
+                    }
                 }
             }
+        if (least_to != kNone) {
+            const double c = q.weight > 0 ? least / q.weight : least * 1e12;
+            if (c < best || (c == best && least_at < best_at)) {
+                best = c;
+                to = least_to;
+            }
+        }
         return to;
     }
+    if (plain_ && pts_[p].kind == Kind::border && pts_[p].one_wedge && faces_of(p).size() <= kPlainBorderFaces)
+        return cheapest_plain_border(p, best);
     Plan plan;
     neighbours(p, scratch_n_);
     for (std::uint32_t n : scratch_n_) prefetch_point(n);
     for (std::uint32_t n : scratch_n_) {
         const double c = evaluate(p, n, plan, false);
+        if (c < best) {
+            best = c;
+            to = n;
+        }
+    }
+    return to;
+}
+
+// cheapest() for a one-wedge border point in a plain run: evaluate() allows only the neighbours that
+// share one live face with p (its border edges), at Q_p over p's area; they are found from one walk
+// over p's faces instead of one face walk per neighbour. Same candidates, order and costs.
+std::uint32_t Simplifier::cheapest_plain_border(std::uint32_t p, double& best) {
+    best = std::numeric_limits<double>::infinity();
+    std::uint32_t to = kNone;
+    std::uint32_t ring[2 * kPlainBorderFaces];
+    int count = 0;
+    for (std::uint32_t f : faces_of(p)) {
+        const std::uint32_t* c = &fpt_[3 * f];
+        if (killed(c)) continue;
+        for (int k = 0; k < 3; ++k)
+            if (c[k] != p) ring[count++] = c[k];
+    }
+    const Quadric& q = geo_[p];
+    Plan plan;
+    for (int i = 0; i < count; ++i) {
+        const std::uint32_t n = ring[i];
+        int seen = 0;
+        for (int j = 0; j < count; ++j) seen += ring[j] == n;
+        if (seen != 1) continue;  // an interior edge of p (evaluate(): infinite)
+        double c;
+        if (pts_[n].one_wedge) {
+            const double e = q.evaluate(pts_[n].pos);
+            c = q.weight > 0 ? e / q.weight : e * 1e12;
+        } else {
+            c = evaluate(p, n, plan, false);  // onto a seam point: the wedge mapping decides
+        }
         if (c < best) {
             best = c;
             to = n;
@@ -1282,6 +1353,15 @@ void Simplifier::run_passes(std::size_t target, double limit, double& max_cost) 
         for (std::size_t i = 0; i < alive.size(); ++i) {
             const std::uint32_t a = alive[i];
             if ((i & 0xffff) == 0xffff) report(target);
+            // After the first pass the dirty points are sparse: their quadric and face list are cold
+            // when cheapest() reads them, so they are fetched a few points ahead.
+            if (i + 16 < alive.size()) prefetch_point(alive[i + 16]);
+            if (i + 8 < alive.size() && pts_[alive[i + 8]].dirty == 1) {
+                const std::uint32_t b = alive[i + 8];
+                prefetch(&geo_[b]);
+                prefetch(reinterpret_cast<const char*>(&geo_[b]) + 64);
+                prefetch(&csr_faces_[csr_begin_[b]]);
+            }
             if (pts_[a].dirty == kGained) {
                 // Only a new edge to the kept point of a collapse appeared (half-edge: nothing else
                 // about this point's costs changed), so it is compared against the current entry.
@@ -1361,8 +1441,14 @@ void Simplifier::run_passes(std::size_t target, double limit, double& max_cost) 
             if (round[u].cost > threshold && applied > 0) break;  // a pass never ends empty-handed
             const std::uint32_t v = pts_[u].best_to;
             if (round[u].lock == pass || round[v].lock == pass) continue;  // the next pass sees it again
-            const bool plain = plain_pair(u, v);
-            const double c = plain ? plain_plan(u, v, plan) : evaluate(u, v, plan, true);
+            bool plain = plain_pair(u, v);
+            double c = plain ? plain_plan(u, v, plan) : evaluate(u, v, plan, true);
+            if (plain && c > limit && pts_[u].kind == Kind::border) {
+                // plain_plan() does not see a border point's edge count: evaluate() tells a forbidden
+                // collapse (infinite) from one over the limit, as for any other pair.
+                plain = false;
+                c = evaluate(u, v, plan, true);
+            }
             if (!std::isfinite(c)) {  // the seam mapping forbids it
                 pts_[u].constrained = pts_[u].dirty = 1;
                 changed = true;
