@@ -1,6 +1,5 @@
 #include "lodforge/widgets/McoPriorityPanel.h"
 
-#include "CoalescedUpdate.h"
 #include "lodforge/error.h"
 #include "lodforge/lod_methods.h"
 #include "lodforge/widgets/Job.h"
@@ -106,7 +105,14 @@ McoPriorityPanel::McoPriorityPanel(LevelViews* views, QWidget* parent) : QWidget
     layout->addLayout(budgetRow);
     layout->addStretch(1);
 
-    update_ = new CoalescedUpdate([this] { startExtraction(); }, this);
+    extraction_ = new LatestJob([this] { return makeExtraction(); }, this);
+    connect(extraction_, &LatestJob::progressChanged, this,
+            [this](double fraction, const QString&) { progress_->setValue(int(fraction * 1000)); });
+    connect(extraction_, &LatestJob::failed, this, [this](const QString& error) {
+        status_->setText(error);
+        emit logMessage(error);
+    });
+    connect(extraction_, &LatestJob::changed, this, &McoPriorityPanel::updateUi);
     connect(buildButton_, &QPushButton::clicked, this, &McoPriorityPanel::build);
     connect(budget_, &QSpinBox::valueChanged, this, [this](int value) { setTriangleBudget(std::uint64_t(value)); });
     connect(cancelButton_, &QPushButton::clicked, this, &McoPriorityPanel::cancel);
@@ -117,10 +123,7 @@ McoPriorityPanel::McoPriorityPanel(LevelViews* views, QWidget* parent) : QWidget
     connect(views_, &LevelViews::inspectionEnded, this, [this](const QObject* owner) {
         if (owner != this) return;
         // Another view took the single view: nothing waits to be shown any more.
-        update_->cancel();
-        wanted_.reset();
-        if (extractJob_) extractJob_->cancel();
-        updateUi();
+        extraction_->cancel();
     });
     connect(views_, &LevelViews::viewOptionsChanged, this, [this](const ViewOptions& options) {
         if (views_->inspectionOwner() == this && options.cells && !cellsBuilt_) request();
@@ -130,7 +133,9 @@ McoPriorityPanel::McoPriorityPanel(LevelViews* views, QWidget* parent) : QWidget
 
 McoPriorityPanel::~McoPriorityPanel() {
     // Every job, also those let go that have not ended yet: each cancels and waits, since its work
-    // reports to it. They hold the tree themselves, so it goes with the last of them.
+    // reports to it. They hold the tree themselves, so it goes with the last of them. The extractions
+    // are cancelled first so that they stop while the builds are waited for; extraction_ waits for them.
+    extraction_->cancel();
     for (Job* job : findChildren<Job*>(Qt::FindDirectChildrenOnly)) job->cancel();
     for (Job* job : findChildren<Job*>(Qt::FindDirectChildrenOnly)) delete job;
 }
@@ -142,9 +147,15 @@ std::weak_ptr<const McOctree> McoPriorityPanel::treeHandle() const {
     return std::shared_ptr<const McOctree>(built_, &built_->tree);
 }
 
-bool McoPriorityPanel::isExtracting() const { return extractJob_ != nullptr || wanted_.has_value(); }
+bool McoPriorityPanel::isExtracting() const { return extraction_->isBusy(); }
 
-bool McoPriorityPanel::isWorkerBusy() const { return extractJob_ != nullptr && extractJob_->isRunning(); }
+bool McoPriorityPanel::isWorkerBusy() const { return extraction_->isWorkerBusy(); }
+
+int McoPriorityPanel::extractionsRun() const { return extraction_->shownCount(); }
+
+int McoPriorityPanel::resultsDropped() const { return extraction_->droppedCount(); }
+
+int McoPriorityPanel::extractionsCancelled() const { return extraction_->cancelledCount(); }
 
 void McoPriorityPanel::setModel(std::shared_ptr<const LoadedModel> model) {
     cancel();
@@ -196,7 +207,7 @@ void McoPriorityPanel::build() {
         const bool ok = r.ok() && model == model_;
         if (ok) {
             views_->clearInspection(this);
-            dropExtraction();  // of the previous tree
+            extraction_->cancel();  // of the previous tree
             built_ = std::move(out->built);
             const McOctree& tree = built_->tree;
             message = tr("MC octree: %L1 nodes, %L2 priorities, %L3 to %L4 triangles, built in %5 ms")
@@ -228,22 +239,13 @@ void McoPriorityPanel::build() {
     job->start();
 }
 
-void McoPriorityPanel::dropExtraction() {
-    update_->cancel();
-    wanted_.reset();
-    if (extractJob_) {
-        extractJob_->cancel();
-        extractJob_ = nullptr;  // its result is dropped; it deletes itself when it ends
-    }
-}
-
 void McoPriorityPanel::cancel() {
     if (job_) {
         job_->cancel();
         job_ = nullptr;  // its result is dropped; it deletes itself when it ends
     }
     if (isExtracting()) {
-        dropExtraction();
+        extraction_->cancel();
         requested_ = shown_;
         const QSignalBlocker block(slider_);
         slider_->setValue(int(shown_));
@@ -268,20 +270,18 @@ void McoPriorityPanel::setTriangleBudget(std::uint64_t triangles) {
 
 void McoPriorityPanel::request() {
     if (!built_) return;
-    wanted_ = Request{requested_, views_->viewOptions().cells};
-    // The running extraction's result would arrive superseded and be dropped: stop it at its next stage.
-    if (extractJob_ && running_ != *wanted_) extractJob_->cancel();
-    update_->request();  // the moves of this turn of the event loop make one request
-    updateUi();
+    newest_ = Request{requested_, views_->viewOptions().cells};
+    // The moves of this turn of the event loop make one request; the same index and overlay as the
+    // running extraction's is that extraction's request.
+    extraction_->request(std::uint64_t(newest_.priority) << 1 | std::uint64_t(newest_.cells));
 }
 
-void McoPriorityPanel::startExtraction() {
-    if (!built_ || !wanted_ || extractJob_) return;  // a running one starts the newest request when it ends
-    const Request request = *wanted_;
-    running_ = request;
+std::optional<LatestJob::Run> McoPriorityPanel::makeExtraction() {
+    if (!built_) return std::nullopt;
+    const Request request = newest_;
     const std::shared_ptr<Built> built = built_;
     auto out = std::make_shared<Extraction>();
-    extractJob_ = new Job(
+    return LatestJob::Run{
         tr("MC octree extraction"),
         [built, request, out](Progress* p) {
             QElapsedTimer clock;
@@ -325,48 +325,22 @@ void McoPriorityPanel::startExtraction() {
                               .arg(sceneMs, 0, 'f', 1)
                               .arg(cellsSceneMs, 0, 'f', 1);
         },
-        this);
-    Job* job = extractJob_;
-    connect(job, &Job::progressChanged, this, [this, job](double fraction, const QString&) {
-        if (job == extractJob_) progress_->setValue(int(fraction * 1000));
-    });
-    connect(job, &Job::finished, this,
-            [this, job, request, out](const JobResult& r) { extractionFinished(job, request, out, r); });
-    updateUi();
-    job->start();
+        [this, request, out](const JobResult&) { showExtraction(request, *out); }};
 }
 
-void McoPriorityPanel::extractionFinished(Job* job, const Request& request, const std::shared_ptr<Extraction>& out,
-                                          const JobResult& r) {
-    job->deleteLater();
-    if (job != extractJob_) return;  // let go: another tree, or Cancel
-    extractJob_ = nullptr;
-    if (r.status == JobResult::Status::failed) {
-        wanted_.reset();
-        status_->setText(r.error);
-        emit logMessage(r.error);
-    } else if (r.ok() && wanted_ == request) {
-        wanted_.reset();
-        ++extractionsRun_;
-        QElapsedTimer clock;
-        clock.start();
-        shown_ = request.priority;
-        shownTriangles_ = out->triangles;
-        shownCells_ = out->cells;
-        cellsBuilt_ = request.cells;
-        views_->setInspection(this, out->scene, out->cellsScene, labelText());
-        lastWorkMs_ = out->ms;
-        lastShowMs_ = double(clock.nsecsElapsed()) / 1e6;
-        timing_ = out->timing + QStringLiteral(", view %1 ms").arg(lastShowMs_, 0, 'f', 1);
-        label_->setToolTip(timing_);
-        emit extracted(shown_, shownTriangles_);
-    } else if (r.ok()) {
-        ++resultsDropped_;  // arrived after a newer request
-    } else {
-        ++extractionsCancelled_;  // stopped for a newer request, or the view was taken over
-    }
-    startExtraction();  // the newest request, if one waits
-    updateUi();
+void McoPriorityPanel::showExtraction(const Request& request, const Extraction& out) {
+    QElapsedTimer clock;
+    clock.start();
+    shown_ = request.priority;
+    shownTriangles_ = out.triangles;
+    shownCells_ = out.cells;
+    cellsBuilt_ = request.cells;
+    views_->setInspection(this, out.scene, out.cellsScene, labelText());
+    lastWorkMs_ = out.ms;
+    lastShowMs_ = double(clock.nsecsElapsed()) / 1e6;
+    timing_ = out.timing + QStringLiteral(", view %1 ms").arg(lastShowMs_, 0, 'f', 1);
+    label_->setToolTip(timing_);
+    emit extracted(shown_, shownTriangles_);
 }
 
 QString McoPriorityPanel::labelText() const {

@@ -1,6 +1,5 @@
 #include "lodforge/widgets/OctreeTuningPanel.h"
 
-#include "CoalescedUpdate.h"
 #include "lodforge/error.h"
 #include "lodforge/lod_methods.h"
 #include "lodforge/mesh_io.h"
@@ -188,7 +187,19 @@ OctreeTuningPanel::OctreeTuningPanel(LevelViews* views, QWidget* parent) : QWidg
     debounce_->setSingleShot(true);
     debounce_->setInterval(debounceMs);
     connect(debounce_, &QTimer::timeout, this, &OctreeTuningPanel::startBuild);
-    update_ = new CoalescedUpdate([this] { updateCut(); }, this);
+    cutJob_ = new LatestJob([this] { return makeCut(); }, this);
+    // In steps of 10 %: every repaint of the dock is a composition of the window on the GUI thread.
+    connect(cutJob_, &LatestJob::progressChanged, this, [this](double fraction, const QString& stage) {
+        const int step = int(fraction * 10);
+        if (step == cutProgressStep_) return;
+        cutProgressStep_ = step;
+        status_->setText(tr("Cut: %1 %2 %").arg(stage).arg(step * 10));
+    });
+    connect(cutJob_, &LatestJob::failed, this, [this](const QString& error) {
+        status_->setText(error);
+        emit logMessage(error);
+    });
+    connect(cutJob_, &LatestJob::changed, this, &OctreeTuningPanel::updateUi);
 
     connect(buildButton_, &QPushButton::clicked, this, &OctreeTuningPanel::build);
     connect(cancelButton_, &QPushButton::clicked, this, &OctreeTuningPanel::cancel);
@@ -197,12 +208,12 @@ OctreeTuningPanel::OctreeTuningPanel(LevelViews* views, QWidget* parent) : QWidg
     connect(cullingBox_, &QCheckBox::toggled, this, &OctreeTuningPanel::setFrustumCulling);
     connect(screenSlider_, &QSlider::valueChanged, this, [this] {
         screenValue_->setText(QStringLiteral("%1 px").arg(screenError(), 0, 'f', 1));
-        if (viewDependent_) update_->request();
+        if (viewDependent_ && store_) cutJob_->request();
     });
     connect(coarserButton_, &QPushButton::clicked, this, &OctreeTuningPanel::coarser);
     connect(finerButton_, &QPushButton::clicked, this, &OctreeTuningPanel::finer);
     connect(views_->singleView(), &VtkView::cameraChanged, this, [this] {
-        if (viewDependent_ && store_) update_->request();
+        if (viewDependent_ && store_) cutJob_->request();
     });
     views_->singleView()->installEventFilter(this);  // a resize changes the viewport the cut is for
     connect(views_->singleView(), &VtkView::clicked, this, [this](QPoint position) {
@@ -213,7 +224,7 @@ OctreeTuningPanel::OctreeTuningPanel(LevelViews* views, QWidget* parent) : QWidg
     connect(views_, &LevelViews::inspectionEnded, this, [this](const QObject* owner) {
         if (owner != this) return;
         viewDependent_ = false;
-        dropCut();
+        cutJob_->cancel();
         const QSignalBlocker block(viewDependentBox_);
         viewDependentBox_->setChecked(false);
         updateUi();
@@ -224,20 +235,22 @@ OctreeTuningPanel::OctreeTuningPanel(LevelViews* views, QWidget* parent) : QWidg
 
 bool OctreeTuningPanel::eventFilter(QObject* watched, QEvent* event) {
     if (watched == views_->singleView() && event->type() == QEvent::Resize && viewDependent_ && store_)
-        update_->request();
+        cutJob_->request();
     return QWidget::eventFilter(watched, event);
 }
 
 OctreeTuningPanel::~OctreeTuningPanel() {
     // Every job, also those let go that have not ended yet: each cancels and waits, since its work
-    // reports to it; they hold the store and its directory themselves.
+    // reports to it; they hold the store and its directory themselves. The cuts are cancelled first so
+    // that they stop while the builds are waited for; cutJob_ waits for them.
+    cutJob_->cancel();
     for (Job* job : findChildren<Job*>(Qt::FindDirectChildrenOnly)) job->cancel();
     for (Job* job : findChildren<Job*>(Qt::FindDirectChildrenOnly)) delete job;
 }
 
 void OctreeTuningPanel::setModel(std::shared_ptr<const LoadedModel> model) {
     cancel();
-    dropCut();
+    cutJob_->cancel();
     views_->clearInspection(this);
     viewDependent_ = false;
     {
@@ -284,7 +297,7 @@ void OctreeTuningPanel::build() {
 void OctreeTuningPanel::cancel() {
     debounce_->stop();
     if (isCutting()) {
-        dropCut();
+        cutJob_->cancel();
         status_->setText(tr("Cut cancelled: the view keeps the cut it shows"));
     }
     if (job_) {
@@ -342,7 +355,7 @@ void OctreeTuningPanel::startBuild() {
         QString message;
         const bool ok = r.ok() && model == model_;
         if (ok) {
-            dropCut();  // of the previous asset
+            cutJob_->cancel();  // of the previous asset
             store_ = std::move(out->store);
             storeLock_ = std::make_shared<std::mutex>();
             dir_ = dir;
@@ -407,7 +420,7 @@ void OctreeTuningPanel::setViewDependent(bool on) {
     if (on) {
         updateCut();
     } else {
-        dropCut();
+        cutJob_->cancel();
         views_->clearInspection(this);
         showTreeCells();
     }
@@ -458,33 +471,24 @@ void OctreeTuningPanel::setFrustumCulling(bool on) {
     if (viewDependent_) updateCut();
 }
 
-bool OctreeTuningPanel::isCutting() const { return cutWanted_ || cutJob_ != nullptr; }
+bool OctreeTuningPanel::isCutting() const { return cutJob_->isBusy(); }
 
-bool OctreeTuningPanel::isCutWorkerBusy() const { return cutJob_ != nullptr && cutJob_->isRunning(); }
+bool OctreeTuningPanel::isCutWorkerBusy() const { return cutJob_->isWorkerBusy(); }
+
+int OctreeTuningPanel::cutsShown() const { return cutJob_->shownCount(); }
+
+// Superseded (cancelled for a newer request, or arrived after it) or let go (Cancel, another asset).
+int OctreeTuningPanel::cutsDropped() const {
+    return cutJob_->droppedCount() + cutJob_->cancelledCount() + cutJob_->letGoCount();
+}
 
 void OctreeTuningPanel::updateCut() {
-    update_->cancel();
     if (!store_ || !viewDependent_ || !model_) return;
-    ++cutRequest_;
-    cutWanted_ = true;
-    // The running cut's result would arrive superseded and be dropped: stop it at its next check.
-    if (cutJob_ && cutStarted_ != cutRequest_) cutJob_->cancel();
-    startCut();
-    updateUi();
+    cutJob_->requestNow();  // the running cut's result would arrive superseded: it is cancelled
 }
 
-void OctreeTuningPanel::dropCut() {
-    update_->cancel();
-    cutWanted_ = false;
-    if (cutJob_) {
-        cutJob_->cancel();
-        cutJob_ = nullptr;  // its result is dropped; it deletes itself when it ends
-        ++cutsDropped_;
-    }
-}
-
-void OctreeTuningPanel::startCut() {
-    if (!cutWanted_ || cutJob_ || !store_ || !model_) return;  // a running cut starts the newest when it ends
+std::optional<LatestJob::Run> OctreeTuningPanel::makeCut() {
+    if (!store_ || !model_ || !viewDependent_) return std::nullopt;
     // The camera, viewport and pin of now: a request made while this runs asks for a newer one.
     VtkView* view = views_->singleView();
     const VtkView::ViewCamera c = view->viewCamera();
@@ -513,9 +517,8 @@ void OctreeTuningPanel::startCut() {
     const std::shared_ptr<const LoadedModel> model = model_;
     const std::uint32_t pin = pin_;
     const int pinLevel = pinLevel_;
-    cutStarted_ = cutRequest_;
-    const int generation = cutStarted_;
-    cutJob_ = new Job(
+    cutProgressStep_ = -1;
+    return LatestJob::Run{
         tr("Octree cut"),
         [out, dir, store, lock, model, camera, select, pin, pinLevel](Progress* p) {
             const std::lock_guard<std::mutex> guard(*lock);
@@ -543,26 +546,7 @@ void OctreeTuningPanel::startCut() {
             checkCancelled(p);
             out->cells = buildCellsScene(cells);
         },
-        this);
-    Job* job = cutJob_;
-    // In steps of 10 %: every repaint of the dock is a composition of the window on the GUI thread.
-    connect(job, &Job::progressChanged, this, [this, job, shown = -1](double fraction, const QString& stage) mutable {
-        const int step = int(fraction * 10);
-        if (job != cutJob_ || step == shown) return;
-        shown = step;
-        status_->setText(tr("Cut: %1 %2 %").arg(stage).arg(step * 10));
-    });
-    connect(job, &Job::finished, this, [this, job, out, generation, select](const JobResult& r) {
-        job->deleteLater();
-        if (job != cutJob_) return;  // let go: another asset, the cut switched off, Cancel
-        cutJob_ = nullptr;
-        if (r.status == JobResult::Status::failed) {
-            cutWanted_ = false;
-            status_->setText(r.error);
-            emit logMessage(r.error);
-        } else if (r.ok() && cutWanted_ && generation == cutRequest_) {
-            cutWanted_ = false;
-            ++cutsShown_;
+        [this, out, select](const JobResult& r) {
             cut_ = std::move(out->cut);
             cutMesh_ = std::move(out->mesh);
             const QLocale locale;
@@ -576,13 +560,7 @@ void OctreeTuningPanel::startCut() {
             status_->setText(tr("Cut made in %1 ms").arg(r.elapsedMs));
             views_->setInspection(this, out->scene, out->cells, text);
             emit cutUpdated();
-        } else {
-            ++cutsDropped_;  // superseded (cancelled for it, or arrived after a newer request)
-        }
-        startCut();  // the newest request, if one waits
-        updateUi();
-    });
-    job->start();
+        }};
 }
 
 bool OctreeTuningPanel::pickNodeAt(QPoint position) {

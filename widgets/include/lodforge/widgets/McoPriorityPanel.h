@@ -11,6 +11,7 @@
 
 #include "lodforge/mc_octree.h"
 #include "lodforge/preset.h"
+#include "lodforge/widgets/LatestJob.h"
 
 #include <QString>
 #include <QWidget>
@@ -28,7 +29,6 @@ class QSpinBox;
 
 namespace lodforge::widgets {
 
-class CoalescedUpdate;
 class Job;
 class LevelViews;
 class MeshScene;
@@ -76,9 +76,9 @@ public:
     bool isWorkerBusy() const;
     // Extractions shown, those that ran to the end but were superseded when they arrived (dropped), and
     // those stopped early because a newer request came (cancelled).
-    int extractionsRun() const { return extractionsRun_; }
-    int resultsDropped() const { return resultsDropped_; }
-    int extractionsCancelled() const { return extractionsCancelled_; }
+    int extractionsRun() const;
+    int resultsDropped() const;
+    int extractionsCancelled() const;
     // Worker time of the last result shown, and the GUI thread's time to put it in the view.
     double lastExtractMs() const { return lastWorkMs_; }
     double lastShowMs() const { return lastShowMs_; }
@@ -106,15 +106,12 @@ private:
     struct Request {
         std::size_t priority = 0;
         bool cells = false;
-        bool operator==(const Request&) const = default;
     };
     struct Extraction;
 
     void request();
-    void startExtraction();
-    void extractionFinished(Job* job, const Request& request, const std::shared_ptr<Extraction>& out,
-                            const JobResult& result);
-    void dropExtraction();
+    std::optional<LatestJob::Run> makeExtraction();
+    void showExtraction(const Request& request, const Extraction& out);
     void updateUi();
     void updateLabel();
 
@@ -122,19 +119,14 @@ private:
     std::shared_ptr<const LoadedModel> model_;
     std::size_t resolution_ = 128;
     Job* job_ = nullptr;         // the build
-    Job* extractJob_ = nullptr;  // the extraction whose result is waited for
     std::shared_ptr<Built> built_;
-    CoalescedUpdate* update_ = nullptr;  // merges the moves of one turn of the event loop
-    std::optional<Request> wanted_;      // the newest request not yet shown
-    Request running_;                    // of extractJob_
+    LatestJob* extraction_ = nullptr;  // the newest request's extraction (coalesced, superseded ones cancelled)
+    Request newest_;                   // what the next extraction extracts
     std::size_t requested_ = 0;
     std::size_t shown_ = 0;
     std::uint64_t shownTriangles_ = 0;
     std::size_t shownCells_ = 0;
     bool cellsBuilt_ = false;  // the cells overlay was on when the cut was shown
-    int extractionsRun_ = 0;
-    int resultsDropped_ = 0;
-    int extractionsCancelled_ = 0;
     double lastWorkMs_ = 0;
     double lastShowMs_ = 0;
     QString timing_;

@@ -17,6 +17,7 @@
 #include "lodforge/octree_build.h"
 #include "lodforge/octree_store.h"
 #include "lodforge/preset.h"
+#include "lodforge/widgets/LatestJob.h"
 
 #include <QPoint>
 #include <QWidget>
@@ -38,7 +39,6 @@ class QTimer;
 
 namespace lodforge::widgets {
 
-class CoalescedUpdate;
 class Job;
 class LevelViews;
 struct LoadedModel;
@@ -94,8 +94,8 @@ public:
     // The store shared with the workers: expires once the panel and every worker have let it go.
     std::weak_ptr<const lodforge::OctreeStore> storeHandle() const { return store_; }
     // Cuts shown, and those dropped (superseded or cancelled) since the panel was made.
-    int cutsShown() const { return cutsShown_; }
-    int cutsDropped() const { return cutsDropped_; }
+    int cutsShown() const;
+    int cutsDropped() const;
     const lodforge::Cut& cut() const { return cut_; }
     std::uint64_t cutTriangles() const { return cutMesh_.triangle_count(); }
     const lodforge::Mesh& cutMesh() const { return cutMesh_; }
@@ -129,8 +129,7 @@ private:
     void startBuild();
     void showStats();
     void updateUi();
-    void startCut();
-    void dropCut();
+    std::optional<LatestJob::Run> makeCut();
     void showTreeCells();
 
     LevelViews* views_;
@@ -147,13 +146,8 @@ private:
 
     bool viewDependent_ = false;
     bool culling_ = true;
-    CoalescedUpdate* update_ = nullptr;  // merges the camera moves of one turn of the event loop
-    Job* cutJob_ = nullptr;              // the cut whose result is waited for
-    int cutRequest_ = 0;                 // generation of the newest request; 0 = none
-    int cutStarted_ = 0;                 // generation cutJob_ computes
-    bool cutWanted_ = false;             // the newest request is not shown yet
-    int cutsShown_ = 0;
-    int cutsDropped_ = 0;
+    LatestJob* cutJob_ = nullptr;  // the newest camera's cut (coalesced, superseded ones cancelled)
+    int cutProgressStep_ = -1;     // of the running cut, in tenths
     lodforge::Cut cut_;
     lodforge::Mesh cutMesh_;
     std::uint32_t pin_ = UINT32_MAX;
