@@ -105,6 +105,17 @@ McoPriorityPanel::McoPriorityPanel(LevelViews* views, QWidget* parent) : QWidget
     layout->addLayout(budgetRow);
     layout->addStretch(1);
 
+    build_ = new LatestJob([this] { return makeBuild(); }, this);
+    connect(build_, &LatestJob::progressChanged, this, [this](double fraction, const QString& stage) {
+        status_->setText(tr("%1 %2 %").arg(stage).arg(int(fraction * 100)));
+        progress_->setValue(int(fraction * 1000));
+    });
+    connect(build_, &LatestJob::failed, this, [this](const QString& error) {
+        status_->setText(error);
+        emit logMessage(error);
+        emit built(false, error);
+    });
+    connect(build_, &LatestJob::changed, this, &McoPriorityPanel::updateUi);
     extraction_ = new LatestJob([this] { return makeExtraction(); }, this);
     connect(extraction_, &LatestJob::progressChanged, this,
             [this](double fraction, const QString&) { progress_->setValue(int(fraction * 1000)); });
@@ -132,13 +143,13 @@ McoPriorityPanel::McoPriorityPanel(LevelViews* views, QWidget* parent) : QWidget
 }
 
 McoPriorityPanel::~McoPriorityPanel() {
-    // Every job, also those let go that have not ended yet: each cancels and waits, since its work
-    // reports to it. They hold the tree themselves, so it goes with the last of them. The extractions
-    // are cancelled first so that they stop while the builds are waited for; extraction_ waits for them.
+    // Both cancelled first, so that they stop side by side; each LatestJob then waits for its jobs, also
+    // those let go. The extractions hold the tree themselves, so it goes with the last of them.
+    build_->cancel();
     extraction_->cancel();
-    for (Job* job : findChildren<Job*>(Qt::FindDirectChildrenOnly)) job->cancel();
-    for (Job* job : findChildren<Job*>(Qt::FindDirectChildrenOnly)) delete job;
 }
+
+bool McoPriorityPanel::isBuilding() const { return build_->isBusy(); }
 
 const McOctree* McoPriorityPanel::tree() const { return built_ ? &built_->tree : nullptr; }
 
@@ -175,7 +186,13 @@ void McoPriorityPanel::setPreset(const Preset& preset) {
 }
 
 void McoPriorityPanel::build() {
-    if (!model_ || job_) return;
+    if (!model_ || build_->isBusy()) return;
+    status_->setText(tr("Building at resolution %1…").arg(resolution_));
+    build_->requestNow();
+}
+
+std::optional<LatestJob::Run> McoPriorityPanel::makeBuild() {
+    if (!model_) return std::nullopt;
     struct Output {
         McOctreeBuildResult result;
         std::shared_ptr<Built> built;
@@ -184,7 +201,7 @@ void McoPriorityPanel::build() {
     McOctreeParams params;
     params.resolution = resolution_;
     const std::shared_ptr<const LoadedModel> model = model_;
-    job_ = new Job(
+    return LatestJob::Run{
         tr("MC octree"),
         [out, model, params](Progress* p) {
             out->result = build_mc_octree(model->mesh, params, p);
@@ -192,25 +209,13 @@ void McoPriorityPanel::build() {
             p->report(1.0, "extraction tables");
             out->built = std::make_shared<Built>(std::move(out->result.tree));
         },
-        this);
-    Job* job = job_;
-    connect(job, &Job::progressChanged, this, [this, job](double fraction, const QString& stage) {
-        if (job != job_) return;
-        status_->setText(tr("%1 %2 %").arg(stage).arg(int(fraction * 100)));
-        progress_->setValue(int(fraction * 1000));
-    });
-    connect(job, &Job::finished, this, [this, job, out, model](const JobResult& r) {
-        job->deleteLater();
-        if (job != job_) return;
-        job_ = nullptr;
-        QString message;
-        const bool ok = r.ok() && model == model_;
-        if (ok) {
+        [this, out, model](const JobResult& r) {
+            if (model != model_) return;
             views_->clearInspection(this);
             extraction_->cancel();  // of the previous tree
             built_ = std::move(out->built);
             const McOctree& tree = built_->tree;
-            message = tr("MC octree: %L1 nodes, %L2 priorities, %L3 to %L4 triangles, built in %5 ms")
+            QString message = tr("MC octree: %L1 nodes, %L2 priorities, %L3 to %L4 triangles, built in %5 ms")
                           .arg(tree.nodes.size())
                           .arg(tree.max_priority())
                           .arg(mc_triangles_at(tree, 0))
@@ -226,24 +231,14 @@ void McoPriorityPanel::build() {
             shownTriangles_ = 0;
             updateUi();
             setPriority(tree.max_priority());
-        } else {
-            message = r.status == JobResult::Status::cancelled ? tr("MC octree build cancelled") : r.error;
-            updateUi();
-        }
-        status_->setText(message);
-        emit logMessage(message);
-        emit built(ok, message);
-    });
-    updateUi();
-    status_->setText(tr("Building at resolution %1…").arg(resolution_));
-    job->start();
+            status_->setText(message);
+            emit logMessage(message);
+            emit built(true, message);
+        }};
 }
 
 void McoPriorityPanel::cancel() {
-    if (job_) {
-        job_->cancel();
-        job_ = nullptr;  // its result is dropped; it deletes itself when it ends
-    }
+    build_->cancel();  // its result is dropped
     if (isExtracting()) {
         extraction_->cancel();
         requested_ = shown_;
@@ -368,12 +363,12 @@ void McoPriorityPanel::updateLabel() {
 }
 
 void McoPriorityPanel::updateUi() {
-    buildButton_->setEnabled(model_ && !job_);
+    buildButton_->setEnabled(model_ && !isBuilding());
     buildButton_->setText(tr("Build MC octree (resolution %1)").arg(resolution_));
-    cancelButton_->setEnabled(job_ != nullptr || isExtracting());
+    cancelButton_->setEnabled(isBuilding() || isExtracting());
     slider_->setEnabled(built_ != nullptr);
     budget_->setEnabled(built_ != nullptr);
-    const bool busy = job_ != nullptr || isExtracting();
+    const bool busy = isBuilding() || isExtracting();
     if (busy && !progress_->isVisible()) progress_->setValue(0);
     progress_->setVisible(busy);
     updateLabel();

@@ -187,6 +187,18 @@ OctreeTuningPanel::OctreeTuningPanel(LevelViews* views, QWidget* parent) : QWidg
     debounce_->setSingleShot(true);
     debounce_->setInterval(debounceMs);
     connect(debounce_, &QTimer::timeout, this, &OctreeTuningPanel::startBuild);
+    build_ = new LatestJob([this] { return makeBuild(); }, this);
+    connect(build_, &LatestJob::progressChanged, this, [this](double fraction, const QString& stage) {
+        status_->setText(tr("%1 %2 %").arg(stage).arg(int(fraction * 100)));
+    });
+    connect(build_, &LatestJob::failed, this, [this](const QString& error) {
+        status_->setText(error);
+        showStats();
+        updateUi();
+        emit logMessage(error);
+        emit built(false, error);
+    });
+    connect(build_, &LatestJob::changed, this, &OctreeTuningPanel::updateUi);
     cutJob_ = new LatestJob([this] { return makeCut(); }, this);
     // In steps of 10 %: every repaint of the dock is a composition of the window on the GUI thread.
     connect(cutJob_, &LatestJob::progressChanged, this, [this](double fraction, const QString& stage) {
@@ -240,12 +252,10 @@ bool OctreeTuningPanel::eventFilter(QObject* watched, QEvent* event) {
 }
 
 OctreeTuningPanel::~OctreeTuningPanel() {
-    // Every job, also those let go that have not ended yet: each cancels and waits, since its work
-    // reports to it; they hold the store and its directory themselves. The cuts are cancelled first so
-    // that they stop while the builds are waited for; cutJob_ waits for them.
+    // Both cancelled first, so that they stop side by side; each LatestJob then waits for its jobs, also
+    // those let go. They hold the store and its directory themselves.
+    build_->cancel();
     cutJob_->cancel();
-    for (Job* job : findChildren<Job*>(Qt::FindDirectChildrenOnly)) job->cancel();
-    for (Job* job : findChildren<Job*>(Qt::FindDirectChildrenOnly)) delete job;
 }
 
 void OctreeTuningPanel::setModel(std::shared_ptr<const LoadedModel> model) {
@@ -300,21 +310,24 @@ void OctreeTuningPanel::cancel() {
         cutJob_->cancel();
         status_->setText(tr("Cut cancelled: the view keeps the cut it shows"));
     }
-    if (job_) {
-        job_->cancel();
-        job_ = nullptr;  // its result is dropped; it deletes itself when it ends
+    if (isBuilding()) {
+        build_->cancel();  // its result is dropped
         status_->setText(tr("Octree build cancelled"));
     }
     updateUi();
 }
 
+bool OctreeTuningPanel::isBuilding() const { return build_->isBusy(); }
+
 void OctreeTuningPanel::startBuild() {
     debounce_->stop();
-    if (!model_) return;
-    if (job_) {
-        job_->cancel();  // superseded: a newer knob setting
-        job_ = nullptr;
-    }
+    // A build still running is superseded by the newer knob setting: it is cancelled, and this one starts
+    // once it has stopped (one build at a time keeps the memory budget).
+    if (model_) build_->requestNow();
+}
+
+std::optional<LatestJob::Run> OctreeTuningPanel::makeBuild() {
+    if (!model_) return std::nullopt;
     struct Output {
         std::unique_ptr<OctreeStore> store;
         OctreeBuildResult result;
@@ -323,14 +336,17 @@ void OctreeTuningPanel::startBuild() {
     auto dir = std::make_shared<QTemporaryDir>();
     if (!dir->isValid()) {
         status_->setText(tr("Octree: no temporary directory: %1").arg(dir->errorString()));
-        return;
+        return std::nullopt;
     }
     const std::shared_ptr<const LoadedModel> model = model_;
     const OctreeBuildParams params = params_;
     const bool isPly = QFileInfo(model->path).suffix().compare(QStringLiteral("ply"), Qt::CaseInsensitive) == 0;
     const std::string source = QFile::encodeName(model->path).toStdString();
     const std::string folder = QFile::encodeName(dir->path()).toStdString();
-    job_ = new Job(
+    status_->setText(tr("Building the octree (max %L1 triangles per leaf, max depth %2)…")
+                         .arg(params.max_triangles)
+                         .arg(params.max_depth));
+    return LatestJob::Run{
         tr("Octree"),
         [out, model, params, isPly, source, folder](Progress* p) {
             // The octree streams a PLY from disk; other formats (in memory here) are written as one.
@@ -343,18 +359,8 @@ void OctreeTuningPanel::startBuild() {
             out->result = build_octree(ply, asset, params, p);
             out->store = std::make_unique<OctreeStore>(asset);
         },
-        this);
-    Job* job = job_;
-    connect(job, &Job::progressChanged, this, [this, job](double fraction, const QString& stage) {
-        if (job == job_) status_->setText(tr("%1 %2 %").arg(stage).arg(int(fraction * 100)));
-    });
-    connect(job, &Job::finished, this, [this, job, out, dir, model, params](const JobResult& r) {
-        job->deleteLater();
-        if (job != job_) return;  // cancelled or superseded
-        job_ = nullptr;
-        QString message;
-        const bool ok = r.ok() && model == model_;
-        if (ok) {
+        [this, out, dir, model, params](const JobResult& r) {
+            if (model != model_) return;
             cutJob_->cancel();  // of the previous asset
             store_ = std::move(out->store);
             storeLock_ = std::make_shared<std::mutex>();
@@ -365,23 +371,14 @@ void OctreeTuningPanel::startBuild() {
             QString warnings;
             for (const std::string& w : out->result.warnings) warnings += QStringLiteral("; ") + QString::fromStdString(w);
             status_->setText(tr("Built in %1 ms%2").arg(r.elapsedMs).arg(warnings));
-            message = tr("Octree built in %1 ms: %2%3").arg(r.elapsedMs).arg(statsText(), warnings);
-        } else {
-            message = r.status == JobResult::Status::cancelled ? tr("Octree build cancelled") : r.error;
-        }
-        if (!ok) status_->setText(message);
-        showStats();
-        updateUi();
-        if (ok && viewDependent_) updateCut();
-        if (ok && !viewDependent_) showTreeCells();
-        emit logMessage(message);
-        emit built(ok, message);
-    });
-    status_->setText(tr("Building the octree (max %L1 triangles per leaf, max depth %2)…")
-                         .arg(params.max_triangles)
-                         .arg(params.max_depth));
-    updateUi();
-    job->start();
+            const QString message = tr("Octree built in %1 ms: %2%3").arg(r.elapsedMs).arg(statsText(), warnings);
+            showStats();
+            updateUi();
+            if (viewDependent_) updateCut();
+            if (!viewDependent_) showTreeCells();
+            emit logMessage(message);
+            emit built(true, message);
+        }};
 }
 
 QString OctreeTuningPanel::statsText() const {
@@ -637,7 +634,7 @@ std::optional<std::uint32_t> OctreeTuningPanel::pinnedNode() const {
 
 void OctreeTuningPanel::updateUi() {
     buildButton_->setEnabled(model_ != nullptr);
-    cancelButton_->setEnabled(job_ != nullptr || debounce_->isActive() || isCutting());
+    cancelButton_->setEnabled(isBuilding() || debounce_->isActive() || isCutting());
     viewDependentBox_->setEnabled(store_ != nullptr);
     const bool cutShown = store_ && viewDependent_;
     pickButton_->setEnabled(cutShown);

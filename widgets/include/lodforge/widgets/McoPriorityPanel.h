@@ -29,7 +29,6 @@ class QSpinBox;
 
 namespace lodforge::widgets {
 
-class Job;
 class LevelViews;
 class MeshScene;
 struct JobResult;
@@ -53,7 +52,7 @@ public:
     void build();
     // Cancels the build and the extraction; the slider returns to the index shown.
     void cancel();
-    bool isBuilding() const { return job_ != nullptr; }
+    bool isBuilding() const;
     bool hasTree() const { return built_ != nullptr; }
     const lodforge::McOctree* tree() const;
     // The tree shared with the workers: expires once the panel and every worker have let it go.
@@ -109,6 +108,7 @@ private:
     };
     struct Extraction;
 
+    std::optional<LatestJob::Run> makeBuild();
     void request();
     std::optional<LatestJob::Run> makeExtraction();
     void showExtraction(const Request& request, const Extraction& out);
@@ -118,7 +118,7 @@ private:
     LevelViews* views_;
     std::shared_ptr<const LoadedModel> model_;
     std::size_t resolution_ = 128;
-    Job* job_ = nullptr;         // the build
+    LatestJob* build_ = nullptr;  // the tree's build
     std::shared_ptr<Built> built_;
     LatestJob* extraction_ = nullptr;  // the newest request's extraction (coalesced, superseded ones cancelled)
     Request newest_;                   // what the next extraction extracts

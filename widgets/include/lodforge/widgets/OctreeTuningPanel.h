@@ -39,7 +39,6 @@ class QTimer;
 
 namespace lodforge::widgets {
 
-class Job;
 class LevelViews;
 struct LoadedModel;
 
@@ -61,7 +60,7 @@ public:
     // Builds now with the current knobs (cancelling a running build); ends with built().
     void build();
     void cancel();
-    bool isBuilding() const { return job_ != nullptr; }
+    bool isBuilding() const;
     bool rebuildPending() const;
     bool hasAsset() const { return store_ != nullptr; }
     // Of the asset shown (valid when hasAsset()). The store's node table may be read on this thread while
@@ -127,6 +126,7 @@ protected:
 
 private:
     void startBuild();
+    std::optional<LatestJob::Run> makeBuild();
     void showStats();
     void updateUi();
     std::optional<LatestJob::Run> makeCut();
@@ -137,7 +137,7 @@ private:
     lodforge::OctreeBuildParams params_;       // of the next build
     lodforge::OctreeBuildParams builtParams_;  // of the asset shown
     bool wanted_ = false;                      // a build was asked for: knob changes rebuild
-    Job* job_ = nullptr;
+    LatestJob* build_ = nullptr;
     QTimer* debounce_ = nullptr;
     std::shared_ptr<QTemporaryDir> dir_;  // holds the asset while the store reads it
     std::shared_ptr<lodforge::OctreeStore> store_;  // shared with the cut's worker
