@@ -203,6 +203,13 @@ void MainWindow::createStructurePanels() {
     connect(undo_, &QUndoStack::indexChanged, this, forward);
     connect(mcoPanel_, &widgets::McoPriorityPanel::logMessage, this, &MainWindow::appendLog);
     connect(octreePanel_, &widgets::OctreeTuningPanel::logMessage, this, &MainWindow::appendLog);
+    // A failed build opens the error dialog as the window's own jobs do (the message names the file).
+    connect(mcoPanel_, &widgets::McoPriorityPanel::built, this, [this](bool ok, const QString& message) {
+        if (!ok) showError(tr("MC octree failed"), tr("The marching-cube octree could not be built."), message);
+    });
+    connect(octreePanel_, &widgets::OctreeTuningPanel::built, this, [this](bool ok, const QString& message) {
+        if (!ok) showError(tr("Octree failed"), tr("The out-of-core octree could not be built."), message);
+    });
 }
 
 void MainWindow::createActions() {
@@ -974,6 +981,10 @@ void MainWindow::createMorph() {
     addDockWidget(Qt::BottomDockWidgetArea, morphDock_);
     morphDock_->hide();
     connect(morph_, &widgets::MorphPanel::logMessage, this, &MainWindow::appendLog);
+    connect(morph_, &widgets::MorphPanel::morphLoaded, this, [this](bool ok, const QString& message) {
+        if (!ok && !message.isEmpty())  // empty: cancelled, which is not an error
+            showError(tr("Morph failed"), tr("The morph could not be opened or built."), message);
+    });
     // The View menu's toggles apply to the morph views as well.
     const auto syncViewOptions = [this] { morph_->setViewOptions(viewOptions()); };
     for (const ViewToggle& t : viewToggles_) connect(t.action, &QAction::toggled, this, syncViewOptions);

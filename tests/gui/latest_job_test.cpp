@@ -91,6 +91,7 @@ private slots:
     void cancelDropsTheWaitingRequestAndTheResult();
     void failureEndsTheRequestsWithItsMessage();
     void nothingToDoDropsTheRequest();
+    void throttleShowsTheSupersededResultThenTheNewest();
     void destructionWhileJobsRunWaitsForThem();
 };
 
@@ -251,6 +252,36 @@ void LatestJobTest::nothingToDoDropsTheRequest() {
     QVERIFY(h.started.empty());
     QCOMPARE(job.startedCount(), 0);
     QVERIFY(changed.size() >= 2);  // the request, and its end
+}
+
+void LatestJobTest::throttleShowsTheSupersededResultThenTheNewest() {
+    Harness h;
+    LatestJob job(h.make(), nullptr, LatestJob::Superseded::show);
+    h.value = 1;
+    job.requestNow();
+    QVERIFY(waitRunning(*h.gate));
+    for (int v = 2; v <= 4; ++v) {
+        h.value = v;
+        job.requestNow();  // not cancelled: it runs on, and only the newest waits
+    }
+    QTest::qWait(50);
+    QCOMPARE(h.gate->sawCancel.load(), 0);
+    QVERIFY(h.shown.empty());
+    h.gate->open = true;
+    QTRY_VERIFY(!job.isBusy());
+    QCOMPARE(h.shown, (std::vector<int>{1, 4}));
+    QCOMPARE(h.started, (std::vector<int>{1, 4}));
+    QCOMPARE(job.cancelledCount() + job.droppedCount(), 0);
+    // Cancel still lets the running one go without showing it.
+    h.gate->open = false;
+    h.value = 5;
+    job.requestNow();
+    QVERIFY(waitRunning(*h.gate));
+    job.cancel();
+    h.gate->open = true;
+    QTRY_COMPARE(h.gate->running.load(), 0);
+    QTest::qWait(50);
+    QCOMPARE(h.shown, (std::vector<int>{1, 4}));
 }
 
 void LatestJobTest::destructionWhileJobsRunWaitsForThem() {

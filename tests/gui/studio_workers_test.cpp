@@ -8,6 +8,8 @@
 //    shown is the last camera's, equal to the core's select_cut and extract_mesh for it.
 //  - LODStrips slider: the full-detail strips' scene is made on the chain's worker, and the slider's first
 //    move shows it (its triangles replaced) instead of making one on the GUI thread.
+//  - A dock's job that fails (the octree build of a PLY that vanished after loading, a morph that cannot
+//    be opened) opens the window's error dialog with the message naming the file.
 #include "MainWindow.h"
 #include "PixelStats.h"
 #include "StudioSession.h"
@@ -20,6 +22,7 @@
 #include "lodforge/widgets/LevelViews.h"
 #include "lodforge/widgets/LodLevels.h"
 #include "lodforge/widgets/McoPriorityPanel.h"
+#include "lodforge/widgets/MorphPanel.h"
 #include "lodforge/widgets/MeshScene.h"
 #include "lodforge/widgets/OctreeTuningPanel.h"
 #include "lodforge/widgets/ViewOptions.h"
@@ -30,10 +33,12 @@
 #include <QFile>
 #include <QLabel>
 #include <QLocale>
+#include <QMessageBox>
 #include <QPushButton>
 #include <QSettings>
 #include <QSignalSpy>
 #include <QSlider>
+#include <QTemporaryDir>
 #include <QTest>
 #include <QTimer>
 
@@ -116,6 +121,7 @@ private slots:
     void mcoCancelAndCloseDuringExtraction();
     void octreeCutFollowsACameraBurstOffTheGuiThread();
     void lodstripsFirstMoveUsesTheWorkersScene();
+    void dockFailuresOpenADialogNamingTheFile();
 
 private:
     McoPriorityPanel* buildMco(const QString& path, std::size_t resolution);
@@ -429,6 +435,64 @@ void StudioWorkersTest::lodstripsFirstMoveUsesTheWorkersScene() {
     qInfo("LODStrips on dragon res3: %zu triangles at full detail, %zu at 0.3; %.3f of the pixels differ", triangles,
           levels->continuousTriangles(), differ);
     QVERIFY(differ > 0.02);
+}
+
+namespace {
+
+// The error dialog that is open now (window-modal, not blocking), or null after a few seconds.
+QMessageBox* errorDialog() {
+    QMessageBox* box = nullptr;
+    const bool open = QTest::qWaitFor(
+        [&] { return (box = qobject_cast<QMessageBox*>(QApplication::activeModalWidget())) != nullptr; }, 5000);
+    return open ? box : nullptr;
+}
+
+}  // namespace
+
+void StudioWorkersTest::dockFailuresOpenADialogNamingTheFile() {
+    // A PLY loaded, then deleted: the octree streams its input from the file, so the build fails on it.
+    QTemporaryDir dir;
+    QVERIFY(dir.isValid());
+    const QString vanishing = dir.filePath(QStringLiteral("vanishing_scan.ply"));
+    QVERIFY(QFile::copy(QStringLiteral(LODFORGE_SHARED_DATA "/color-open3d-small/color.ply"), vanishing));
+    QVERIFY(lodforge::testing::loadInStudio(*window_, vanishing));
+    QVERIFY(QFile::remove(vanishing));
+    window_->setInteractive(true);
+    OctreeTuningPanel* octree = window_->octreeTuningPanel();
+    QSignalSpy built(octree, &OctreeTuningPanel::built);
+    octree->build();
+    QVERIFY(built.wait(60000));
+    QVERIFY(!built.at(0).at(0).toBool());
+    const QString message = built.at(0).at(1).toString();
+    QVERIFY2(message.contains(QStringLiteral("vanishing_scan.ply")), qPrintable(message));
+    QMessageBox* box = errorDialog();
+    QVERIFY(box);
+    QCOMPARE(box->icon(), QMessageBox::Critical);
+    QVERIFY2(box->informativeText().contains(QStringLiteral("vanishing_scan.ply")), qPrintable(box->informativeText()));
+    box->close();
+    QTRY_VERIFY_WITH_TIMEOUT(QApplication::activeModalWidget() == nullptr, 5000);
+    QVERIFY(!octree->hasAsset() && !octree->isBuilding());
+
+    // A morph sequence directory that does not exist: the same dialog, naming it.
+    lodforge::widgets::MorphPanel* morph = window_->morphPanel();
+    QSignalSpy loaded(morph, &lodforge::widgets::MorphPanel::morphLoaded);
+    morph->openMorph(dir.filePath(QStringLiteral("no-such-sequence")));
+    QVERIFY(loaded.wait(30000));
+    QVERIFY(!loaded.at(0).at(0).toBool());
+    box = errorDialog();
+    QVERIFY(box);
+    QVERIFY2(box->informativeText().contains(QStringLiteral("no-such-sequence")), qPrintable(box->informativeText()));
+    box->close();
+    QTRY_VERIFY_WITH_TIMEOUT(QApplication::activeModalWidget() == nullptr, 5000);
+
+    // Cancel is not an error: no dialog.
+    QVERIFY(QFile::copy(QStringLiteral(LODFORGE_SHARED_DATA "/color-open3d-small/color.ply"), vanishing));
+    octree->build();
+    QVERIFY(octree->isBuilding());
+    octree->cancel();
+    QTest::qWait(300);
+    QVERIFY(QApplication::activeModalWidget() == nullptr);
+    QCOMPARE(int(built.size()), 1);
 }
 
 QTEST_MAIN(StudioWorkersTest)

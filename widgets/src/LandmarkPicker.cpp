@@ -2,7 +2,7 @@
 
 #include "lodforge/error.h"
 #include "lodforge/mesh_io.h"
-#include "lodforge/widgets/Job.h"
+#include "lodforge/widgets/LatestJob.h"
 #include "lodforge/widgets/MeshScene.h"
 #include "lodforge/widgets/VtkView.h"
 
@@ -50,6 +50,11 @@ LandmarkPicker::LandmarkPicker(QWidget* parent) : QWidget(parent) {
         s.view->setObjectName(QStringLiteral("landmarkView%1").arg(sideName(side)));
         s.view->setMinimumSize(200, 200);
         s.view->installEventFilter(this);
+        s.load = new LatestJob([this, side] { return makeLoad(side); }, this);
+        connect(s.load, &LatestJob::failed, this, [this, side](const QString& error) {
+            updateButtons();
+            emit meshLoaded(side, false, error);
+        });
         auto* head = new QHBoxLayout;
         head->addWidget(open);
         head->addWidget(s.label, 1);
@@ -99,10 +104,8 @@ LandmarkPicker::LandmarkPicker(QWidget* parent) : QWidget(parent) {
 }
 
 LandmarkPicker::~LandmarkPicker() {
-    for (SideState& s : sides_) {
-        delete s.job;
-        s.job = nullptr;
-    }
+    // Both cancelled first, so that they stop side by side; each LatestJob then waits for its jobs.
+    for (SideState& s : sides_) s.load->cancel();
 }
 
 VtkView* LandmarkPicker::view(Side side) const { return state(side).view; }
@@ -110,44 +113,41 @@ std::shared_ptr<const Mesh> LandmarkPicker::mesh(Side side) const { return state
 QString LandmarkPicker::meshPath(Side side) const { return state(side).path; }
 
 bool LandmarkPicker::isLoading() const {
-    return (sides_[0].job && sides_[0].job->isRunning()) || (sides_[1].job && sides_[1].job->isRunning());
+    return sides_[0].load->isBusy() || sides_[1].load->isBusy();
 }
 
 void LandmarkPicker::openMesh(Side side, const QString& path) {
     SideState& s = state(side);
-    delete s.job;  // cancels and waits for a load of this side still running
+    s.loadPath = path;
+    s.load->requestNow();  // a load of this side still running is cancelled; this one starts when it stopped
+}
+
+std::optional<LatestJob::Run> LandmarkPicker::makeLoad(Side side) {
+    const QString path = state(side).loadPath;
     struct Output {
         std::shared_ptr<const Mesh> mesh;
         std::shared_ptr<const MeshScene> scene;
     };
     auto out = std::make_shared<Output>();
     const std::string file = path.toStdString();
-    s.job = new Job(tr("Load mesh %1").arg(sideName(side)), [out, file](Progress* progress) {
+    return LatestJob::Run{tr("Load mesh %1").arg(sideName(side)), [out, file](Progress* progress) {
         auto mesh = std::make_shared<Mesh>(read_mesh(file, {}, progress));
         if (mesh->vertex_count() == 0 || mesh->triangle_count() == 0)
             throw_error(Error::Kind::invalid, file, "the mesh has no triangles to pick on");
         out->scene = buildMeshScene(*mesh, {});
         out->mesh = std::move(mesh);
-    }, this);
-    Job* job = s.job;
-    connect(job, &Job::finished, this, [this, side, job, out, path](const JobResult& result) {
+    }, [this, side, out, path](const JobResult&) {
         SideState& st = state(side);
-        if (st.job != job) return;
-        st.job = nullptr;
-        job->deleteLater();
-        if (result.ok()) {
-            st.mesh = out->mesh;
-            st.path = path;
-            st.view->setScene(out->scene, true);
-            st.label->setText(tr("Mesh %1: %2 · %3 vertices")
-                                  .arg(sideName(side), QFileInfo(path).fileName(),
-                                       QLocale().toString(qulonglong(out->mesh->vertex_count()))));
-            clearPairs();
-        }
+        st.mesh = out->mesh;
+        st.path = path;
+        st.view->setScene(out->scene, true);
+        st.label->setText(tr("Mesh %1: %2 · %3 vertices")
+                              .arg(sideName(side), QFileInfo(path).fileName(),
+                                   QLocale().toString(qulonglong(out->mesh->vertex_count()))));
+        clearPairs();
         updateButtons();
-        emit meshLoaded(side, result.ok(), result.ok() ? QString() : result.error);
-    });
-    job->start();
+        emit meshLoaded(side, true, QString());
+    }};
 }
 
 std::uint32_t LandmarkPicker::nearestVertex(const Mesh& mesh, const std::array<double, 3>& point) {

@@ -6,7 +6,8 @@
 
 namespace lodforge::widgets {
 
-LatestJob::LatestJob(MakeRun make, QObject* parent) : QObject(parent), make_(std::move(make)) {
+LatestJob::LatestJob(MakeRun make, QObject* parent, Superseded superseded)
+    : QObject(parent), make_(std::move(make)), superseded_(superseded) {
     update_ = new CoalescedUpdate([this] { start(); }, this);
 }
 
@@ -24,7 +25,7 @@ void LatestJob::record(std::optional<std::uint64_t> key) {
     const bool sameAsRunning = running_ && key && runningTicket_.key == key;
     newest_ = sameAsRunning ? runningTicket_ : Ticket{++serial_, key};
     wanted_ = true;
-    if (running_ && runningTicket_.serial != newest_.serial) running_->cancel();
+    if (running_ && runningTicket_.serial != newest_.serial && superseded_ == Superseded::cancel) running_->cancel();
 }
 
 void LatestJob::request(std::optional<std::uint64_t> key) {
@@ -83,8 +84,8 @@ void LatestJob::finish(Job* job, const Ticket& ticket, const std::function<void(
         wanted_ = false;
         ++failed_;
         emit failed(result.error);
-    } else if (result.ok() && wanted_ && ticket.serial == newest_.serial) {
-        wanted_ = false;
+    } else if (result.ok() && wanted_ && (ticket.serial == newest_.serial || superseded_ == Superseded::show)) {
+        if (ticket.serial == newest_.serial) wanted_ = false;
         ++shown_;
         if (show) show(result);
     } else if (result.ok()) {

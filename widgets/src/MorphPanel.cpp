@@ -169,16 +169,19 @@ MorphPanel::MorphPanel(QWidget* parent) : QWidget(parent) {
     heatDebounce_.setSingleShot(true);
     heatDebounce_.setInterval(60);
     connect(&heatDebounce_, &QTimer::timeout, this, &MorphPanel::startHeatmap);
+    // While playing, a newer (t, F) lets the running heat map finish and show, then the newest runs: the
+    // heat map lags t by one computation instead of never showing.
+    heatJob_ = new LatestJob([this] { return makeHeatmap(); }, this, LatestJob::Superseded::show);
+    connect(heatJob_, &LatestJob::failed, this, &MorphPanel::logMessage);
 
     updateLabels();
     updateControls();
 }
 
 MorphPanel::~MorphPanel() {
+    heatJob_->cancel();  // stops while the open or build is waited for; heatJob_ waits for it
     delete job_;
     job_ = nullptr;
-    delete heatJob_;
-    heatJob_ = nullptr;
 }
 
 void MorphPanel::setViewOptions(const ViewOptions& options) {
@@ -365,12 +368,11 @@ void MorphPanel::showFrame(bool resetCamera) {
 }
 
 void MorphPanel::startHeatmap() {
-    if (!heat_ || !data_) return;
-    if (heatJob_) {
-        heatDirty_ = true;  // runs again with the newest (t, F) when this one ends
-        return;
-    }
-    heatDirty_ = false;
+    if (heat_ && data_) heatJob_->requestNow();  // runs when the one running has ended
+}
+
+std::optional<LatestJob::Run> MorphPanel::makeHeatmap() {
+    if (!heat_ || !data_) return std::nullopt;
     struct Output {
         std::shared_ptr<const MeshScene> scene;
         double max = 0;
@@ -378,7 +380,7 @@ void MorphPanel::startHeatmap() {
     auto out = std::make_shared<Output>();
     const auto data = data_;
     const double t = t_, f = f_;
-    heatJob_ = new Job(tr("Morph heat map"), [out, data, t, f](Progress* progress) {
+    return LatestJob::Run{tr("Morph heat map"), [out, data, t, f](Progress* progress) {
         const Mesh level = extract_morph(data->morph, data->lod, t, f);
         const Mesh full = morph_mesh_at(data->morph, t);
         // The field is per vertex of the full mesh (half-edge collapses keep the level's vertices on the
@@ -389,25 +391,20 @@ void MorphPanel::startHeatmap() {
         const DistanceResult r = compare(level, full, params, progress);
         for (float e : r.vertex_errors) out->max = std::max(out->max, double(e));
         out->scene = buildScalarScene(full, r.vertex_errors);
-    }, this);
-    Job* job = heatJob_;
-    connect(job, &Job::finished, this, [this, job, out, data, t, f](const JobResult& result) {
-        heatJob_ = nullptr;
-        job->deleteLater();
-        if (result.ok() && heat_ && data == data_) {
-            view_->setScene(out->scene, false);
-            view_->setScalarRange(0);  // this frame's own largest error is yellow
-            heatT_ = t;
-            heatF_ = f;
-            heatMax_ = out->max;
-            updateLabels();
-            if (heatmapCurrent()) emit heatmapShown();
-        } else if (!result.ok() && result.status != JobResult::Status::cancelled) {
-            emit logMessage(result.error);
+    }, [this, out, data, t, f](const JobResult&) {
+        if (!heat_ || data != data_) return;
+        view_->setScene(out->scene, false);
+        view_->setScalarRange(0);  // this frame's own largest error is yellow
+        heatT_ = t;
+        heatF_ = f;
+        heatMax_ = out->max;
+        updateLabels();
+        if (heatmapCurrent()) {
+            emit heatmapShown();
+        } else if (!heatJob_->isBusy()) {
+            startHeatmap();  // (t, F) moved on and the throttle has not asked yet
         }
-        if (heat_ && (heatDirty_ || (result.ok() && !heatmapCurrent()))) startHeatmap();
-    });
-    job->start();
+    }};
 }
 
 QString MorphPanel::timeText() const {

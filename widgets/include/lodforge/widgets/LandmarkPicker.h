@@ -9,6 +9,7 @@
 
 #include "lodforge/landmarks.h"
 #include "lodforge/mesh.h"
+#include "lodforge/widgets/LatestJob.h"
 
 #include <QString>
 #include <QWidget>
@@ -24,7 +25,6 @@ class QPushButton;
 
 namespace lodforge::widgets {
 
-class Job;
 class MeshScene;
 class VtkView;
 
@@ -86,13 +86,15 @@ private:
         std::shared_ptr<const lodforge::Mesh> mesh;
         QString path;
         std::optional<std::uint32_t> pending;
-        Job* job = nullptr;
+        LatestJob* load = nullptr;  // the newest mesh asked for on this side
+        QString loadPath;           // what it loads
         QPoint pressPosition;
         bool pressed = false;
     };
     SideState& state(Side side) { return sides_[static_cast<int>(side)]; }
     const SideState& state(Side side) const { return sides_[static_cast<int>(side)]; }
     void showOpenDialog(Side side);
+    std::optional<LatestJob::Run> makeLoad(Side side);
     void showSaveDialog();
     void showLoadDialog();
     bool checkPairs(const lodforge::Landmarks& landmarks, const QString& source, QString* error) const;

@@ -16,6 +16,9 @@
 //   keys): the running job's result would arrive superseded anyway.
 // - A result reaches `Run::show` only when its job ended ok and is still the newest request. Stale
 //   results (ended ok, superseded meanwhile) are dropped, cancelled ones too; each case is counted.
+// - Superseded::show makes it a throttle instead (the morph heat map while playing): a newer request
+//   lets the running job finish and show its result, then the newest runs; while requests go on, a
+//   result shows once per job's time instead of never.
 // - request() starts at the next turn of the event loop (CoalescedUpdate), so the requests of one turn
 //   make one job; requestNow() starts at once when the worker is free.
 // - A failure ends the requests (the waiting one too, so a failing input is not retried in a loop) and
@@ -51,8 +54,10 @@ public:
     // Called on the GUI thread when the worker is free and a request waits; nullopt: nothing to do (the
     // request is dropped).
     using MakeRun = std::function<std::optional<Run>()>;
+    // What a newer request does to the running job.
+    enum class Superseded { cancel, show };
 
-    LatestJob(MakeRun make, QObject* parent);
+    LatestJob(MakeRun make, QObject* parent, Superseded superseded = Superseded::cancel);
     ~LatestJob() override;
 
     // A new request, started at the next turn of the event loop (the requests of one turn make one job).
@@ -99,6 +104,7 @@ private:
                 const JobResult& result);
 
     MakeRun make_;
+    Superseded superseded_;
     CoalescedUpdate* update_ = nullptr;
     Job* running_ = nullptr;  // the job whose result is waited for; let-go ones are only children
     Ticket runningTicket_;

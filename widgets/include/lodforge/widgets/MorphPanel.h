@@ -12,6 +12,7 @@
 #include "lodforge/morph.h"
 #include "lodforge/morph_lod.h"
 #include "lodforge/progress.h"
+#include "lodforge/widgets/LatestJob.h"
 #include "lodforge/widgets/ViewOptions.h"
 
 #include <QString>
@@ -111,6 +112,7 @@ signals:
 private:
     using Fill = std::function<void(MorphData&, lodforge::Progress*)>;
     void startMorphJob(const QString& name, const QString& source, Fill fill);
+    std::optional<LatestJob::Run> makeHeatmap();
     void buildSupermeshFromPicks();
     void showOpenDialog(bool directory);
     void showFrame(bool resetCamera = false);
@@ -135,8 +137,7 @@ private:
     QPushButton* cancelButton_ = nullptr;
 
     Job* job_ = nullptr;      // open / build
-    Job* heatJob_ = nullptr;  // the heat map being computed
-    bool heatDirty_ = false;  // (t, F) moved while it ran
+    LatestJob* heatJob_ = nullptr;  // the heat maps, one at a time (a throttle: Superseded::show)
     QTimer playTimer_;
     QTimer heatDebounce_;
     std::shared_ptr<const MorphData> data_;
