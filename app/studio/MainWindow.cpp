@@ -985,6 +985,9 @@ void MainWindow::createMorph() {
         if (!ok && !message.isEmpty())  // empty: cancelled, which is not an error
             showError(tr("Morph failed"), tr("The morph could not be opened or built."), message);
     });
+    connect(morph_, &widgets::MorphPanel::landmarkMeshFailed, this, [this](const QString& message) {
+        showError(tr("Landmarks failed"), tr("The landmark mesh could not be opened."), message);
+    });
     // The View menu's toggles apply to the morph views as well.
     const auto syncViewOptions = [this] { morph_->setViewOptions(viewOptions()); };
     for (const ViewToggle& t : viewToggles_) connect(t.action, &QAction::toggled, this, syncViewOptions);

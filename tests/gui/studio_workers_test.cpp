@@ -21,6 +21,7 @@
 #include "lodforge/preset.h"
 #include "lodforge/widgets/LevelViews.h"
 #include "lodforge/widgets/LodLevels.h"
+#include "lodforge/widgets/LandmarkPicker.h"
 #include "lodforge/widgets/McoPriorityPanel.h"
 #include "lodforge/widgets/MorphPanel.h"
 #include "lodforge/widgets/MeshScene.h"
@@ -34,6 +35,7 @@
 #include <QLabel>
 #include <QLocale>
 #include <QMessageBox>
+#include <QProgressBar>
 #include <QPushButton>
 #include <QSettings>
 #include <QSignalSpy>
@@ -122,6 +124,7 @@ private slots:
     void octreeCutFollowsACameraBurstOffTheGuiThread();
     void lodstripsFirstMoveUsesTheWorkersScene();
     void dockFailuresOpenADialogNamingTheFile();
+    void landmarkMeshLoadShowsProgressAndCancels();
 
 private:
     McoPriorityPanel* buildMco(const QString& path, std::size_t resolution);
@@ -493,6 +496,53 @@ void StudioWorkersTest::dockFailuresOpenADialogNamingTheFile() {
     QTest::qWait(300);
     QVERIFY(QApplication::activeModalWidget() == nullptr);
     QCOMPARE(int(built.size()), 1);
+}
+
+// The landmark picker reads A and B on workers: a progress bar and Cancel while one loads, Cancel drops
+// it (the side keeps its mesh), and a file that cannot be read opens the error dialog naming it.
+void StudioWorkersTest::landmarkMeshLoadShowsProgressAndCancels() {
+    using lodforge::widgets::LandmarkPicker;
+    lodforge::widgets::MorphPanel* morph = window_->morphPanel();
+    LandmarkPicker* picker = morph->landmarkPicker();
+    QVERIFY(picker->loadProgressBar()->isHidden() && picker->cancelLoadButton()->isHidden());
+    QSignalSpy loaded(picker, &LandmarkPicker::meshLoaded);
+    picker->openMesh(LandmarkPicker::Side::a, spotPath);
+    QVERIFY(loaded.wait(30000));
+    QVERIFY(loaded.at(0).at(1).toBool());
+    const auto spot = picker->mesh(LandmarkPicker::Side::a);
+    QVERIFY(spot);
+    QVERIFY(picker->loadProgressBar()->isHidden());
+
+    // The full dragon (34 MB of ASCII PLY) as A: the bar and Cancel show while it loads, the bar moves.
+    QSignalSpy progress(picker->loadProgressBar(), &QProgressBar::valueChanged);
+    picker->openMesh(LandmarkPicker::Side::a, QStringLiteral(LODFORGE_SHARED_DATA "/scan-dragon/dragon_vrip.ply"));
+    QVERIFY(picker->isLoading());
+    QVERIFY(!picker->loadProgressBar()->isHidden() && !picker->cancelLoadButton()->isHidden());
+    QVERIFY(QTest::qWaitFor([&] { return picker->loadProgressBar()->value() > 0; }, 20000));
+    QVERIFY(picker->isLoading());
+    QTest::mouseClick(picker->cancelLoadButton(), Qt::LeftButton);
+    QVERIFY(!picker->isLoading());
+    QVERIFY(picker->loadProgressBar()->isHidden() && picker->cancelLoadButton()->isHidden());
+    QTest::qWait(300);
+    QCOMPARE(int(loaded.size()), 1);  // a cancelled load reports nothing
+    QCOMPARE(picker->mesh(LandmarkPicker::Side::a), spot);
+    QVERIFY(!progress.isEmpty());
+
+    // A missing file: meshLoaded fails naming it, and the window's error dialog says so.
+    window_->setInteractive(true);
+    QTemporaryDir dir;
+    const QString missing = dir.filePath(QStringLiteral("no_such_mesh_b.obj"));
+    picker->openMesh(LandmarkPicker::Side::b, missing);
+    QVERIFY(loaded.wait(30000));
+    QVERIFY(!loaded.at(1).at(1).toBool());
+    QVERIFY2(loaded.at(1).at(2).toString().contains(QStringLiteral("no_such_mesh_b.obj")),
+             qPrintable(loaded.at(1).at(2).toString()));
+    QMessageBox* box = errorDialog();
+    QVERIFY(box);
+    QVERIFY2(box->informativeText().contains(QStringLiteral("no_such_mesh_b.obj")), qPrintable(box->informativeText()));
+    box->close();
+    QTRY_VERIFY_WITH_TIMEOUT(QApplication::activeModalWidget() == nullptr, 5000);
+    QVERIFY(!picker->mesh(LandmarkPicker::Side::b));
 }
 
 QTEST_MAIN(StudioWorkersTest)

@@ -16,6 +16,7 @@
 #include <QListWidget>
 #include <QLocale>
 #include <QMouseEvent>
+#include <QProgressBar>
 #include <QPushButton>
 #include <QShortcut>
 #include <QVBoxLayout>
@@ -55,6 +56,11 @@ LandmarkPicker::LandmarkPicker(QWidget* parent) : QWidget(parent) {
             updateButtons();
             emit meshLoaded(side, false, error);
         });
+        connect(s.load, &LatestJob::progressChanged, this, [this, side](double fraction, const QString& stage) {
+            loadProgress_->setValue(int(fraction * 1000));
+            loadProgress_->setFormat(tr("Mesh %1: %2 %p%").arg(sideName(side), stage));
+        });
+        connect(s.load, &LatestJob::changed, this, &LandmarkPicker::updateLoadUi);
         auto* head = new QHBoxLayout;
         head->addWidget(open);
         head->addWidget(s.label, 1);
@@ -64,6 +70,17 @@ LandmarkPicker::LandmarkPicker(QWidget* parent) : QWidget(parent) {
     }
     grid->setRowStretch(1, 1);
     layout->addLayout(grid, 1);
+    auto* loadRow = new QHBoxLayout;
+    loadProgress_ = new QProgressBar(this);
+    loadProgress_->setObjectName(QStringLiteral("landmarkLoadProgress"));
+    loadProgress_->setRange(0, 1000);
+    cancelLoad_ = new QPushButton(tr("Cancel"), this);
+    cancelLoad_->setObjectName(QStringLiteral("landmarkCancelLoad"));
+    cancelLoad_->setToolTip(tr("Stop loading; the views keep the meshes they show"));
+    connect(cancelLoad_, &QPushButton::clicked, this, &LandmarkPicker::cancelLoads);
+    loadRow->addWidget(loadProgress_, 1);
+    loadRow->addWidget(cancelLoad_);
+    layout->addLayout(loadRow);
 
     pairList_ = new QListWidget(this);
     pairList_->setObjectName(QStringLiteral("landmarkPairs"));
@@ -101,6 +118,7 @@ LandmarkPicker::LandmarkPicker(QWidget* parent) : QWidget(parent) {
     // meshes need not share a scale.
     setSupermeshAvailable(false, QString());
     updateButtons();
+    updateLoadUi();
 }
 
 LandmarkPicker::~LandmarkPicker() {
@@ -114,6 +132,21 @@ QString LandmarkPicker::meshPath(Side side) const { return state(side).path; }
 
 bool LandmarkPicker::isLoading() const {
     return sides_[0].load->isBusy() || sides_[1].load->isBusy();
+}
+
+void LandmarkPicker::cancelLoads() {
+    for (SideState& s : sides_) s.load->cancel();
+    emit message(tr("Landmarks: loading cancelled"));
+}
+
+void LandmarkPicker::updateLoadUi() {
+    const bool loading = isLoading();
+    if (loading && loadProgress_->isHidden()) {
+        loadProgress_->setValue(0);
+        loadProgress_->setFormat(tr("Loading %p%"));
+    }
+    loadProgress_->setVisible(loading);
+    cancelLoad_->setVisible(loading);
 }
 
 void LandmarkPicker::openMesh(Side side, const QString& path) {

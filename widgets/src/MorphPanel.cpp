@@ -156,6 +156,7 @@ MorphPanel::MorphPanel(QWidget* parent) : QWidget(parent) {
     connect(picker_, &LandmarkPicker::meshLoaded, this, [this](LandmarkPicker::Side side, bool ok, const QString& m) {
         const QString name = side == LandmarkPicker::Side::a ? QStringLiteral("A") : QStringLiteral("B");
         emit logMessage(ok ? tr("Landmarks: mesh %1 is %2").arg(name, picker_->meshPath(side)) : m);
+        if (!ok) emit landmarkMeshFailed(m);
     });
     tabs_->addTab(picker_, tr("Landmarks"));
 

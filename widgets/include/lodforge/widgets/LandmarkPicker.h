@@ -21,6 +21,7 @@
 
 class QLabel;
 class QListWidget;
+class QProgressBar;
 class QPushButton;
 
 namespace lodforge::widgets {
@@ -41,6 +42,11 @@ public:
     // cleared when a mesh is replaced (they name its vertices).
     void openMesh(Side side, const QString& path);
     bool isLoading() const;
+    // Stops the loads running (their results dropped: the sides keep the meshes they show).
+    void cancelLoads();
+    // Under the views while a load runs: its progress and Cancel.
+    QProgressBar* loadProgressBar() const { return loadProgress_; }
+    QPushButton* cancelLoadButton() const { return cancelLoad_; }
     // The mesh of a side (null before it loaded) and the file it came from.
     std::shared_ptr<const lodforge::Mesh> mesh(Side side) const;
     QString meshPath(Side side) const;
@@ -95,6 +101,7 @@ private:
     const SideState& state(Side side) const { return sides_[static_cast<int>(side)]; }
     void showOpenDialog(Side side);
     std::optional<LatestJob::Run> makeLoad(Side side);
+    void updateLoadUi();
     void showSaveDialog();
     void showLoadDialog();
     bool checkPairs(const lodforge::Landmarks& landmarks, const QString& source, QString* error) const;
@@ -107,6 +114,8 @@ private:
     QPushButton* undoButton_ = nullptr;
     QPushButton* clearButton_ = nullptr;
     QPushButton* saveButton_ = nullptr;
+    QProgressBar* loadProgress_ = nullptr;
+    QPushButton* cancelLoad_ = nullptr;
     QPushButton* buildButton_ = nullptr;
     bool supermeshAvailable_ = false;
 };

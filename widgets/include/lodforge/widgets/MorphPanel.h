@@ -104,6 +104,8 @@ public:
 signals:
     // After every openMorph: ok, or the error (empty when cancelled).
     void morphLoaded(bool ok, const QString& message);
+    // A landmark mesh (A or B) could not be read; the message names the file.
+    void landmarkMeshFailed(const QString& message);
     void frameShown();    // the view shows the mesh at the current (t, F) (heat map off)
     void heatmapShown();  // the heat map of the current (t, F) is shown
     void timeChanged(double t);
