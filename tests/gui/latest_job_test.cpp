@@ -92,6 +92,7 @@ private slots:
     void failureEndsTheRequestsWithItsMessage();
     void nothingToDoDropsTheRequest();
     void throttleShowsTheSupersededResultThenTheNewest();
+    void stopReportsTheEndAsCancelled();
     void destructionWhileJobsRunWaitsForThem();
 };
 
@@ -282,6 +283,36 @@ void LatestJobTest::throttleShowsTheSupersededResultThenTheNewest() {
     QTRY_COMPARE(h.gate->running.load(), 0);
     QTest::qWait(50);
     QCOMPARE(h.shown, (std::vector<int>{1, 4}));
+}
+
+void LatestJobTest::stopReportsTheEndAsCancelled() {
+    Harness h;
+    LatestJob job(h.make(), nullptr);
+    QSignalSpy cancelled(&job, &LatestJob::cancelled);
+    h.value = 1;
+    job.requestNow();
+    QVERIFY(waitRunning(*h.gate));
+    h.value = 2;
+    job.request();  // waiting: stop() drops it
+    job.stop();
+    QVERIFY(job.isBusy());  // the stopped job's end is still waited for
+    QVERIFY(cancelled.wait(10000));
+    QCOMPARE(cancelled.size(), 1);
+    QCOMPARE(cancelled.at(0).at(0).value<JobResult>().name, QStringLiteral("test job"));
+    QVERIFY(!job.isBusy());
+    QTest::qWait(50);
+    QCOMPARE(h.started, std::vector<int>{1});
+    QVERIFY(h.shown.empty());
+    QCOMPARE(job.letGoCount(), 0);
+    // A job superseded by a newer request ends cancelled too, but silently: it is not the newest.
+    h.gate->open = false;
+    job.requestNow();
+    QVERIFY(waitRunning(*h.gate));
+    job.requestNow();
+    h.gate->open = true;
+    QTRY_VERIFY(!job.isBusy());
+    QCOMPARE(cancelled.size(), 1);
+    QCOMPARE(h.shown, std::vector<int>{2});
 }
 
 void LatestJobTest::destructionWhileJobsRunWaitsForThem() {

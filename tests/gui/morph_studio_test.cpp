@@ -327,6 +327,21 @@ void MorphStudioTest::lfmorphFileBrokenFileAndCancel() {
     QCOMPARE(loaded.at(0).at(1).toString(), QString());
     QCOMPARE(panel_->data(), shown);
     QVERIFY(!panel_->isBusy());
+
+    // Another open while the gallop's build runs: that build is cancelled (the GUI thread does not wait
+    // for it) and reports nothing; only the newest open ends, with its morph.
+    QSignalSpy superseded(panel_, &MorphPanel::morphLoaded);
+    panel_->openMorph(horseDir);
+    QTest::qWait(200);
+    QVERIFY(panel_->isBusy());
+    panel_->openMorph(sequence_);
+    QVERIFY(panel_->isBusy());
+    QVERIFY(superseded.wait(120000));
+    QVERIFY2(superseded.at(0).at(0).toBool(), qPrintable(superseded.at(0).at(1).toString()));
+    QCOMPARE(panel_->data()->morph.frame_count(), std::size_t(6));
+    QTest::qWait(200);
+    QCOMPARE(int(superseded.size()), 1);
+    QVERIFY(!panel_->isBusy());
 }
 
 void MorphStudioTest::gltfMorphTargetsPlay() {

@@ -52,6 +52,17 @@ void LatestJob::cancel() {
     emit changed();
 }
 
+void LatestJob::stop() {
+    update_->cancel();
+    if (running_) {
+        newest_ = runningTicket_;  // its end is the answer to the newest request
+        running_->cancel();
+    } else {
+        wanted_ = false;
+    }
+    emit changed();
+}
+
 void LatestJob::start() {
     if (!wanted_ || running_) return;  // a running job starts the newest request when it ends
     std::optional<Run> run = make_();
@@ -91,7 +102,11 @@ void LatestJob::finish(Job* job, const Ticket& ticket, const std::function<void(
     } else if (result.ok()) {
         ++dropped_;  // arrived after a newer request
     } else {
-        ++cancelled_;  // stopped for a newer request
+        ++cancelled_;  // stopped for a newer request, or by stop()
+        if (wanted_ && ticket.serial == newest_.serial) {
+            wanted_ = false;
+            emit cancelled(result);
+        }
     }
     start();  // the newest request, if one waits
     emit changed();

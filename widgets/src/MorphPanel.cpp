@@ -173,6 +173,22 @@ MorphPanel::MorphPanel(QWidget* parent) : QWidget(parent) {
     // While playing, a newer (t, F) lets the running heat map finish and show, then the newest runs: the
     // heat map lags t by one computation instead of never showing.
     heatJob_ = new LatestJob([this] { return makeHeatmap(); }, this, LatestJob::Superseded::show);
+    morphJob_ = new LatestJob([this] { return makeMorphJob(); }, this);
+    connect(morphJob_, &LatestJob::progressChanged, this, [this](double fraction, const QString& stage) {
+        progress_->setValue(static_cast<int>(std::lround(fraction * 1000)));
+        progress_->setFormat(stage.isEmpty() ? QStringLiteral("%p%") : stage + QStringLiteral(" %p%"));
+    });
+    connect(morphJob_, &LatestJob::failed, this, [this](const QString& error) {
+        emit logMessage(error);
+        updateControls();
+        emit morphLoaded(false, error);
+    });
+    connect(morphJob_, &LatestJob::cancelled, this, [this](const JobResult& result) {
+        emit logMessage(tr("%1: cancelled").arg(result.name));
+        updateControls();
+        emit morphLoaded(false, QString());
+    });
+    connect(morphJob_, &LatestJob::changed, this, &MorphPanel::updateControls);
     connect(heatJob_, &LatestJob::failed, this, &MorphPanel::logMessage);
 
     updateLabels();
@@ -180,9 +196,9 @@ MorphPanel::MorphPanel(QWidget* parent) : QWidget(parent) {
 }
 
 MorphPanel::~MorphPanel() {
-    heatJob_->cancel();  // stops while the open or build is waited for; heatJob_ waits for it
-    delete job_;
-    job_ = nullptr;
+    // Both cancelled first, so that they stop side by side; each LatestJob then waits for its jobs.
+    heatJob_->cancel();
+    morphJob_->cancel();
 }
 
 void MorphPanel::setViewOptions(const ViewOptions& options) {
@@ -195,11 +211,9 @@ void MorphPanel::showAnimation() { tabs_->setCurrentIndex(0); }
 
 void MorphPanel::setCloseSeams(bool close) { closeSeamsBox_->setChecked(close); }
 
-bool MorphPanel::isBusy() const { return job_ && job_->isRunning(); }
+bool MorphPanel::isBusy() const { return morphJob_->isBusy(); }
 
-void MorphPanel::cancel() {
-    if (job_) job_->cancel();
-}
+void MorphPanel::cancel() { morphJob_->stop(); }  // its end reports "cancelled" (morphLoaded)
 
 void MorphPanel::openMorph(const QString& path) {
     const std::string file = path.toStdString();
@@ -241,20 +255,18 @@ void MorphPanel::buildSupermeshFromPicks() {
 }
 
 void MorphPanel::startMorphJob(const QString& name, const QString& source, Fill fill) {
-    delete job_;  // cancels and waits for the one running, whose result would belong to another morph
+    // One running is cancelled (its result would belong to another morph) and this one starts once it
+    // has stopped, without the GUI thread waiting for it.
+    morphRequest_ = {name, source, std::move(fill)};
+    morphJob_->requestNow();
+}
+
+std::optional<LatestJob::Run> MorphPanel::makeMorphJob() {
     auto out = std::make_shared<MorphData>();
-    out->source = source;
-    job_ = new Job(name, [out, fill](Progress* progress) { fill(*out, progress); }, this);
-    Job* job = job_;
-    connect(job, &Job::progressChanged, this, [this](double fraction, const QString& stage) {
-        progress_->setValue(static_cast<int>(std::lround(fraction * 1000)));
-        progress_->setFormat(stage.isEmpty() ? QStringLiteral("%p%") : stage + QStringLiteral(" %p%"));
-    });
-    connect(job, &Job::finished, this, [this, job, out](const JobResult& result) {
-        if (job_ != job) return;
-        job_ = nullptr;
-        job->deleteLater();
-        if (result.ok()) {
+    out->source = morphRequest_.source;
+    return LatestJob::Run{
+        morphRequest_.name, [out, fill = morphRequest_.fill](Progress* progress) { fill(*out, progress); },
+        [this, out](const JobResult& result) {
             data_ = out;
             const MorphData& d = *data_;
             sourceLabel_->setText(tr("%1 · %2 keyframes · %3 triangles · order %4")
@@ -275,16 +287,9 @@ void MorphPanel::startMorphJob(const QString& name, const QString& source, Fill 
             heatT_ = heatF_ = -1;
             showFrame(true);
             if (heat_) startHeatmap();
-        } else {
-            emit logMessage(result.status == JobResult::Status::cancelled ? tr("%1: cancelled").arg(result.name)
-                                                                           : result.error);
-        }
-        updateControls();
-        emit morphLoaded(result.ok(), result.ok() || result.status == JobResult::Status::cancelled ? QString()
-                                                                                                   : result.error);
-    });
-    job->start();
-    updateControls();
+            updateControls();
+            emit morphLoaded(true, QString());
+        }};
 }
 
 void MorphPanel::setTime(double t) {

@@ -24,7 +24,8 @@
 // - A failure ends the requests (the waiting one too, so a failing input is not retried in a loop) and
 //   comes back as failed() with the job's message.
 // - cancel() drops the waiting request and lets the running job go: it is cancelled, its result never
-//   shows, and it deletes itself when it ends. What it holds (a tree, a store) it captured itself, so that
+//   shows, and it deletes itself when it ends. stop() cancels it too but waits for its end, which
+//   comes back as cancelled() (for a Cancel button whose outcome is reported, as the morph's open). What it holds (a tree, a store) it captured itself, so that
 //   goes with it; destroying the LatestJob cancels every job, also those let go, and waits for them.
 #pragma once
 
@@ -68,6 +69,9 @@ public:
     void requestNow(std::optional<std::uint64_t> key = std::nullopt);
     // Drops the waiting request and lets the running job go (cancelled, its result dropped).
     void cancel();
+    // Drops the waiting request and cancels the running job, whose end is still waited for: cancelled()
+    // (or, had it finished meanwhile, show).
+    void stop();
 
     // A request waits or its job runs: the newest request is not shown yet.
     bool isBusy() const { return wanted_ || running_ != nullptr; }
@@ -89,6 +93,8 @@ signals:
     // Of the job working for the newest request only.
     void progressChanged(double fraction, const QString& stage);
     void failed(const QString& error);
+    // The newest request's job ended cancelled (stop(), or its work stopped by itself).
+    void cancelled(const lodforge::widgets::JobResult& result);
     // isBusy() or isWorkerBusy() may have changed (a request, a start, an end, cancel()).
     void changed();
 

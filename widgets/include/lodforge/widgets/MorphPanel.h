@@ -32,7 +32,6 @@ class QTabWidget;
 
 namespace lodforge::widgets {
 
-class Job;
 class LandmarkPicker;
 class VtkView;
 
@@ -114,6 +113,12 @@ signals:
 private:
     using Fill = std::function<void(MorphData&, lodforge::Progress*)>;
     void startMorphJob(const QString& name, const QString& source, Fill fill);
+    std::optional<LatestJob::Run> makeMorphJob();
+    struct MorphRequest {
+        QString name;
+        QString source;
+        Fill fill;
+    };
     std::optional<LatestJob::Run> makeHeatmap();
     void buildSupermeshFromPicks();
     void showOpenDialog(bool directory);
@@ -138,7 +143,8 @@ private:
     QProgressBar* progress_ = nullptr;
     QPushButton* cancelButton_ = nullptr;
 
-    Job* job_ = nullptr;      // open / build
+    LatestJob* morphJob_ = nullptr;  // open / build: a newer one supersedes the one running
+    MorphRequest morphRequest_;      // what the next open or build does
     LatestJob* heatJob_ = nullptr;  // the heat maps, one at a time (a throttle: Superseded::show)
     QTimer playTimer_;
     QTimer heatDebounce_;
