@@ -476,6 +476,30 @@ void StudioWorkersTest::dockFailuresOpenADialogNamingTheFile() {
     QTRY_VERIFY_WITH_TIMEOUT(QApplication::activeModalWidget() == nullptr, 5000);
     QVERIFY(!octree->hasAsset() && !octree->isBuilding());
 
+    // The MC octree of a mesh whose one triangle is degenerate (no usable normal): the core's message,
+    // with the file named as the CLI names it.
+    const QString flat = dir.filePath(QStringLiteral("flat_line.ply"));
+    {
+        QFile file(flat);
+        QVERIFY(file.open(QIODevice::WriteOnly));
+        file.write("ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                   "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n2 0 0\n3 0 1 2\n");
+    }
+    QVERIFY(lodforge::testing::loadInStudio(*window_, flat));
+    McoPriorityPanel* mco = window_->mcoPriorityPanel();
+    QSignalSpy mcoBuilt(mco, &McoPriorityPanel::built);
+    mco->build();
+    QVERIFY(mcoBuilt.wait(60000));
+    QVERIFY(!mcoBuilt.at(0).at(0).toBool());
+    const QString mcoMessage = mcoBuilt.at(0).at(1).toString();
+    QVERIFY2(mcoMessage.contains(QStringLiteral("flat_line.ply: no point has a usable normal")), qPrintable(mcoMessage));
+    box = errorDialog();
+    QVERIFY(box);
+    QVERIFY2(box->informativeText().contains(QStringLiteral("flat_line.ply")), qPrintable(box->informativeText()));
+    box->close();
+    QTRY_VERIFY_WITH_TIMEOUT(QApplication::activeModalWidget() == nullptr, 5000);
+    QVERIFY(!mco->hasTree());
+
     // A morph sequence directory that does not exist: the same dialog, naming it.
     lodforge::widgets::MorphPanel* morph = window_->morphPanel();
     QSignalSpy loaded(morph, &lodforge::widgets::MorphPanel::morphLoaded);

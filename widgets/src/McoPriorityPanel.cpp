@@ -8,6 +8,7 @@
 #include "lodforge/widgets/MeshScene.h"
 
 #include <QElapsedTimer>
+#include <QFile>
 #include <QHBoxLayout>
 #include <QLabel>
 #include <QLocale>
@@ -20,6 +21,7 @@
 #include <algorithm>
 #include <limits>
 #include <mutex>
+#include <string>
 #include <vector>
 
 namespace lodforge::widgets {
@@ -204,7 +206,16 @@ std::optional<LatestJob::Run> McoPriorityPanel::makeBuild() {
     return LatestJob::Run{
         tr("MC octree"),
         [out, model, params](Progress* p) {
-            out->result = build_mc_octree(model->mesh, params, p);
+            try {
+                out->result = build_mc_octree(model->mesh, params, p);
+            } catch (const Error& e) {
+                // The core names its input generically; the artist knows it by its file (as the CLI says).
+                std::string what = e.what();
+                const std::string generic = "mcoctree input: ";
+                if (what.rfind(generic, 0) == 0) what = what.substr(generic.size());
+                if (e.kind() == Error::Kind::cancelled) throw;
+                throw_error(e.kind(), QFile::encodeName(model->path).toStdString(), what);
+            }
             // The extractor's tables are built once per tree, here rather than on the GUI thread.
             p->report(1.0, "extraction tables");
             out->built = std::make_shared<Built>(std::move(out->result.tree));
