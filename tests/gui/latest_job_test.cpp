@@ -78,6 +78,13 @@ bool waitRunning(const Gate& gate, int n = 1) {
     return QTest::qWaitFor([&] { return gate.running.load() == n; }, 10000);
 }
 
+// Asks for `value` now and waits until its job holds at the gate.
+bool startHeld(Harness& h, LatestJob& job, int value) {
+    h.value = value;
+    job.requestNow();
+    return waitRunning(*h.gate);
+}
+
 }  // namespace
 
 class LatestJobTest : public QObject {
@@ -117,9 +124,7 @@ void LatestJobTest::newerRequestCancelsTheRunningJobAndWins() {
     Harness h;
     LatestJob job(h.make(), nullptr);
     QSignalSpy progress(&job, &LatestJob::progressChanged);
-    h.value = 1;
-    job.requestNow();
-    QVERIFY(waitRunning(*h.gate));
+    QVERIFY(startHeld(h, job, 1));
     QVERIFY(job.isWorkerBusy());
     h.value = 2;
     job.requestNow();  // the worker is busy: waits, and the running job is told to stop
@@ -144,9 +149,7 @@ void LatestJobTest::staleResultIsDropped() {
     Harness h;
     h.pollCancel = false;  // the work ignores the cancel flag and ends ok, superseded
     LatestJob job(h.make(), nullptr);
-    h.value = 1;
-    job.requestNow();
-    QVERIFY(waitRunning(*h.gate));
+    QVERIFY(startHeld(h, job, 1));
     h.value = 2;
     job.requestNow();
     QTRY_COMPARE(h.gate->sawCancel.load(), 1);  // told to stop, but it goes on
@@ -190,9 +193,7 @@ void LatestJobTest::cancelDropsTheWaitingRequestAndTheResult() {
     Harness h;
     h.pollCancel = false;  // even a result that comes back ok must not show
     LatestJob job(h.make(), nullptr);
-    h.value = 1;
-    job.requestNow();
-    QVERIFY(waitRunning(*h.gate));
+    QVERIFY(startHeld(h, job, 1));
     h.value = 2;
     job.request();  // waiting
     job.cancel();
@@ -258,9 +259,7 @@ void LatestJobTest::nothingToDoDropsTheRequest() {
 void LatestJobTest::throttleShowsTheSupersededResultThenTheNewest() {
     Harness h;
     LatestJob job(h.make(), nullptr, LatestJob::Superseded::show);
-    h.value = 1;
-    job.requestNow();
-    QVERIFY(waitRunning(*h.gate));
+    QVERIFY(startHeld(h, job, 1));
     for (int v = 2; v <= 4; ++v) {
         h.value = v;
         job.requestNow();  // not cancelled: it runs on, and only the newest waits
@@ -275,9 +274,7 @@ void LatestJobTest::throttleShowsTheSupersededResultThenTheNewest() {
     QCOMPARE(job.cancelledCount() + job.droppedCount(), 0);
     // Cancel still lets the running one go without showing it.
     h.gate->open = false;
-    h.value = 5;
-    job.requestNow();
-    QVERIFY(waitRunning(*h.gate));
+    QVERIFY(startHeld(h, job, 5));
     job.cancel();
     h.gate->open = true;
     QTRY_COMPARE(h.gate->running.load(), 0);
@@ -289,9 +286,7 @@ void LatestJobTest::stopReportsTheEndAsCancelled() {
     Harness h;
     LatestJob job(h.make(), nullptr);
     QSignalSpy cancelled(&job, &LatestJob::cancelled);
-    h.value = 1;
-    job.requestNow();
-    QVERIFY(waitRunning(*h.gate));
+    QVERIFY(startHeld(h, job, 1));
     h.value = 2;
     job.request();  // waiting: stop() drops it
     job.stop();
@@ -320,9 +315,7 @@ void LatestJobTest::destructionWhileJobsRunWaitsForThem() {
     h.held = std::make_shared<int>(42);
     const std::weak_ptr<int> held = h.held;
     auto* job = new LatestJob(h.make(), nullptr);
-    h.value = 1;
-    job->requestNow();
-    QVERIFY(waitRunning(*h.gate));
+    QVERIFY(startHeld(h, *job, 1));
     job->cancel();  // let go: still running, cancelled
     h.pollCancel = false;  // the next one does not stop by itself
     h.value = 2;
