@@ -120,3 +120,80 @@ TEST(McOctreeBuild, DragonScanWithHolesIsClosedAtEveryPriority) {
         EXPECT_EQ(w.unpaired_directed, 0u) << "priority " << i;
     }
 }
+
+namespace {
+
+// The whole tree, field-derived parts included (vertex positions, normals, colours, masks, numbering).
+void expect_same_tree(const McOctree& a, const McOctree& b, const char* what) {
+    SCOPED_TRACE(what);
+    ASSERT_EQ(a.nodes.size(), b.nodes.size());
+    for (std::size_t i = 0; i < a.nodes.size(); ++i) {
+        const McNode &x = a.nodes[i], &y = b.nodes[i];
+        ASSERT_TRUE(x.x == y.x && x.y == y.y && x.z == y.z && x.level == y.level && x.child_mask == y.child_mask &&
+                    x.first_child == y.first_child && x.parent == y.parent && x.inside == y.inside &&
+                    x.crossings == y.crossings && x.first_vertex == y.first_vertex && x.priority == y.priority)
+            << "node " << i;
+    }
+    EXPECT_EQ(a.positions, b.positions);
+    EXPECT_EQ(a.normals, b.normals);
+    EXPECT_EQ(a.colors, b.colors);
+    EXPECT_EQ(a.vertex_ids, b.vertex_ids);
+    EXPECT_EQ(a.neighbours, b.neighbours);
+    EXPECT_EQ(a.order, b.order);
+    EXPECT_EQ(a.cuts, b.cuts);
+    EXPECT_EQ(a.triangle_counts, b.triangle_counts);
+    EXPECT_EQ(a.metric, b.metric);
+}
+
+McOctreeBuildResult build_with(const Mesh& m, McOctreeParams p, McFieldMethod field, unsigned threads) {
+    p.field = field;
+    p.threads = threads;
+    return build_mc_octree(m, p);
+}
+
+}  // namespace
+
+TEST(McOctreeBuild, FieldMethodsAndThreadCountsGiveTheSameTree) {
+    // The field is the nearest point with ties to the lowest index (docs/mcoctree.md, D1), whether it is
+    // found by scattering the points or by kd-tree queries, on one thread or two. frag_115: colours,
+    // an open scan with a band; the bunny's points: normals from faces.
+    const Mesh frag = read_mesh(lodforge::test::shared_data("color-open3d-frag115/frag_115.ply"));
+    const Mesh bunny = read_mesh(lodforge::test::shared_data("scan-bunny/bun_zipper.ply"));
+    struct Case {
+        const Mesh* mesh;
+        std::size_t resolution;
+        double band;
+    };
+    for (const Case& c : {Case{&frag, 64, 2.5}, Case{&bunny, 96, 0}}) {
+        McOctreeParams p;
+        p.resolution = c.resolution;
+        p.band = c.band;
+        const McOctreeBuildResult queries = build_with(*c.mesh, p, McFieldMethod::queries, 1);
+        const McOctreeBuildResult scatter = build_with(*c.mesh, p, McFieldMethod::scatter, 2);
+        EXPECT_EQ(queries.scattered_samples, 0u);
+        EXPECT_GT(scatter.scattered_samples, scatter.field_samples / 2);
+        EXPECT_GT(queries.tree.nodes.size(), 1000u);
+        expect_same_tree(queries.tree, scatter.tree, "queries, 1 thread / scatter, 2 threads");
+        expect_same_tree(queries.tree, build_with(*c.mesh, p, McFieldMethod::queries, 2).tree, "queries, 2 threads");
+        expect_same_tree(queries.tree, build_with(*c.mesh, p, McFieldMethod::scatter, 1).tree, "scatter, 1 thread");
+    }
+}
+
+TEST(McOctreeBuild, DuplicatePointsResolveToTheLowestIndex) {
+    // Copies of points with flipped normals, appended after the originals: at every lattice point the
+    // original and its copy are equally near, and the original (lower index) must win with either method
+    // of evaluating the field, so the tree is the one without the copies.
+    const Mesh sphere = lodforge::test::sphere_points(6000);
+    Mesh doubled = sphere;
+    for (std::size_t i = 0; i < sphere.positions.size(); i += 3) {
+        doubled.positions.push_back(sphere.positions[i]);
+        doubled.normals.push_back(sphere.normals[i] * -1.f);
+    }
+    McOctreeParams p;
+    p.resolution = 40;
+    for (const McFieldMethod m : {McFieldMethod::queries, McFieldMethod::scatter}) {
+        const McOctree plain = build_with(sphere, p, m, 2).tree;
+        const McOctree with_copies = build_with(doubled, p, m, 2).tree;
+        expect_same_tree(plain, with_copies, m == McFieldMethod::queries ? "queries" : "scatter");
+    }
+}
