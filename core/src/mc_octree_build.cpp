@@ -510,25 +510,25 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
     std::sort(frontier.begin(), frontier.end());  // lattice order: the queries' hints are near
 
     // The field near the points by scattering (D1), while the kd-tree for the other values is built on a
-    // second thread. Scattering costs per point, queries per lattice point: it pays where the points are
-    // not much denser than the cubes (at most scatter_density points per cube holding points).
+    // second thread. Scattering costs per point and per lattice point within the radius, a query per
+    // lattice point: within 2 cube sizes (nearly every value the flood asks for) where there are at most 2
+    // points per cube holding points, within 1 (about 60 % of them, in the kd-tree's build time) up to 8.
     const double per_cube = double(pc.points.size()) / double(frontier.size());
-    constexpr float scatter_radius = 2;     // cube sizes: nearly every value the flood asks for (D1)
-    constexpr double scatter_density = 2;   // points per cube holding points, at most
     auto build_kd = [&] {
         kd.buildIndex();
         result.point_spacing = median_spacing(pc, kd);
     };
-    const bool scattering = params.field == McFieldMethod::scatter ||
-                            (params.field == McFieldMethod::automatic && per_cube <= scatter_density);
+    float radius = per_cube <= 2 ? 2.f : per_cube <= 8 ? 1.f : 0.f;
+    if (params.field != McFieldMethod::automatic) radius = params.field == McFieldMethod::scatter ? 2.f : 0.f;
+    const bool scattering = radius > 0;
     if (scattering) {
         if (threads > 1) {
             std::thread kd_thread(build_kd);
-            field.scatter(scatter_radius);
+            field.scatter(radius);
             kd_thread.join();
         } else {
             build_kd();
-            field.scatter(scatter_radius);
+            field.scatter(radius);
         }
     } else {
         build_kd();
