@@ -1000,7 +1000,7 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
         tree.metric[ni] = static_cast<float>(children - area[ni]);
     }
     clock.mark("area metric");
-    result.hidden_cuts = mc::number_mc_octree(tree, maps, progress);
+    result.hidden_cuts = mc::number_mc_octree(tree, maps, threads, progress);
     clock.mark("numbering");
 
     result.field_samples = field.size() + field.scattered();
