@@ -90,10 +90,46 @@ PointCloud points_of(const Mesh& mesh, std::size_t& skipped) {
         }
     }
     const bool colors = mesh.colors.size() == mesh.positions.size();
-    for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
-        const Vec3f n = normals[i];
-        if (!is_finite(n))
+    for (std::size_t i = 0; i < mesh.positions.size(); ++i)
+        if (!is_finite(normals[i]))
             throw_error(Error::Kind::invalid, input_name, "normal of point " + std::to_string(i) + " is not finite");
+    // Points at exactly the same position are one surface point (D1): the first keeps the sum of their
+    // normals (for normals from faces, the normal of the welded vertex), the others are dropped. When the
+    // sum vanishes (opposite normals) the first point's own normal stays.
+    std::vector<std::uint8_t> merged(mesh.positions.size(), 0);
+    {
+        auto bits = [](float f) { return std::bit_cast<std::uint32_t>(f == 0 ? 0.f : f); };  // -0 == +0
+        mc::KeyMap first(mesh.positions.size());
+        std::vector<std::pair<std::uint32_t, Vec3f>> sums;  // first index, sum of the group's normals
+        for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+            const Vec3f p = mesh.positions[i];
+            std::uint64_t key = (std::uint64_t(bits(p.x)) * 0x9E3779B97F4A7C15ULL) ^
+                                (std::uint64_t(bits(p.y)) * 0xC2B2AE3D27D4EB4FULL) ^ (std::uint64_t(bits(p.z)) << 7);
+            key &= ~(std::uint64_t(1) << 63);  // never the map's empty key
+            const std::uint32_t at = first.insert(key, static_cast<std::uint32_t>(i));
+            if (at == i || !(mesh.positions[at] == p)) continue;  // new, or another position with this hash
+            merged[i] = 1;
+            if (merged[at] < 2) merged[at] = 2, sums.emplace_back(at, normals[at]);
+        }
+        if (!sums.empty()) {
+            std::vector<std::uint32_t> group(mesh.positions.size(), none);
+            for (std::size_t g = 0; g < sums.size(); ++g) group[sums[g].first] = static_cast<std::uint32_t>(g);
+            for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+                if (merged[i] != 1) continue;
+                const Vec3f p = mesh.positions[i];
+                std::uint64_t key = (std::uint64_t(bits(p.x)) * 0x9E3779B97F4A7C15ULL) ^
+                                    (std::uint64_t(bits(p.y)) * 0xC2B2AE3D27D4EB4FULL) ^ (std::uint64_t(bits(p.z)) << 7);
+                key &= ~(std::uint64_t(1) << 63);
+                Vec3f& sum = sums[group[first.find(key)]].second;
+                sum = sum + normals[i];
+            }
+            for (const auto& [i, sum] : sums)
+                if (length(sum) > 0) normals[i] = sum;
+        }
+    }
+    for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+        if (merged[i] == 1) continue;
+        const Vec3f n = normals[i];
         const float len = length(n);
         if (!(len > 0)) {  // unreferenced vertex or degenerate faces only: no orientation, skip
             ++skipped;
