@@ -4,11 +4,13 @@
 // field) where the volume is small enough to be cheap.
 //
 //   lodforge_bench_mcoctree [--models dragon,frag] [--resolutions 64,128,256,512] [--metro-resolution 256]
-//                           [--vtk-max 128] [--samples N]
+//                           [--vtk-max 128] [--samples N] [--repeat N] [--build-only] [--threads N]
 //
 // Build seconds are one build (the whole build_mc_octree: kd-tree, field, octree, numbering); input points
-// per second = points / seconds. Peak memory is the process's peak resident set during the build (reset
-// before each build through /proc/self/clear_refs) minus the resident set before it. Extraction is timed
+// per second = the file's vertices (before duplicates are merged) / seconds. --repeat N builds N times and
+// reports the build with the least CPU time; --build-only prints the stage times instead of extracting.
+// Peak memory is the process's peak resident set during the build (reset before each build through
+// /proc/self/clear_refs) minus the resident set before it. Extraction is timed
 // over repeated calls to McOctreeExtractor::extract (median of 5 timings, each >= 50 ms of calls); making the
 // extractor (its tables, once per tree) is timed apart, in thread CPU time.
 
@@ -198,7 +200,7 @@ int main(int argc, char** argv) {
                                  double(t.order.size()) * 12 + double(t.metric.size()) * 4;
             if (build_only) {
                 std::printf("| %zu | %.2f | %.2f | %.2f | %.2f | %.0f | %zu | %zu | %zu | %llu | %.1f | | | %s |\n", res, s, cpu,
-                            double(t.input_points) / s * 1e-6, double(t.input_points) / cpu * 1e-6,
+                            double(input.vertex_count()) / s * 1e-6, double(input.vertex_count()) / cpu * 1e-6,
                             double(peak - before) / 1024.0, r.leaf_cubes, t.nodes.size(), t.max_priority(),
                             static_cast<unsigned long long>(t.triangle_counts.back()), bytes / 1e6,
                             std::any_of(r.warnings.begin(), r.warnings.end(),
@@ -217,7 +219,7 @@ int main(int argc, char** argv) {
             malloc_trim(0);  // the constructor's temporaries are gone
             const double extractor_mb = double(status_kb("VmRSS:") - rss0) / 1024.0;
             std::printf("| %zu | %.2f | %.2f | %.2f | %.2f | %.0f | %zu | %zu | %zu | %llu | %.1f | %.2f | %.0f | %s |\n", res, s, cpu,
-                        double(t.input_points) / s * 1e-6, double(t.input_points) / cpu * 1e-6,
+                        double(input.vertex_count()) / s * 1e-6, double(input.vertex_count()) / cpu * 1e-6,
                         double(peak - before) / 1024.0, r.leaf_cubes, t.nodes.size(), t.max_priority(),
                         static_cast<unsigned long long>(t.triangle_counts.back()), bytes / 1e6, extractor_cpu, extractor_mb,
                         std::any_of(r.warnings.begin(), r.warnings.end(),

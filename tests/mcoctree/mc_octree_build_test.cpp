@@ -11,6 +11,7 @@
 
 using namespace lodforge;
 using lodforge::test::check_watertight;
+using lodforge::test::expect_same_tree;
 
 TEST(McOctreeBuild, SphereIsClosedAtEveryPriority) {
     const Mesh pts = lodforge::test::sphere_points(20000);
@@ -122,31 +123,6 @@ TEST(McOctreeBuild, DragonScanWithHolesIsClosedAtEveryPriority) {
 }
 
 namespace {
-
-// The whole tree, field-derived parts included (vertex positions, normals, colours, masks, numbering).
-// `normals`: compare the vertex normals too (off where the inputs' normals differ by rounding).
-void expect_same_tree(const McOctree& a, const McOctree& b, const char* what, bool normals = true) {
-    SCOPED_TRACE(what);
-    ASSERT_EQ(a.nodes.size(), b.nodes.size());
-    for (std::size_t i = 0; i < a.nodes.size(); ++i) {
-        const McNode &x = a.nodes[i], &y = b.nodes[i];
-        ASSERT_TRUE(x.x == y.x && x.y == y.y && x.z == y.z && x.level == y.level && x.child_mask == y.child_mask &&
-                    x.first_child == y.first_child && x.parent == y.parent && x.inside == y.inside &&
-                    x.crossings == y.crossings && x.first_vertex == y.first_vertex && x.priority == y.priority)
-            << "node " << i;
-    }
-    EXPECT_EQ(a.positions, b.positions);
-    if (normals) {
-        EXPECT_EQ(a.normals, b.normals);
-    }
-    EXPECT_EQ(a.colors, b.colors);
-    EXPECT_EQ(a.vertex_ids, b.vertex_ids);
-    EXPECT_EQ(a.neighbours, b.neighbours);
-    EXPECT_EQ(a.order, b.order);
-    EXPECT_EQ(a.cuts, b.cuts);
-    EXPECT_EQ(a.triangle_counts, b.triangle_counts);
-    EXPECT_EQ(a.metric, b.metric);
-}
 
 McOctreeBuildResult build_with(const Mesh& m, McOctreeParams p, McFieldMethod field, unsigned threads) {
     p.field = field;
