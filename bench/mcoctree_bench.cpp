@@ -4,11 +4,13 @@
 // field) where the volume is small enough to be cheap.
 //
 //   lodforge_bench_mcoctree [--models dragon,frag] [--resolutions 64,128,256,512] [--metro-resolution 256]
-//                           [--vtk-max 128] [--samples N]
+//                           [--vtk-max 128] [--samples N] [--repeat N] [--build-only] [--threads N]
 //
 // Build seconds are one build (the whole build_mc_octree: kd-tree, field, octree, numbering); input points
-// per second = points / seconds. Peak memory is the process's peak resident set during the build (reset
-// before each build through /proc/self/clear_refs) minus the resident set before it. Extraction is timed
+// per second = the file's vertices (before duplicates are merged) / seconds. --repeat N builds N times and
+// reports the build with the least CPU time; --build-only prints the stage times instead of extracting.
+// Peak memory is the process's peak resident set during the build (reset before each build through
+// /proc/self/clear_refs) minus the resident set before it. Extraction is timed
 // over repeated calls to McOctreeExtractor::extract (median of 5 timings, each >= 50 ms of calls); making the
 // extractor (its tables, once per tree) is timed apart, in thread CPU time.
 
@@ -105,6 +107,9 @@ int main(int argc, char** argv) {
     std::vector<std::string> models = {"dragon", "frag"};
     std::vector<std::size_t> resolutions = {64, 128, 256, 512};
     std::size_t metro_resolution = 256, vtk_max = 128, samples = 200000;
+    int repeats = 1;           // builds per resolution (the table gives the one with the least CPU time)
+    bool build_only = false;   // no extractor, extraction, metro or reference
+    unsigned threads = 0;      // McOctreeParams::threads
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         auto next = [&]() -> std::string { return i + 1 < argc ? argv[++i] : std::string(); };
@@ -117,11 +122,17 @@ int main(int argc, char** argv) {
             metro_resolution = std::size_t(std::atol(next().c_str()));
         } else if (a == "--vtk-max") {
             vtk_max = std::size_t(std::atol(next().c_str()));
+        } else if (a == "--repeat") {
+            repeats = std::max(1, std::atoi(next().c_str()));
+        } else if (a == "--threads") {
+            threads = unsigned(std::atoi(next().c_str()));
+        } else if (a == "--build-only") {
+            build_only = true;
         } else if (a == "--samples") {
             samples = std::size_t(std::atol(next().c_str()));
         } else {
             std::fprintf(stderr, "usage: %s [--models dragon,frag,bunny] [--resolutions 64,128,256,512] "
-                                 "[--metro-resolution R] [--vtk-max R] [--samples N]\n", argv[0]);
+                                 "[--metro-resolution R] [--vtk-max R] [--samples N] [--repeat N] [--build-only] [--threads N]\n", argv[0]);
             return 2;
         }
     }
@@ -157,19 +168,48 @@ int main(int argc, char** argv) {
             McOctreeParams p;
             p.resolution = res;
             p.band = it->band;
-            malloc_trim(0);  // give freed memory back, so the peak below is this build's
-            const long before = status_kb("VmRSS:");
-            reset_peak();
-            const auto t0 = Clock::now();
-            const double c0 = cpu_seconds(CLOCK_PROCESS_CPUTIME_ID);
-            McOctreeBuildResult r = build_mc_octree(input, p);
-            const double s = seconds_since(t0);
-            const double cpu = cpu_seconds(CLOCK_PROCESS_CPUTIME_ID) - c0;
-            const long peak = status_kb("VmHWM:");
+            p.threads = threads;
+            McOctreeBuildResult r;
+            double s = 0, cpu = 0;
+            long before = 0, peak = 0;
+            std::string runs;  // CPU / wall of every build, when repeated
+            for (int rep = 0; rep < repeats; ++rep) {
+                r = McOctreeBuildResult{};
+                malloc_trim(0);  // give freed memory back, so the peak below is this build's
+                const long rss = status_kb("VmRSS:");
+                reset_peak();
+                const auto t0 = Clock::now();
+                const double c0 = cpu_seconds(CLOCK_PROCESS_CPUTIME_ID);
+                r = build_mc_octree(input, p);
+                const double ws = seconds_since(t0);
+                const double cs = cpu_seconds(CLOCK_PROCESS_CPUTIME_ID) - c0;
+                const long hwm = status_kb("VmHWM:");
+                appendf(runs, "%s%.2f/%.2f", rep ? ", " : "", cs, ws);
+                if (rep == 0 || cs < cpu) s = ws, cpu = cs, before = rss, peak = hwm;
+            }
+            if (repeats > 1) std::printf("resolution %zu, builds (CPU/wall s): %s\n", res, runs.c_str());
+            if (build_only) {
+                std::string st;
+                for (const McBuildStage& g : r.stages) appendf(st, "%s%s %.3f/%.3f", st.empty() ? "" : ", ", g.name.c_str(), g.cpu_s, g.wall_s);
+                std::printf("resolution %zu, stages of the least-CPU build (CPU/wall s): %s; field values %zu (%zu scattered)\n",
+                            res, st.c_str(), r.field_samples, r.scattered_samples);
+            }
             const McOctree& t = r.tree;
             const double bytes = double(t.nodes.size()) * 40 + double(t.vertex_ids.size()) * 4 +
                                  double(t.neighbours.size()) * 4 + double(t.positions.size()) * (t.has_colors() ? 40 : 24) +
                                  double(t.order.size()) * 12 + double(t.metric.size()) * 4;
+            if (build_only) {
+                std::printf("| %zu | %.2f | %.2f | %.2f | %.2f | %.0f | %zu | %zu | %zu | %llu | %.1f | | | %s |\n", res, s, cpu,
+                            double(input.vertex_count()) / s * 1e-6, double(input.vertex_count()) / cpu * 1e-6,
+                            double(peak - before) / 1024.0, r.leaf_cubes, t.nodes.size(), t.max_priority(),
+                            static_cast<unsigned long long>(t.triangle_counts.back()), bytes / 1e6,
+                            std::any_of(r.warnings.begin(), r.warnings.end(),
+                                        [](const std::string& w) { return w.find("density") != std::string::npos; })
+                                ? "yes"
+                                : "");
+                std::fflush(stdout);
+                continue;
+            }
             // The extractor's tables (made once per tree; the studio keeps the extractor with the tree).
             malloc_trim(0);
             const long rss0 = status_kb("VmRSS:");
@@ -179,7 +219,7 @@ int main(int argc, char** argv) {
             malloc_trim(0);  // the constructor's temporaries are gone
             const double extractor_mb = double(status_kb("VmRSS:") - rss0) / 1024.0;
             std::printf("| %zu | %.2f | %.2f | %.2f | %.2f | %.0f | %zu | %zu | %zu | %llu | %.1f | %.2f | %.0f | %s |\n", res, s, cpu,
-                        double(t.input_points) / s * 1e-6, double(t.input_points) / cpu * 1e-6,
+                        double(input.vertex_count()) / s * 1e-6, double(input.vertex_count()) / cpu * 1e-6,
                         double(peak - before) / 1024.0, r.leaf_cubes, t.nodes.size(), t.max_priority(),
                         static_cast<unsigned long long>(t.triangle_counts.back()), bytes / 1e6, extractor_cpu, extractor_mb,
                         std::any_of(r.warnings.begin(), r.warnings.end(),
@@ -235,6 +275,7 @@ int main(int argc, char** argv) {
                 }
             }
         }
+        if (build_only) continue;
         std::printf("%s%s%s", extraction.c_str(), curve.c_str(), metro.c_str());
         std::fflush(stdout);
 

@@ -18,6 +18,9 @@
 #include <atomic>
 #include <cmath>
 #include <cstring>
+#include <chrono>
+#include <cstdio>
+#include <ctime>
 #include <thread>
 
 namespace lodforge {
@@ -36,15 +39,34 @@ using mc::pack;
 struct PointCloud {
     std::vector<Vec3f> points, normals;
     std::vector<Vec4f> colors;
+    // The positions again as arrays for the kd-tree: its build reads a coordinate chosen at run time, which
+    // Vec3f::operator[] would answer with two branches per read.
+    std::vector<std::array<float, 3>> coords;
     // nanoflann adaptor
-    std::size_t kdtree_get_point_count() const { return points.size(); }
-    float kdtree_get_pt(std::size_t i, std::size_t dim) const { return points[i][static_cast<int>(dim)]; }
+    std::size_t kdtree_get_point_count() const { return coords.size(); }
+    float kdtree_get_pt(std::size_t i, std::size_t dim) const { return coords[i][dim]; }
     template <class B> bool kdtree_get_bbox(B&) const { return false; }
 };
 using KdTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<float, PointCloud>, PointCloud, 3,
                                                    std::uint32_t>;
 
 const char* const input_name = "mcoctree input";
+
+// nanoflann result set for the field's nearest point: the smallest squared distance, ties to the lowest
+// point index (D1), so the field does not depend on the search structure's visiting order. The search
+// radius handed to the tree sits a little above the best distance so that points at exactly that distance
+// still reach addPoint (the tree's cell bounds are rounded); `bound` is an optional upper limit.
+struct LowestNearest {
+    float best = INFINITY, bound = INFINITY;
+    std::uint32_t idx = UINT32_MAX;
+    std::size_t size() const { return idx != UINT32_MAX; }
+    bool full() const { return true; }
+    bool addPoint(float d2, std::uint32_t i) {
+        if (d2 < best || (d2 == best && i < idx)) best = d2, idx = i;
+        return true;
+    }
+    float worstDist() const { return std::min(bound, best * (1 + 1e-5f) + 1e-30f); }
+};
 
 PointCloud points_of(const Mesh& mesh, std::size_t& skipped) {
     if (mesh.positions.empty()) throw_error(Error::Kind::invalid, input_name, "no points");
@@ -68,10 +90,46 @@ PointCloud points_of(const Mesh& mesh, std::size_t& skipped) {
         }
     }
     const bool colors = mesh.colors.size() == mesh.positions.size();
-    for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
-        const Vec3f n = normals[i];
-        if (!is_finite(n))
+    for (std::size_t i = 0; i < mesh.positions.size(); ++i)
+        if (!is_finite(normals[i]))
             throw_error(Error::Kind::invalid, input_name, "normal of point " + std::to_string(i) + " is not finite");
+    // Points at exactly the same position are one surface point (D1): the first keeps the sum of their
+    // normals (for normals from faces, the normal of the welded vertex), the others are dropped. When the
+    // sum vanishes (opposite normals) the first point's own normal stays.
+    std::vector<std::uint8_t> merged(mesh.positions.size(), 0);
+    {
+        auto bits = [](float f) { return std::bit_cast<std::uint32_t>(f == 0 ? 0.f : f); };  // -0 == +0
+        mc::KeyMap first(mesh.positions.size());
+        std::vector<std::pair<std::uint32_t, Vec3f>> sums;  // first index, sum of the group's normals
+        for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+            const Vec3f p = mesh.positions[i];
+            std::uint64_t key = (std::uint64_t(bits(p.x)) * 0x9E3779B97F4A7C15ULL) ^
+                                (std::uint64_t(bits(p.y)) * 0xC2B2AE3D27D4EB4FULL) ^ (std::uint64_t(bits(p.z)) << 7);
+            key &= ~(std::uint64_t(1) << 63);  // never the map's empty key
+            const std::uint32_t at = first.insert(key, static_cast<std::uint32_t>(i));
+            if (at == i || !(mesh.positions[at] == p)) continue;  // new, or another position with this hash
+            merged[i] = 1;
+            if (merged[at] < 2) merged[at] = 2, sums.emplace_back(at, normals[at]);
+        }
+        if (!sums.empty()) {
+            std::vector<std::uint32_t> group(mesh.positions.size(), none);
+            for (std::size_t g = 0; g < sums.size(); ++g) group[sums[g].first] = static_cast<std::uint32_t>(g);
+            for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+                if (merged[i] != 1) continue;
+                const Vec3f p = mesh.positions[i];
+                std::uint64_t key = (std::uint64_t(bits(p.x)) * 0x9E3779B97F4A7C15ULL) ^
+                                    (std::uint64_t(bits(p.y)) * 0xC2B2AE3D27D4EB4FULL) ^ (std::uint64_t(bits(p.z)) << 7);
+                key &= ~(std::uint64_t(1) << 63);
+                Vec3f& sum = sums[group[first.find(key)]].second;
+                sum = sum + normals[i];
+            }
+            for (const auto& [i, sum] : sums)
+                if (length(sum) > 0) normals[i] = sum;
+        }
+    }
+    for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+        if (merged[i] == 1) continue;
+        const Vec3f n = normals[i];
         const float len = length(n);
         if (!(len > 0)) {  // unreferenced vertex or degenerate faces only: no orientation, skip
             ++skipped;
@@ -83,6 +141,8 @@ PointCloud points_of(const Mesh& mesh, std::size_t& skipped) {
     }
     if (pc.points.empty())
         throw_error(Error::Kind::invalid, input_name, "no point has a usable normal (all zero)");
+    pc.coords.reserve(pc.points.size());
+    for (const Vec3f& p : pc.points) pc.coords.push_back({p.x, p.y, p.z});
     return pc;
 }
 
@@ -200,6 +260,71 @@ public:
         for (std::size_t i = 0; i < keys.size(); ++i) store(keys[i], scratch_d_[i], scratch_n_[i]);
         evaluated_ += keys.size();
     }
+    // Scatters every point to the lattice points closer than `radius` cube sizes (D1, "Field by
+    // scattering"): a lattice point that receives a point this way has its exact nearest point (every
+    // point within the radius reached it; ties to the lowest index, points are taken in index order);
+    // the others are left to the kd-tree. Serial; blocks are made as they are reached.
+    void scatter(float radius) {
+        const float r2 = (radius * h_) * (radius * h_);
+        const float inv = 1.f / h_;
+        // Per point, the squared offsets along each axis to the lattice lines around it (the same float
+        // operations as world() and distance2(), so a sum below is the query's squared distance exactly);
+        // the candidates reach one lattice line beyond the radius on each side, the exact test decides.
+        const int reach = static_cast<int>(std::ceil(radius)) + 1, width = 2 * reach + 1;  // lines c - reach .. c + reach
+        std::vector<float> t2(3 * std::size_t(width));
+        std::vector<std::uint32_t> first(3);
+        for (std::uint32_t i = 0; i < pc_.points.size(); ++i) {
+            const Vec3f p = pc_.points[i];
+            for (int a = 0; a < 3; ++a) {
+                const float rel = (p[a] - origin_[a]) * inv;
+                const int c = std::clamp(static_cast<int>(rel), 0, int(grid_));
+                const int lo = std::max(0, c - reach);
+                first[std::size_t(a)] = std::uint32_t(lo);
+                for (int k = 0; k < width; ++k) {
+                    const int x = lo + k;
+                    const float t = (origin_[a] + float(x) * h_) - p[a];
+                    t2[std::size_t(a * width + k)] = x <= int(grid_) ? t * t : INFINITY;
+                }
+            }
+            const float* tx = t2.data();
+            const float* ty = tx + width;
+            const float* tz = ty + width;
+            for (int ix = 0; ix < width; ++ix) {
+                if (!(tx[ix] < r2)) continue;
+                for (int iy = 0; iy < width; ++iy) {
+                    const float dxy2 = tx[ix] + ty[iy];
+                    if (!(dxy2 < r2)) continue;
+                    const std::uint32_t x = first[0] + std::uint32_t(ix), y = first[1] + std::uint32_t(iy);
+                    std::uint32_t base = 0, b = 0, bz = none;
+                    for (int iz = 0; iz < width; ++iz) {
+                        const float d2 = dxy2 + tz[iz];
+                        if (!(d2 < r2)) continue;
+                        const std::uint32_t z = first[2] + std::uint32_t(iz);
+                        if ((z >> 2) != bz) bz = z >> 2, b = block_of(pack(x, y, z)), base = b * 64 + local(pack(x, y, 0));
+                        const std::uint32_t l = (z & 3) << 4;
+                        const std::uint64_t bit = std::uint64_t(1) << (l + (base & 63));
+                        const std::uint32_t at = base + l;
+                        if ((pending_[b] & bit) && !(d2 < dist_[at])) continue;
+                        pending_[b] |= bit;
+                        dist_[at] = d2;
+                        nearest_[at] = i;
+                    }
+                }
+            }
+        }
+        scattered_ = 0;
+        for (std::uint32_t b = 0; b < valid_.size(); ++b) {
+            for (std::uint64_t bits = pending_[b]; bits; bits &= bits - 1) {
+                const auto l = static_cast<std::uint32_t>(std::countr_zero(bits));
+                const std::uint32_t at = b * 64 + l;
+                finish(block_key_[b] | pack(l & 3, (l >> 2) & 3, l >> 4), dist_[at], nearest_[at], dist_[at], nearest_[at]);
+            }
+            scattered_ += std::size_t(std::popcount(pending_[b]));
+            valid_[b] |= pending_[b];
+            pending_[b] = 0;
+        }
+    }
+    std::size_t scattered() const { return scattered_; }
     // Global index of the value at `key` (evaluated now when unknown).
     std::uint32_t index(std::uint64_t key) {
         const std::uint32_t b = block_of(key);
@@ -236,6 +361,7 @@ private:
             dist_.resize(dist_.size() + 64);
             nearest_.resize(nearest_.size() + 64);
             edge_vertex_.resize(edge_vertex_.size() + 192, none);
+            block_key_.push_back(key & ~pack(3, 3, 3));
         }
         return b;
     }
@@ -257,21 +383,19 @@ private:
     }
     // `hint` (a point near the key, or none) bounds the search: the kd-tree then prunes from its first
     // leaf on. The bound sits strictly above the hint's distance, so every point at the minimum distance
-    // is still visited in the same order and the tree returns the same point as an unbounded search.
+    // is still visited and the result is the field's nearest point (ties to the lowest index, D1).
     void query(std::uint64_t key, float& d, std::uint32_t& nearest, std::uint32_t hint = none) const {
         const Vec3f v = world(key);
         const float q[3] = {v.x, v.y, v.z};
-        std::uint32_t idx = 0;
-        float d2 = 0;
-        nanoflann::KNNResultSet<float, std::uint32_t> rs(1);
-        rs.init(&idx, &d2);
-        if (hint != none) {
-            const float bound = distance2(q, hint) * (1 + 1e-4f) + 1e-30f;
-            if (bound < d2) d2 = bound, idx = hint;
-        }
+        LowestNearest rs;
+        if (hint != none) rs.bound = distance2(q, hint) * (1 + 1e-4f) + 1e-30f;
         tree_.findNeighbors(rs, q, nanoflann::SearchParams());
-        if (rs.size() == 0) d2 = distance2(q, idx);  // nothing below the bound: the hint itself (rounding)
-        const Vec3f diff = v - pc_.points[idx];
+        if (rs.idx == none) rs.idx = hint, rs.best = distance2(q, hint);  // nothing below the bound (rounding)
+        finish(key, rs.best, rs.idx, d, nearest);
+    }
+    // Signed distance from the squared distance to the nearest point.
+    void finish(std::uint64_t key, float d2, std::uint32_t idx, float& d, std::uint32_t& nearest) const {
+        const Vec3f diff = world(key) - pc_.points[idx];
         const float dist = std::sqrt(d2);
         // A corner on the tangent plane counts as outside, so every corner gets exactly one sign. So does
         // every point of the grid's outer boundary: a zero set that would run out of the grid (a bridge
@@ -294,9 +418,29 @@ private:
     std::vector<float> dist_;
     std::vector<std::uint32_t> nearest_;
     std::vector<std::uint32_t> edge_vertex_;  // per block: 64 points x 3 axes
+    std::vector<std::uint64_t> block_key_;    // per block: its lowest lattice point
+    std::size_t scattered_ = 0;
     std::vector<float> scratch_d_;
     std::vector<std::uint32_t> scratch_n_;
     std::size_t evaluated_ = 0;
+};
+
+// Wall and process CPU time (all threads) per build stage, for McOctreeBuildResult::stages.
+class StageClock {
+public:
+    explicit StageClock(std::vector<McBuildStage>& out) : out_(out) { reset(); }
+    void mark(const char* name) {
+        const auto w = std::chrono::steady_clock::now();
+        const std::clock_t c = std::clock();
+        out_.push_back({name, std::chrono::duration<double>(w - wall_).count(), double(c - cpu_) / CLOCKS_PER_SEC});
+        wall_ = w, cpu_ = c;
+    }
+    void reset() { wall_ = std::chrono::steady_clock::now(), cpu_ = std::clock(); }
+
+private:
+    std::vector<McBuildStage>& out_;
+    std::chrono::steady_clock::time_point wall_;
+    std::clock_t cpu_;
 };
 
 std::uint64_t morton(std::uint32_t x, std::uint32_t y, std::uint32_t z) {
@@ -375,30 +519,15 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
 
     McOctreeBuildResult result;
     McOctree& tree = result.tree;
+    StageClock clock(result.stages);
     tree.cube_size = static_cast<float>(h);
     tree.levels = levels;
     tree.input_points = pc.points.size();
     tree.origin = bounds.min - Vec3f{1, 1, 1} * static_cast<float>(pad * h);
 
-    KdTree kd(3, pc, nanoflann::KDTreeSingleIndexAdaptorParams(16));
-    kd.buildIndex();
-    check_progress(progress, 0.05, "mcoctree: distance field");
-    result.point_spacing = median_spacing(pc, kd);
-    const bool density_warned = result.point_spacing > h;
-    if (density_warned) {
-        char buf[256];
-        std::snprintf(buf, sizeof buf,
-                      "the cube size %.4g is below the typical point spacing %.4g: the resolution exceeds the data "
-                      "density, expect holes and bumps (a resolution near %zu or lower fits the data)",
-                      h, result.point_spacing,
-                      static_cast<std::size_t>(std::max(1.0, std::floor(longest / result.point_spacing))));
-        tree.warnings.push_back(buf);
-    }
-
-    if (skipped > 0)
-        tree.warnings.push_back(std::to_string(skipped) + " of " + std::to_string(input.positions.size()) +
-                                " points have no usable normal (zero, or no face uses them) and were skipped");
     const unsigned threads = thread_count(params.threads);
+    // Built once, below (nanoflann's constructor builds the index too unless told not to: main built it twice).
+    KdTree kd(3, pc, nanoflann::KDTreeSingleIndexAdaptorParams(16, nanoflann::KDTreeSingleIndexAdaptorFlags::SkipInitialBuildIndex));
     Field field(pc, kd, tree.origin, static_cast<float>(h), grid, threads);
     const float cap = params.band > 0 ? static_cast<float>(params.band * h) : INFINITY;
 
@@ -411,11 +540,50 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
         const auto cx = static_cast<std::uint32_t>(std::clamp(r.x, 0.f, float(grid - 1)));
         const auto cy = static_cast<std::uint32_t>(std::clamp(r.y, 0.f, float(grid - 1)));
         const auto cz = static_cast<std::uint32_t>(std::clamp(r.z, 0.f, float(grid - 1)));
-        frontier.push_back(pack(cx, cy, cz));
+        const std::uint64_t k = pack(cx, cy, cz);
+        if (visited.insert(k)) frontier.push_back(k);
     }
-    std::sort(frontier.begin(), frontier.end());
-    frontier.erase(std::unique(frontier.begin(), frontier.end()), frontier.end());
-    for (std::uint64_t k : frontier) visited.insert(k);
+    std::sort(frontier.begin(), frontier.end());  // lattice order: the queries' hints are near
+
+    // The field near the points by scattering (D1), while the kd-tree for the other values is built on a
+    // second thread. Scattering costs per point and per lattice point within the radius, a query per
+    // lattice point: within 2 cube sizes (nearly every value the flood asks for) where there are at most 2
+    // points per cube holding points, within 1 (about 60 % of them, in the kd-tree's build time) up to 8.
+    const double per_cube = double(pc.points.size()) / double(frontier.size());
+    auto build_kd = [&] {
+        kd.buildIndex();
+        result.point_spacing = median_spacing(pc, kd);
+    };
+    float radius = per_cube <= 2 ? 2.f : per_cube <= 8 ? 1.f : 0.f;
+    if (params.field != McFieldMethod::automatic) radius = params.field == McFieldMethod::scatter ? 2.f : 0.f;
+    const bool scattering = radius > 0;
+    if (scattering) {
+        if (threads > 1) {
+            std::thread kd_thread(build_kd);
+            field.scatter(radius);
+            kd_thread.join();
+        } else {
+            build_kd();
+            field.scatter(radius);
+        }
+    } else {
+        build_kd();
+    }
+    check_progress(progress, 0.05, "mcoctree: distance field");
+    const bool density_warned = result.point_spacing > h;
+    if (density_warned) {
+        char buf[256];
+        std::snprintf(buf, sizeof buf,
+                      "the cube size %.4g is below the typical point spacing %.4g: the resolution exceeds the data "
+                      "density, expect holes and bumps (a resolution near %zu or lower fits the data)",
+                      h, result.point_spacing,
+                      static_cast<std::size_t>(std::max(1.0, std::floor(longest / result.point_spacing))));
+        tree.warnings.push_back(buf);
+    }
+    if (skipped > 0)
+        tree.warnings.push_back(std::to_string(skipped) + " of " + std::to_string(input.positions.size()) +
+                                " points have no usable normal (zero, or no face uses them) and were skipped");
+    clock.mark(scattering ? "points, kd-tree + scatter" : "points, kd-tree");
     std::vector<TmpNode> leaves;
     std::vector<std::uint64_t> corner_keys, next;
     std::size_t round = 0;
@@ -461,6 +629,7 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
         }
     };
     run_flood();
+    clock.mark("flood");
     if (leaves.empty())
         throw_error(Error::Kind::invalid, input_name, "no surface: the signed distance never changes sign");
 
@@ -533,6 +702,7 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
         }
     }
 
+    clock.mark("closing");
     // The other sign of a resolution above the data density: more surface cubes than points, so most
     // cubes get their corner values from points outside them (the spacing test above misses it where the
     // sampling is uneven, e.g. the dragon at 512).
@@ -670,6 +840,7 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
 
         // Vertices: the crossing of an edge at any level is the crossing of the one leaf edge the recursive
         // edge-ratio extension lands on, so all levels share vertices by index.
+        clock.mark("octree, samples");
         check_progress(progress, 0.65, "mcoctree: vertices");
         KeyMap edge_vertex(offset[0] * 4);  // coarse edges; leaf edges are memoised in the field's blocks
         field.clear_leaf_edge_vertices();
@@ -749,6 +920,7 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
             }
         }
 
+        clock.mark("vertices");
         frontier.clear();
         for (const std::uint64_t ek : vertex_edge) {
             const std::uint64_t a = ek & ((std::uint64_t(1) << 51) - 1);
@@ -795,6 +967,7 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
         if (colors) permute(tree.colors);
     }
 
+    clock.mark("check, renumbering");
     // Same-level neighbours (faces and edges) for the seams.
     tree.neighbours.assign(node_count * mc::neighbour_slots, none);
     // Top-down, from the parents' neighbours: the cube next to a child across a face or edge is a sibling
@@ -835,6 +1008,7 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
         }
     }
 
+    clock.mark("neighbours");
     // Area-difference metric: area of the children's triangles minus the node's own.
     check_progress(progress, 0.8, "mcoctree: priorities");
     std::vector<float> area(node_count, 0.f);
@@ -861,9 +1035,12 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
             if (n.child_mask & (1u << k)) children += area[n.first_child + std::uint32_t(c++)];
         tree.metric[ni] = static_cast<float>(children - area[ni]);
     }
-    result.hidden_cuts = mc::number_mc_octree(tree, maps, progress);
+    clock.mark("area metric");
+    result.hidden_cuts = mc::number_mc_octree(tree, maps, threads, progress);
+    clock.mark("numbering");
 
-    result.field_samples = field.size();
+    result.field_samples = field.size() + field.scattered();
+    result.scattered_samples = field.scattered();
     result.warnings = tree.warnings;
     check_progress(progress, 1, "mcoctree: done");
     return result;

@@ -142,7 +142,9 @@ inline int node_triangle_count(const McOctree& tree, std::uint32_t node, std::ui
 
 // Numbers the internal nodes by priority and fills order, cuts and triangle_counts (mc_octree_priority.cpp).
 // `level_maps[l]` maps packed node coordinates at level l to node indices. Returns the number of cuts of
-// the expansion sequence that are not priority levels (a later cut has fewer triangles).
-std::size_t number_mc_octree(McOctree& tree, const std::vector<KeyMap>& level_maps, Progress* progress);
+// the expansion sequence that are not priority levels (a later cut has fewer triangles). The seams'
+// triangle counts are computed on `threads` threads; the result does not depend on it.
+std::size_t number_mc_octree(McOctree& tree, const std::vector<KeyMap>& level_maps, unsigned threads,
+                             Progress* progress);
 
 }  // namespace lodforge::mc

@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <cmath>
 #include <queue>
+#include <thread>
 
 namespace lodforge::mc {
 namespace {
@@ -27,7 +28,7 @@ struct Entry {
 
 }  // namespace
 
-std::size_t number_mc_octree(McOctree& tree, const std::vector<KeyMap>& maps, Progress* progress) {
+std::size_t number_mc_octree(McOctree& tree, const std::vector<KeyMap>& maps, unsigned threads, Progress* progress) {
     const std::size_t n = tree.nodes.size();
     const std::uint32_t grid = 1u << tree.levels;
     std::vector<std::uint8_t> blockers(n, 0);
@@ -81,9 +82,12 @@ std::size_t number_mc_octree(McOctree& tree, const std::vector<KeyMap>& maps, Pr
         return p.first_child + static_cast<std::uint32_t>(std::popcount(unsigned(p.child_mask) & ((1u << octant) - 1)));
     };
 
-    std::uint64_t total = node_triangle_count(tree, 0, 0, seams);
-    triangles[0] = static_cast<std::uint32_t>(total);
-    sequence.push_back(total);
+    // The order depends on the metric and the blockers only; the triangle counts of the seams a step
+    // gives its neighbours are recorded as (node, seam mask) changes and counted afterwards, in parallel
+    // (each thread with its own cache of triangulations), then replayed in order for the exact totals.
+    std::vector<std::uint64_t> changes;  // node | seam mask << 32
+    std::vector<std::uint32_t> changes_end;  // per step: end of its changes
+    changes_end.reserve(n / 2 + 1);
     push(0);
     std::size_t numbered = 0, internal = 0;
     for (const McNode& node : tree.nodes) internal += node.level > 0;
@@ -103,7 +107,6 @@ std::size_t number_mc_octree(McOctree& tree, const std::vector<KeyMap>& maps, Pr
             around[d] = d == 13 ? none : find(x, d % 3 - 1, (d / 3) % 3 - 1, d / 9 - 1);
         auto near = [&](int dx, int dy, int dz) { return around[(dx + 1) + 3 * (dy + 1) + 9 * (dz + 1)]; };
         // Children become present; each waits for the unexpanded coarse nodes it touches.
-        total -= triangles[x];
         for (int o = 0; o < 8; ++o) {
             const std::uint32_t c = child(node, o);
             if (c == none) continue;
@@ -115,9 +118,8 @@ std::size_t number_mc_octree(McOctree& tree, const std::vector<KeyMap>& maps, Pr
                 if (m != none && prio[m] == none) ++count;
             }
             blockers[c] = count;
-            // No same-level neighbour of c is expanded yet: each touches x, which blocked it until now.
-            triangles[c] = static_cast<std::uint32_t>(node_triangle_count(tree, c, 0, seams));
-            total += triangles[c];
+            // No same-level neighbour of c is expanded yet (each touches x, which blocked it until now):
+            // its count is its own triangulation's, taken in the replay.
             if (count == 0) push(c);
         }
         // Neighbours: children of expanded ones stop waiting for x; present ones get a seam with x's children.
@@ -143,16 +145,54 @@ std::size_t number_mc_octree(McOctree& tree, const std::vector<KeyMap>& maps, Pr
                         const bool shares_edge = (dx == 0) + (dy == 0) + (dz == 0) >= 1;
                         if (!shares_edge || nb.level == 0) continue;
                         refine[m] |= slot_bits[std::size_t(slot_of[(1 - dx) + 3 * (1 - dy) + 9 * (1 - dz)])];
-                        const auto now = static_cast<std::uint32_t>(node_triangle_count(tree, m, refine[m], seams));
-                        total = total - triangles[m] + now;
-                        triangles[m] = now;
+                        changes.push_back(std::uint64_t(m) | std::uint64_t(refine[m]) << 32);
                     }
                 }
-        sequence.push_back(total);
+        changes_end.push_back(static_cast<std::uint32_t>(changes.size()));
     }
     if (numbered != internal)
         throw Error(Error::Kind::invalid, "mcoctree: priority numbering stopped early (" + std::to_string(numbered) +
                                               " of " + std::to_string(internal) + " nodes)");
+
+    // The seams' triangle counts (the costly part: triangulations through a cache) on every thread, then
+    // the replay: every cut's exact count, in order.
+    std::vector<std::uint32_t> counts(changes.size());
+    const unsigned workers = changes.size() < 4096 ? 1u : std::max(1u, threads);
+    {
+        auto count_range = [&](std::size_t b, std::size_t e) {
+            SeamCache cache;
+            for (std::size_t i = b; i < e; ++i)
+                counts[i] = static_cast<std::uint32_t>(node_triangle_count(
+                    tree, static_cast<std::uint32_t>(changes[i]), static_cast<std::uint32_t>(changes[i] >> 32), cache));
+        };
+        std::vector<std::thread> pool;
+        const std::size_t chunk = (changes.size() + workers - 1) / workers;
+        for (unsigned t = 1; t < workers; ++t) {
+            const std::size_t b = std::min(changes.size(), t * chunk), e = std::min(changes.size(), b + chunk);
+            if (b < e) pool.emplace_back(count_range, b, e);
+        }
+        count_range(0, std::min(changes.size(), chunk));
+        for (auto& th : pool) th.join();
+    }
+    std::uint64_t total = node_triangle_count(tree, 0, 0, seams);
+    triangles[0] = static_cast<std::uint32_t>(total);
+    sequence.push_back(total);
+    for (std::size_t k = 0, i = 0; k < tree.order.size(); ++k) {
+        const McNode& node = tree.nodes[tree.order[k]];
+        total -= triangles[tree.order[k]];
+        for (int o = 0; o < 8; ++o) {
+            const std::uint32_t c = child(node, o);
+            if (c == none) continue;
+            triangles[c] = static_cast<std::uint32_t>(node_triangle_count(tree, c, 0, seams));
+            total += triangles[c];
+        }
+        for (; i < changes_end[k]; ++i) {
+            const auto m = static_cast<std::uint32_t>(changes[i]);
+            total = total - triangles[m] + counts[i];
+            triangles[m] = counts[i];
+        }
+        sequence.push_back(total);
+    }
     // Priority levels (docs/mcoctree.md, D10): a longest subsequence of the cuts along which the triangle
     // count never decreases, ending with the last cut (every leaf). Patience sorting, O(n log n); only cuts
     // with at most the last cut's count can precede it.

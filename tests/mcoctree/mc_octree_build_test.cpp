@@ -11,6 +11,7 @@
 
 using namespace lodforge;
 using lodforge::test::check_watertight;
+using lodforge::test::expect_same_tree;
 
 TEST(McOctreeBuild, SphereIsClosedAtEveryPriority) {
     const Mesh pts = lodforge::test::sphere_points(20000);
@@ -118,5 +119,71 @@ TEST(McOctreeBuild, DragonScanWithHolesIsClosedAtEveryPriority) {
         const auto w = check_watertight(ex.extract(i).mesh);
         EXPECT_EQ(w.border_edges, 0u) << "priority " << i;
         EXPECT_EQ(w.unpaired_directed, 0u) << "priority " << i;
+    }
+}
+
+namespace {
+
+McOctreeBuildResult build_with(const Mesh& m, McOctreeParams p, McFieldMethod field, unsigned threads) {
+    p.field = field;
+    p.threads = threads;
+    return build_mc_octree(m, p);
+}
+
+}  // namespace
+
+TEST(McOctreeBuild, FieldMethodsAndThreadCountsGiveTheSameTree) {
+    // The field is the nearest point with ties to the lowest index (docs/mcoctree.md, D1), whether it is
+    // found by scattering the points or by kd-tree queries, on one thread or two. frag_115: colours,
+    // an open scan with a band; the bunny's points: normals from faces.
+    const Mesh frag = read_mesh(lodforge::test::shared_data("color-open3d-frag115/frag_115.ply"));
+    const Mesh bunny = read_mesh(lodforge::test::shared_data("scan-bunny/bun_zipper.ply"));
+    struct Case {
+        const Mesh* mesh;
+        std::size_t resolution;
+        double band;
+    };
+    for (const Case& c : {Case{&frag, 64, 2.5}, Case{&bunny, 96, 0}}) {
+        McOctreeParams p;
+        p.resolution = c.resolution;
+        p.band = c.band;
+        const McOctreeBuildResult queries = build_with(*c.mesh, p, McFieldMethod::queries, 1);
+        const McOctreeBuildResult scatter = build_with(*c.mesh, p, McFieldMethod::scatter, 2);
+        EXPECT_EQ(queries.scattered_samples, 0u);
+        EXPECT_GT(scatter.scattered_samples, scatter.field_samples / 2);
+        EXPECT_GT(queries.tree.nodes.size(), 1000u);
+        expect_same_tree(queries.tree, scatter.tree, "queries, 1 thread / scatter, 2 threads");
+        expect_same_tree(queries.tree, build_with(*c.mesh, p, McFieldMethod::queries, 2).tree, "queries, 2 threads");
+        expect_same_tree(queries.tree, build_with(*c.mesh, p, McFieldMethod::scatter, 1).tree, "scatter, 1 thread");
+    }
+}
+
+TEST(McOctreeBuild, DuplicatePointsAreOnePoint) {
+    // Points at the same position are merged into the first, with the sum of their normals
+    // (docs/mcoctree.md, D1). Copies with flipped normals cancel: the first's own normal stays, so the tree
+    // is the one without the copies. Copies with another normal: the tree is that of the input whose
+    // points carry the normalised sum. With either method of evaluating the field.
+    const Mesh sphere = lodforge::test::sphere_points(6000);
+    Mesh flipped = sphere, tilted = sphere, summed = sphere;
+    for (std::size_t i = 0; i < sphere.positions.size(); i += 3) {
+        flipped.positions.push_back(sphere.positions[i]);
+        flipped.normals.push_back(sphere.normals[i] * -1.f);
+        const Vec3f other{0.f, 1.f, 0.f};
+        tilted.positions.push_back(sphere.positions[i]);
+        tilted.normals.push_back(other);
+        const Vec3f sum = sphere.normals[i] + other;
+        if (length(sum) > 0) summed.normals[i] = sum * (1.f / length(sum));
+    }
+    McOctreeParams p;
+    p.resolution = 40;
+    for (const McFieldMethod m : {McFieldMethod::queries, McFieldMethod::scatter}) {
+        const char* what = m == McFieldMethod::queries ? "queries" : "scatter";
+        const McOctree plain = build_with(sphere, p, m, 2).tree;
+        expect_same_tree(plain, build_with(flipped, p, m, 2).tree, what);
+        const McOctree tilted_tree = build_with(tilted, p, m, 2).tree;
+        // (the build normalises the sum itself; the test's normalised input differs from it by rounding)
+        expect_same_tree(build_with(summed, p, m, 2).tree, tilted_tree, what, false);
+        EXPECT_NE(plain.positions, tilted_tree.positions) << what;  // the merged normals do matter
+        EXPECT_EQ(tilted_tree.input_points, sphere.positions.size());
     }
 }

@@ -36,13 +36,7 @@ TEST(McOctreeIo, RoundTripKeepsEverything) {
     const McOctree t = small_tree();
     write_mc_octree(t, dir.file("a.mco"));
     const McOctree r = read_mc_octree(dir.file("a.mco"));
-    EXPECT_EQ(r.nodes.size(), t.nodes.size());
-    EXPECT_EQ(r.positions, t.positions);
-    EXPECT_EQ(r.colors, t.colors);
-    EXPECT_EQ(r.order, t.order);
-    EXPECT_EQ(r.cuts, t.cuts);
-    EXPECT_EQ(r.triangle_counts, t.triangle_counts);
-    EXPECT_EQ(r.vertex_ids, t.vertex_ids);
+    lodforge::test::expect_same_tree(t, r, "read back");
     const McExtraction a = extract_mc_octree(t, t.max_priority() / 2), b = extract_mc_octree(r, r.max_priority() / 2);
     EXPECT_EQ(a.mesh.indices, b.mesh.indices);
     EXPECT_EQ(a.mesh.positions, b.mesh.positions);

@@ -1,7 +1,10 @@
 // Helpers shared by the marching-cube octree tests: synthetic closed inputs and a watertightness check.
 #pragma once
 
+#include "lodforge/mc_octree.h"
 #include "lodforge/mesh.h"
+
+#include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
@@ -59,6 +62,31 @@ inline Watertight check_watertight(const Mesh& m) {
     }
     for (const auto& [e, c] : undirected) w.border_edges += c == 1;
     return w;
+}
+
+// The whole tree, field-derived parts included (vertex positions, normals, colours, masks, numbering).
+// `normals`: compare the vertex normals too (off where the inputs' normals differ by rounding).
+inline void expect_same_tree(const McOctree& a, const McOctree& b, const char* what, bool normals = true) {
+    SCOPED_TRACE(what);
+    ASSERT_EQ(a.nodes.size(), b.nodes.size());
+    for (std::size_t i = 0; i < a.nodes.size(); ++i) {
+        const McNode &x = a.nodes[i], &y = b.nodes[i];
+        ASSERT_TRUE(x.x == y.x && x.y == y.y && x.z == y.z && x.level == y.level && x.child_mask == y.child_mask &&
+                    x.first_child == y.first_child && x.parent == y.parent && x.inside == y.inside &&
+                    x.crossings == y.crossings && x.first_vertex == y.first_vertex && x.priority == y.priority)
+            << "node " << i;
+    }
+    EXPECT_EQ(a.positions, b.positions);
+    if (normals) {
+        EXPECT_EQ(a.normals, b.normals);
+    }
+    EXPECT_EQ(a.colors, b.colors);
+    EXPECT_EQ(a.vertex_ids, b.vertex_ids);
+    EXPECT_EQ(a.neighbours, b.neighbours);
+    EXPECT_EQ(a.order, b.order);
+    EXPECT_EQ(a.cuts, b.cuts);
+    EXPECT_EQ(a.triangle_counts, b.triangle_counts);
+    EXPECT_EQ(a.metric, b.metric);
 }
 
 }  // namespace lodforge::test

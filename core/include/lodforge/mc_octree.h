@@ -25,6 +25,14 @@
 
 namespace lodforge {
 
+// How the distance field is evaluated (docs/mcoctree.md, D1). Every method gives the same values: the
+// nearest input point of each lattice point, ties to the lowest point index.
+enum class McFieldMethod {
+    automatic,  // scatter when the points are not much denser than the cubes, else queries only
+    queries,    // one kd-tree query per lattice point
+    scatter,    // every point to the lattice points within 2 cube sizes, kd-tree queries for the others
+};
+
 struct McOctreeParams {
     // Leaf cubes along the longest axis of the input's bounding box (used when cube_size is 0).
     std::size_t resolution = 128;
@@ -34,8 +42,9 @@ struct McOctreeParams {
     // the field's zero set). > 0: a leaf cube is kept only when every corner lies within band * cube size
     // of an input point, so the surface of an open scan ends near its border (and is open there).
     double band = 0;
-    // Worker threads for the distance field (0 = hardware concurrency).
+    // Worker threads for the distance field (0 = hardware concurrency). The tree does not depend on it.
     unsigned threads = 0;
+    McFieldMethod field = McFieldMethod::automatic;  // speed only: the tree does not depend on it
 };
 
 // One octree node. Coordinates are in units of the node's own size: the node covers
@@ -88,14 +97,22 @@ struct McOctree {
     bool has_colors() const { return !colors.empty(); }
 };
 
+// Time spent in one stage of the build: wall clock and CPU time of the whole process (all threads).
+struct McBuildStage {
+    std::string name;
+    double wall_s = 0, cpu_s = 0;
+};
+
 struct McOctreeBuildResult {
     McOctree tree;
     std::size_t leaf_cubes = 0;        // non-null leaf cubes stored
-    std::size_t field_samples = 0;     // distance-field evaluations (kd-tree queries)
+    std::size_t field_samples = 0;     // distance-field values (lattice points)
+    std::size_t scattered_samples = 0; // of which found by scattering the points (the rest: kd-tree queries)
     std::size_t dropped_far_cubes = 0; // crossing cubes dropped by the band rule (surface ends there)
     double point_spacing = 0;          // median distance of an input point to its nearest neighbour
     std::size_t hidden_cuts = 0;       // cuts of the order that are not levels (a later cut has fewer triangles)
     std::vector<std::string> warnings; // same as tree.warnings
+    std::vector<McBuildStage> stages;  // in build order
 };
 
 // Points are the mesh's positions; normals are the mesh's or, when absent, the area-weighted normals
