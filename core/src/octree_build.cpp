@@ -627,6 +627,7 @@ OctreeBuildResult build_octree(const std::string& input_ply, const std::string& 
         const Clock::time_point t0 = Clock::now();
         SoupParams sp;
         sp.memory_bytes = params.memory_bytes;
+        sp.threads = params.threads;
         // A soup the builder would read whole into memory anyway stays there (no write, no read back):
         // 30 % of the budget in records is within the builder's in-memory share, 40 % of the budget
         // at record + 16 bytes per triangle, for every record size (≥ 48 bytes).

@@ -35,6 +35,7 @@
 #include <cmath>
 #include <filesystem>
 #include <iterator>
+#include <limits>
 #include <system_error>
 
 namespace lodforge {
@@ -126,8 +127,8 @@ public:
         packed_.resize(chunk * layout.floats());
     }
     // Reads the next chunk; returns the count (records in packed()).
-    std::size_t next(PlyReader& reader) {
-        const std::size_t n = reader.read_vertices(p_, n_, c_, t_);
+    std::size_t next(PlyReader& reader, std::size_t max = std::numeric_limits<std::size_t>::max()) {
+        const std::size_t n = reader.read_vertices(std::span(p_).first(std::min(max, p_.size())), n_, c_, t_);
         const std::size_t f = layout_.floats();
         for (std::size_t i = 0; i < n; ++i) {
             float* r = &packed_[i * f];
@@ -601,6 +602,166 @@ void drop_seam_borders(SoupResult& r, std::size_t budget) {
     remove_seams(r, uses);
 }
 
+
+// ---- ASCII PLY on two threads -------------------------------------------------------------------------
+
+// ASCII PLY records are one per line (blank lines may separate them), so the rest of an element can be
+// cut into segments of whole lines by counting non-blank lines, which costs little next to parsing their
+// numbers. A helper thread counts ahead and parses every second segment with a reader of its own
+// (PlyReader::seek_ascii_record); this thread parses the others and consumes all of them in file order,
+// so everything downstream (soup, edge keys, asset) is the same as with one reader. The helper never
+// reports an error: where it cannot parse a segment, or the data ends early, this thread is left at the
+// start of that segment and reads on by itself, with the message and line number one reader gives.
+struct Unit {};  // a slot that carries nothing
+
+struct AsciiSegment {
+    std::uint64_t begin = 0, line = 0;  // byte offset of its first line and the newlines before it
+    std::uint64_t end = 0, end_line = 0;
+    std::uint64_t first = 0, count = 0;  // records
+};
+
+// Parses the rest of the reader's current element. `parse(reader, segment, slot)` reads the segment's
+// records into `slot` (either thread); `consume(slot, segment)` runs here, in file order. Returns with
+// the reader after the element, or at the first record it must read alone.
+template <class Slot, class Parse, class Consume>
+void parse_ascii_in_two(PlyReader& reader, const std::string& path, std::size_t segment_bytes, Parse parse, Consume consume) {
+    const PlyHeader& header = reader.header();
+    const std::size_t element = static_cast<std::size_t>(reader.current_element() - header.elements.data());
+    const std::uint64_t total = header.elements[element].count;
+    std::mutex mutex;
+    std::condition_variable changed;
+    std::vector<AsciiSegment> segments;                      // counted so far
+    std::size_t alone_from = std::numeric_limits<std::size_t>::max();  // segments this thread reads alone
+    bool counted_all = false;
+    std::optional<Slot> handed;  // the helper's parsed segment, not consumed yet
+    std::size_t handed_index = 0;
+    bool stop = false;
+    const std::uint64_t start = reader.position(), start_line = reader.line(), start_record = total - reader.remaining();
+
+    std::thread helper([&] {
+        std::size_t j = 0;
+        try {
+            File file(path, O_RDONLY);
+            const std::uint64_t size = file.size();
+            PlyReader own(path);
+            std::vector<char> buffer(std::size_t{1} << 20);
+            std::uint64_t pos = start, line = start_line, record = start_record;
+            std::uint64_t have = 0, at = start;  // buffer holds [at, at + have)
+            bool in_line_blank = true;           // the line being scanned has only blanks so far
+            while (record < total) {
+                AsciiSegment s{pos, line, 0, 0, record, 0};
+                bool ended = false;  // the data ended before `total` records
+                for (bool full = false; !full;) {
+                    if (pos == at + have) {
+                        if (pos >= size) {
+                            if (!in_line_blank) ++s.count, ++record, in_line_blank = true;  // a last line without '\n'
+                            ended = record < total;
+                            break;
+                        }
+                        at = pos;
+                        have = std::min<std::uint64_t>(buffer.size(), size - pos);
+                        file.read_at(buffer.data(), static_cast<std::size_t>(have), at);
+                    }
+                    // Line by line (memchr finds the ends); a line counts when it has a non-blank byte.
+                    const char* const lim = buffer.data() + have;
+                    for (const char* p = buffer.data() + (pos - at); p < lim;) {
+                        if (in_line_blank) {
+                            while (p < lim && (*p == ' ' || *p == '\t' || *p == '\r' || *p == '\f' || *p == '\v')) ++p;
+                            if (p == lim) break;
+                            if (*p != '\n') in_line_blank = false;
+                        }
+                        const char* nl = static_cast<const char*>(std::memchr(p, '\n', static_cast<std::size_t>(lim - p)));
+                        if (!nl) {
+                            p = lim;
+                            break;
+                        }
+                        p = nl + 1;
+                        ++line;
+                        if (!in_line_blank) {
+                            ++s.count;
+                            ++record;
+                            in_line_blank = true;
+                            if (record == total || static_cast<std::uint64_t>(p - buffer.data()) + at - s.begin >= segment_bytes) {
+                                pos = at + static_cast<std::uint64_t>(p - buffer.data());
+                                full = true;
+                                break;
+                            }
+                        }
+                    }
+                    if (!full) pos = at + have;
+                }
+                if (ended) break;  // this thread reads the short tail itself, and reports it
+                s.end = pos;
+                s.end_line = line;
+                {
+                    std::lock_guard lock(mutex);
+                    segments.push_back(s);
+                }
+                changed.notify_all();
+                if (j % 2 == 1) {
+                    Slot slot;
+                    own.seek_ascii_record(element, s.first, s.begin, s.line);
+                    parse(own, s, slot);
+                    std::unique_lock lock(mutex);
+                    changed.wait(lock, [&] { return !handed || stop; });
+                    if (stop) return;
+                    handed.emplace(std::move(slot));
+                    handed_index = j;
+                    changed.notify_all();
+                }
+                ++j;
+            }
+        } catch (...) {
+        }
+        std::lock_guard lock(mutex);
+        alone_from = std::min(alone_from, j);
+        counted_all = true;
+        changed.notify_all();
+    });
+    struct Join {
+        std::mutex& m;
+        std::condition_variable& c;
+        bool& stop;
+        std::thread& t;
+        ~Join() {
+            {
+                std::lock_guard lock(m);
+                stop = true;
+            }
+            c.notify_all();
+            t.join();
+        }
+    } join{mutex, changed, stop, helper};
+
+    for (std::size_t j = 0;; ++j) {
+        AsciiSegment s;
+        {
+            std::unique_lock lock(mutex);
+            changed.wait(lock, [&] { return segments.size() > j || counted_all; });
+            if (j >= alone_from || j >= segments.size()) return;  // read alone from here (or done)
+            s = segments[j];
+            if (j % 2 == 1) {
+                changed.wait(lock, [&] { return (handed && handed_index == j) || j >= alone_from; });
+                if (!handed || handed_index != j) return;
+            }
+        }
+        if (j % 2 == 0) {
+            Slot slot;
+            parse(reader, s, slot);
+            consume(slot, s);
+        } else {
+            Slot slot = std::move(*handed);
+            {
+                std::lock_guard lock(mutex);
+                handed.reset();
+            }
+            changed.notify_all();
+            reader.seek_ascii_record(element, s.first + s.count, s.end, s.end_line);
+            consume(slot, s);
+        }
+    }
+}
+
 }  // namespace
 
 
@@ -662,37 +823,76 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
         EdgeWorker edge_worker(edges, params.count_edges);
         std::vector<std::uint64_t> degenerate_uses;  // edges of triangles with a repeated vertex
         std::uint64_t loaded = 0;
+        auto take_faces = [&](const PlyFaceChunk& fc) {
+            r.skipped_faces += fc.skipped_faces;
+            edge_worker.push(fc.indices);
+            for (std::size_t t = 0; t + 2 < fc.indices.size(); t += 3) {
+                const std::uint32_t* v = &fc.indices[t];
+                if (v[0] != v[1] && v[1] != v[2] && v[0] != v[2]) continue;
+                for (int k = 0; k < 3; ++k) {
+                    const std::uint32_t a = v[k], b = v[(k + 1) % 3];
+                    if (a != b) degenerate_uses.push_back(a < b ? (std::uint64_t{a} << 32 | b) : (std::uint64_t{b} << 32 | a));
+                }
+            }
+            if (r.wedge_texcoords) {
+                for (std::size_t c = 0; c < fc.indices.size(); ++c) {
+                    const std::uint32_t id = fc.indices[c];
+                    std::memcpy(wedge.data(), &vertices[static_cast<std::size_t>(id) * floats], vrec);
+                    set_wedge(wedge.data(), fc.corner_texcoords[c]);
+                    out.corner(id, wedge.data());
+                }
+            } else {
+                for (std::uint32_t id : fc.indices) out.corner(id, &vertices[static_cast<std::size_t>(id) * floats]);
+            }
+            r.triangles += fc.triangle_count();
+        };
+        // ASCII elements are parsed on two threads (see parse_ascii_in_two); the rest of the element, if
+        // the helper stops early, and binary files go through the single-reader loop.
+        const bool split_ascii = params.threads >= 2 && header.format == PlyEncoding::ascii;
+        const std::size_t segment_bytes = std::clamp<std::size_t>(budget / 32, 64 << 10, 512 << 10);
+        std::size_t split_element = header.elements.size();  // the element last split
+        auto parse_vertices = [&](PlyReader& rd, const AsciiSegment& s, Unit&) {
+            VertexChunks own(L, kVertexChunk);
+            for (std::uint64_t done = 0; done < s.count;) {
+                const std::size_t n = own.next(rd, static_cast<std::size_t>(std::min<std::uint64_t>(kVertexChunk, s.count - done)));
+                if (n == 0) break;
+                std::memcpy(&vertices[static_cast<std::size_t>(s.first + done) * floats], own.packed(), n * vrec);
+                done += n;
+            }
+        };
+        auto parse_faces = [&](PlyReader& rd, const AsciiSegment& s, PlyFaceChunk& chunk) {
+            for (std::uint64_t done = 0; done < s.count;) {
+                const std::size_t n = rd.read_faces(static_cast<std::size_t>(s.count - done), chunk);
+                if (n == 0) break;
+                done += n;
+            }
+        };
         try {
-            while (reader.current_element()) {
+            while (const PlyElement* e = reader.current_element()) {
                 check_progress(progress, static_cast<double>(reader.position()) / file_size, "soup: reading");
-                if (reader.at_vertices()) {
+                const std::size_t el = static_cast<std::size_t>(e - header.elements.data());
+                if (split_ascii && el != split_element && (reader.at_vertices() || reader.at_faces())) {
+                    split_element = el;
+                    if (reader.at_vertices()) {
+                        parse_ascii_in_two<Unit>(reader, ply_path, segment_bytes, parse_vertices, [&](Unit&, const AsciiSegment& s) {
+                            loaded = s.first + s.count;
+                            check_progress(progress, static_cast<double>(s.end) / file_size, "soup: reading");
+                        });
+                    } else {
+                        parse_ascii_in_two<PlyFaceChunk>(reader, ply_path, segment_bytes, parse_faces,
+                                                         [&](PlyFaceChunk& chunk, const AsciiSegment& s) {
+                            take_faces(chunk);
+                            check_progress(progress, static_cast<double>(s.end) / file_size, "soup: reading");
+                        });
+                    }
+                } else if (reader.at_vertices()) {
                     const std::size_t n = chunks.next(reader);
                     std::memcpy(&vertices[loaded * floats], chunks.packed(), n * vrec);
                     loaded += n;
                 } else if (reader.at_faces()) {
                     faces.clear();
                     reader.read_faces(kFaceChunk, faces);
-                    r.skipped_faces += faces.skipped_faces;
-                    edge_worker.push(faces.indices);
-                    for (std::size_t t = 0; t + 2 < faces.indices.size(); t += 3) {
-                        const std::uint32_t* v = &faces.indices[t];
-                        if (v[0] != v[1] && v[1] != v[2] && v[0] != v[2]) continue;
-                        for (int k = 0; k < 3; ++k) {
-                            const std::uint32_t a = v[k], b = v[(k + 1) % 3];
-                            if (a != b) degenerate_uses.push_back(a < b ? (std::uint64_t{a} << 32 | b) : (std::uint64_t{b} << 32 | a));
-                        }
-                    }
-                    if (r.wedge_texcoords) {
-                        for (std::size_t c = 0; c < faces.indices.size(); ++c) {
-                            const std::uint32_t id = faces.indices[c];
-                            std::memcpy(wedge.data(), &vertices[static_cast<std::size_t>(id) * floats], vrec);
-                            set_wedge(wedge.data(), faces.corner_texcoords[c]);
-                            out.corner(id, wedge.data());
-                        }
-                    } else {
-                        for (std::uint32_t id : faces.indices) out.corner(id, &vertices[static_cast<std::size_t>(id) * floats]);
-                    }
-                    r.triangles += faces.triangle_count();
+                    take_faces(faces);
                 } else {
                     reader.skip_element();
                 }

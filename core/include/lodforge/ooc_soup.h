@@ -70,6 +70,8 @@ struct SoupParams {
     // SoupResult::memory instead of being written (the octree builder asks for this when the whole soup
     // would be processed in memory anyway); larger soups are written as usual.
     std::size_t memory_soup_bytes = 0;
+    // 2: an ASCII PLY is parsed on two threads (same soup bytes as with 1).
+    int threads = 2;
 };
 
 struct SoupResult {
