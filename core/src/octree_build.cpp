@@ -63,7 +63,7 @@ struct TriangleFile {
 
 class Builder {
 public:
-    Builder(const OctreeBuildParams& p, const SoupResult& soup, const std::string& scratch, AtomicFile& asset,
+    Builder(const OctreeBuildParams& p, SoupResult& soup, const std::string& scratch, AtomicFile& asset,
             Progress* progress)
         : p_(p), soup_(soup), scratch_(scratch), asset_(asset), progress_(progress), layout_(soup.layout),
           corner_(soup_corner_bytes(layout_)), tri_bytes_(soup_triangle_bytes(layout_)) {
@@ -359,6 +359,8 @@ private:
                               std::uint32_t* scratch, int depth) {
         std::vector<Task> tasks;
         plan(tasks, id, base, tris, count, scratch, depth);
+        // The node operator needs the input's border and odd edges; their sort overlapped the work so far.
+        soup_.wait_edges();
         const std::size_t n = tasks.size();
         std::vector<std::optional<NodeResult>> results(n);
         std::vector<NodeOutput> outputs(n);
@@ -591,7 +593,7 @@ private:
     }
 
     const OctreeBuildParams& p_;
-    const SoupResult& soup_;
+    SoupResult& soup_;
     std::string scratch_;
     AtomicFile& asset_;
     Progress* progress_;
@@ -628,15 +630,22 @@ OctreeBuildResult build_octree(const std::string& input_ply, const std::string& 
         SoupParams sp;
         sp.memory_bytes = params.memory_bytes;
         sp.threads = params.threads;
+        sp.background_edges = true;
         // A soup the builder would read whole into memory anyway stays there (no write, no read back):
         // 30 % of the budget in records is within the builder's in-memory share, 40 % of the budget
         // at record + 16 bytes per triangle, for every record size (≥ 48 bytes).
         sp.memory_soup_bytes = static_cast<std::size_t>(0.3 * static_cast<double>(params.memory_bytes));
         result.soup = convert_to_soup(input_ply, scratch.file("soup"), sp, progress);
+        // A background edge sort ends before the temporary directory goes, whatever happens.
+        struct EndEdgeJob {
+            SoupResult& soup;
+            ~EndEdgeJob() { soup.edge_job.reset(); }
+        } end_edge_job{result.soup};
         result.soup_seconds = seconds_since(t0);
         const Clock::time_point t1 = Clock::now();
         Builder b(params, result.soup, scratch.path(), asset, progress);
         b.run(result);
+        result.soup.wait_edges();
         std::vector<std::byte>().swap(result.soup.memory);
         check_progress(progress, 1.0, "octree: simplifying");
         asset.commit();

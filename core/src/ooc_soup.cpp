@@ -477,6 +477,27 @@ void check_triangle_count(const std::string& path, std::uint64_t triangles) {
 
 }  // namespace
 
+// ---- background edge sort ----------------------------------------------------------------------------
+
+struct SoupEdgeJob {
+    std::thread thread;
+    std::exception_ptr error;
+    std::vector<std::uint64_t> odd, border;
+    ~SoupEdgeJob() {
+        if (thread.joinable()) thread.join();
+    }
+};
+
+void SoupResult::wait_edges() {
+    if (!edge_job) return;
+    const std::shared_ptr<SoupEdgeJob> job = std::move(edge_job);
+    edge_job.reset();
+    job->thread.join();
+    if (job->error) std::rethrow_exception(job->error);
+    odd_non_manifold_edges = std::move(job->odd);
+    border_edges = std::move(job->border);
+}
+
 // ---- TempDirectory ----------------------------------------------------------------------------------
 
 TempDirectory::TempDirectory(const std::string& parent) {
@@ -819,8 +840,8 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
         if (expected_bytes > cap) cap = 0;
         SoupWriter out(soup_path, L, cap);
         out.reserve(expected_bytes);
-        EdgeCounter edges(edges_path, r.vertices, expected_edges, budget, params.count_edges);
-        EdgeWorker edge_worker(edges, params.count_edges);
+        auto edges = std::make_unique<EdgeCounter>(edges_path, r.vertices, expected_edges, budget, params.count_edges);
+        EdgeWorker edge_worker(*edges, params.count_edges);
         std::vector<std::uint64_t> degenerate_uses;  // edges of triangles with a repeated vertex
         std::uint64_t loaded = 0;
         auto take_faces = [&](const PlyFaceChunk& fc) {
@@ -901,10 +922,30 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
             if (r.triangles == 0) throw_error(Error::Kind::invalid, ply_path, "no triangles");
             out.finish(r);
             edge_worker.finish();
-            r.odd_non_manifold_edges = edges.odd_non_manifold(progress, 0.9, 1.0, r.border_edges);
-            drop_seam_borders(r, vertices.data(), floats, degenerate_uses);
-            std::vector<float>().swap(vertices);
             r.temp_bytes_peak = out.bytes();
+            if (params.background_edges && params.count_edges) {
+                // The counter, the vertex table and the degenerate uses move to the job, which frees them.
+                auto job = std::make_shared<SoupEdgeJob>();
+                job->thread = std::thread([job = job.get(), counter = std::move(edges), table = std::move(vertices),
+                                           degenerate = std::move(degenerate_uses), floats]() mutable {
+                    try {
+                        SoupResult part;
+                        part.odd_non_manifold_edges = counter->odd_non_manifold(nullptr, 0, 1, part.border_edges);
+                        counter.reset();
+                        drop_seam_borders(part, table.data(), floats, degenerate);
+                        job->odd = std::move(part.odd_non_manifold_edges);
+                        job->border = std::move(part.border_edges);
+                    } catch (...) {
+                        job->error = std::current_exception();
+                    }
+                });
+                r.edge_job = std::move(job);
+            } else {
+                r.odd_non_manifold_edges = edges->odd_non_manifold(progress, 0.9, 1.0, r.border_edges);
+                edges.reset();
+                drop_seam_borders(r, vertices.data(), floats, degenerate_uses);
+                std::vector<float>().swap(vertices);
+            }
         } catch (...) {
             std::error_code ignored;
             fs::remove(soup_path, ignored);

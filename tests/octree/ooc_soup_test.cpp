@@ -338,7 +338,27 @@ TEST(OocSoup, AsciiOnTwoThreadsGivesTheSoupOfOneReader) {
         EXPECT_EQ(one.border_edges, two.border_edges);
         EXPECT_TRUE(read_all(dir.file("one")) == read_all(dir.file("two"))) << ply;
         if (ply == odd) expect_soup_matches(ply, two);
+        // The edge lists sorted in the background (as the octree builder asks) are the same once waited for.
+        SoupParams p;
+        p.memory_bytes = 4u << 20;
+        p.background_edges = true;
+        SoupResult later = convert_to_soup(ply, dir.file("later"), p);
+        EXPECT_TRUE(later.edge_job != nullptr);
+        later.wait_edges();
+        EXPECT_TRUE(later.edge_job == nullptr);
+        EXPECT_EQ(later.odd_non_manifold_edges, one.odd_non_manifold_edges);
+        EXPECT_EQ(later.border_edges, one.border_edges);
     }
+    // And on the open bunny, which has border edges.
+    const std::string bunny = shared_data("scan-bunny/bun_zipper.ply");
+    const SoupResult now = soup_with_threads(bunny, dir.file("now"), 2);
+    SoupParams p;
+    p.background_edges = true;
+    SoupResult later = convert_to_soup(bunny, dir.file("later"), p);
+    later.wait_edges();
+    EXPECT_FALSE(now.border_edges.empty());
+    EXPECT_EQ(later.border_edges, now.border_edges);
+    EXPECT_EQ(later.odd_non_manifold_edges, now.odd_non_manifold_edges);
 }
 
 // Errors in any segment (the helper's included) and a cut-off file give one reader's message.
