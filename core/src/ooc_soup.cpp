@@ -269,32 +269,60 @@ public:
     }
 
 private:
-    // LSD radix sort, as few passes as the key width needs, with digits of at most 11 bits: 2 048
-    // counters and write streams stay in the L1 cache and the store buffers, where 16-bit digits (65 536
-    // scattered write streams) miss on nearly every store.
-    // `bits`: the keys' width (2 × bit_width(V), known up front: no pass to find the largest key).
+    // Radix sort. Digits of at most 11 bits: 2 048 counters and write streams stay in the L1 cache and
+    // the store buffers, where 16-bit digits (65 536 scattered write streams) miss on nearly every store.
+    // `bits`: the keys' width (2 × bit_width(V), known up front: no pass to find the largest key). More
+    // keys than the L2 cache holds are first split by their top 10 bits (one pass), and each part, a few
+    // thousand keys, is then sorted by the rest in the cache: one pass over memory instead of every
+    // digit's pass missing the cache.
     static void radix_sort(std::vector<std::uint64_t>& a, std::vector<std::uint64_t>& tmp, int bits) {
         if (bits <= 0 || a.size() < 2) return;
+        tmp.resize(a.size());
+        constexpr std::size_t kInCache = std::size_t{1} << 15;  // keys (256 KB)
+        constexpr int kTop = 10;
+        if (a.size() <= kInCache || bits <= 2 * kTop) {
+            if (lsd_sort(a.data(), tmp.data(), a.size(), bits) != a.data()) a.swap(tmp);
+            return;
+        }
+        const int low = bits - kTop;
+        std::vector<std::size_t> start((std::size_t{1} << kTop) + 1, 0);
+        for (std::uint64_t k : a) ++start[(k >> low) + 1];
+        for (std::size_t d = 1; d < start.size(); ++d) start[d] += start[d - 1];
+        {
+            std::vector<std::size_t> fill(start.begin(), start.end() - 1);
+            for (std::uint64_t k : a) tmp[fill[k >> low]++] = k;
+        }
+        for (std::size_t d = 0; d + 1 < start.size(); ++d) {
+            const std::size_t n = start[d + 1] - start[d];
+            std::uint64_t* part = tmp.data() + start[d];
+            const std::uint64_t* sorted = lsd_sort(part, a.data() + start[d], n, low);
+            if (sorted != part) std::memcpy(part, sorted, n * 8);
+        }
+        a.swap(tmp);
+    }
+    // LSD passes over the low `bits` bits of a[0, n), buffer b; returns a or b, whichever holds the result.
+    static std::uint64_t* lsd_sort(std::uint64_t* a, std::uint64_t* b, std::size_t n, int bits) {
+        if (bits <= 0 || n < 2) return a;
         const int passes = (bits + 10) / 11;
         const int digit = (bits + passes - 1) / passes;
         const std::uint64_t mask = (std::uint64_t{1} << digit) - 1;
-        tmp.resize(a.size());
         // Every digit's histogram in one read of the keys.
         const std::size_t radix = std::size_t{1} << digit;
         std::vector<std::size_t> counts(static_cast<std::size_t>(passes) * radix, 0);
-        for (std::uint64_t k : a)
-            for (int p = 0; p < passes; ++p) ++counts[static_cast<std::size_t>(p) * radix + ((k >> (p * digit)) & mask)];
+        for (std::size_t i = 0; i < n; ++i)
+            for (int p = 0; p < passes; ++p) ++counts[static_cast<std::size_t>(p) * radix + ((a[i] >> (p * digit)) & mask)];
         for (int p = 0, shift = 0; p < passes; ++p, shift += digit) {
             const std::span<std::size_t> count(counts.data() + static_cast<std::size_t>(p) * radix, radix);
             std::size_t sum = 0;
             for (std::size_t& c : count) {
-                const std::size_t n = c;
+                const std::size_t k = c;
                 c = sum;
-                sum += n;
+                sum += k;
             }
-            for (std::uint64_t k : a) tmp[count[(k >> shift) & mask]++] = k;
-            a.swap(tmp);
+            for (std::size_t i = 0; i < n; ++i) b[count[(a[i] >> shift) & mask]++] = a[i];
+            std::swap(a, b);
         }
+        return a;
     }
     bool enabled_;
     int shift_;
