@@ -63,7 +63,7 @@ struct TriangleFile {
 
 class Builder {
 public:
-    Builder(const OctreeBuildParams& p, const SoupResult& soup, const std::string& scratch, AtomicFile& asset,
+    Builder(const OctreeBuildParams& p, SoupResult& soup, const std::string& scratch, AtomicFile& asset,
             Progress* progress)
         : p_(p), soup_(soup), scratch_(scratch), asset_(asset), progress_(progress), layout_(soup.layout),
           corner_(soup_corner_bytes(layout_)), tri_bytes_(soup_triangle_bytes(layout_)) {
@@ -182,6 +182,67 @@ private:
         const OctreeNode& d = nodes_[id];
         for (int a = 0; a < 3; ++a) mid[a] = static_cast<double>(d.cell_min[a]) + 0.5 * d.cell_size;
     }
+    // For every triangle of a subtree held in memory (indexed as in `base`, whose ids are < count), its
+    // octant at each level from node `id` down to max_depth, 3 bits per level: one read of each record
+    // instead of one per level (plan's reads of scattered records were its cost). The cells are derived
+    // with the float arithmetic of add_children and the midpoints as in cell_mid, so every choice is the
+    // one `octant` makes at that node.
+    std::vector<std::uint64_t> octant_paths(std::uint32_t id, const std::byte* base, const std::uint32_t* tris,
+                                            std::size_t count, int depth) const {
+        std::vector<std::uint64_t> paths(count, 0);
+        const int levels = path_levels(count, depth);
+        const OctreeNode& root = nodes_[id];
+        auto compute = [&](std::size_t from, std::size_t to) {
+            for (std::size_t i = from; i < to; ++i) {
+                const std::byte* tri = base + std::size_t{tris[i]} * tri_bytes_;
+                double c[3];
+                {
+                    float p[3][3];
+                    for (int k = 0; k < 3; ++k) std::memcpy(p[k], position(tri, k), sizeof p[k]);
+                    for (int a = 0; a < 3; ++a) c[a] = (static_cast<double>(p[0][a]) + p[1][a] + p[2][a]) / 3.0;
+                }
+                float cmin[3] = {root.cell_min[0], root.cell_min[1], root.cell_min[2]};
+                float size = root.cell_size;
+                std::uint64_t path = 0;
+                for (int l = 0; l < levels; ++l) {
+                    const float half = size * 0.5f;
+                    unsigned o = 0;
+                    for (int a = 0; a < 3; ++a) {  // branch-free: the side is a coin toss for the predictor
+                        const bool upper = c[a] >= static_cast<double>(cmin[a]) + 0.5 * size;
+                        cmin[a] = cmin[a] + (upper ? half : 0.f);
+                        o |= static_cast<unsigned>(upper) << a;
+                    }
+                    size = half;
+                    path |= std::uint64_t{o} << (3 * l);
+                }
+                paths[tris[i]] = path;
+            }
+        };
+        // Independent per triangle: large subtrees take both threads.
+        if (p_.threads >= 2 && count >= 65536) {
+            std::thread helper(compute, count / 2, count);
+            try {
+                compute(0, count / 2);
+            } catch (...) {
+                helper.join();
+                throw;
+            }
+            helper.join();
+        } else {
+            compute(0, count);
+        }
+        return paths;
+    }
+
+    // Levels octant_paths precomputes: a surface's triangles split about fourfold per level, so
+    // log4(count / max_triangles) + 2 levels cover nearly every subtree; plan computes any deeper level
+    // from the records. At most max_depth - depth ≤ 20 (60 bits).
+    int path_levels(std::size_t count, int depth) const {
+        const double ratio = static_cast<double>(count) / static_cast<double>(std::max<std::size_t>(p_.max_triangles, 1));
+        const int expected = ratio > 1 ? static_cast<int>(std::ceil(std::log(ratio) / std::log(4.0))) + 2 : 1;
+        return std::clamp(std::min(expected, p_.max_depth - depth), 0, 20);
+    }
+
     // Appends the non-empty octants as contiguous children of `id`; returns child id per octant.
     std::array<std::uint32_t, 8> add_children(std::uint32_t id, const std::array<std::uint64_t, 8>& counts) {
         std::array<std::uint32_t, 8> ids{};
@@ -311,8 +372,9 @@ private:
     // Splits a subtree held in memory down to its leaves (counting sorts by octant), fixing every node id
     // in the same order as a serial depth-first build, before any node is simplified: representative
     // keys contain node ids, so the ids must not depend on which thread finishes first.
-    std::size_t plan(std::vector<Task>& tasks, std::uint32_t id, const std::byte* base, std::uint32_t* tris,
-                     std::size_t count, std::uint32_t* scratch, int depth) {
+    // `paths[t]`: triangle t's octant at every level below the subtree's root, 3 bits each (octant_paths).
+    std::size_t plan(std::vector<Task>& tasks, std::uint32_t id, const std::byte* base, const std::uint64_t* paths, int levels,
+                     int level, std::uint32_t* tris, std::size_t count, std::uint32_t* scratch, int depth) {
         if (is_leaf(count, depth)) {
             Task t;
             t.id = id;
@@ -321,27 +383,34 @@ private:
             tasks.push_back(std::move(t));
             return tasks.size() - 1;
         }
-        double mid[3];
-        cell_mid(id, mid);
         std::array<std::uint64_t, 8> counts{};
-        for (std::size_t i = 0; i < count; ++i) {
-            const int o = octant(base + std::size_t{tris[i]} * tri_bytes_, mid);
-            scratch[i] = static_cast<std::uint32_t>(o);
-            ++counts[o];
+        // The octant of every triangle, precomputed (paths) or, below the precomputed levels, from its record.
+        std::vector<std::uint8_t> deep;
+        auto octant_of = [&](std::size_t i) -> unsigned {
+            return level < levels ? static_cast<unsigned>((paths[tris[i]] >> (3 * level)) & 7) : deep[i];
+        };
+        if (level >= levels) {
+            double mid[3];
+            cell_mid(id, mid);
+            deep.resize(count);
+            for (std::size_t i = 0; i < count; ++i)
+                deep[i] = static_cast<std::uint8_t>(octant(base + std::size_t{tris[i]} * tri_bytes_, mid));
         }
-        // Counting sort of the triangle ids by octant (scratch holds the octant, then the sorted ids).
+        for (std::size_t i = 0; i < count; ++i) ++counts[octant_of(i)];
+        // Counting sort of the triangle ids by octant (through scratch).
         std::array<std::size_t, 8> start{};
         for (int o = 1; o < 8; ++o) start[o] = start[o - 1] + counts[o - 1];
         {
-            std::vector<std::uint32_t> sorted(count);
             std::array<std::size_t, 8> fill = start;
-            for (std::size_t i = 0; i < count; ++i) sorted[fill[scratch[i]]++] = tris[i];
-            std::copy(sorted.begin(), sorted.end(), tris);
+            for (std::size_t i = 0; i < count; ++i) scratch[fill[octant_of(i)]++] = tris[i];
+            std::copy(scratch, scratch + count, tris);
         }
         const std::array<std::uint32_t, 8> ids = add_children(id, counts);
         std::vector<std::size_t> children;
         for (int o = 0; o < 8; ++o)
-            if (counts[o]) children.push_back(plan(tasks, ids[o], base, tris + start[o], counts[o], scratch + start[o], depth + 1));
+            if (counts[o])
+                children.push_back(plan(tasks, ids[o], base, paths, levels, level + 1, tris + start[o], counts[o],
+                                        scratch + start[o], depth + 1));
         Task t;
         t.id = id;
         t.children = std::move(children);
@@ -358,7 +427,13 @@ private:
     NodeResult process_memory(std::uint32_t id, const std::byte* base, std::uint32_t* tris, std::size_t count,
                               std::uint32_t* scratch, int depth) {
         std::vector<Task> tasks;
-        plan(tasks, id, base, tris, count, scratch, depth);
+        {
+            const bool leaf = is_leaf(count, depth);
+            const std::vector<std::uint64_t> paths = leaf ? std::vector<std::uint64_t>() : octant_paths(id, base, tris, count, depth);
+            plan(tasks, id, base, paths.data(), leaf ? 0 : path_levels(count, depth), 0, tris, count, scratch, depth);
+        }
+        // The node operator needs the input's border and odd edges; their sort overlapped the work so far.
+        soup_.wait_edges();
         const std::size_t n = tasks.size();
         std::vector<std::optional<NodeResult>> results(n);
         std::vector<NodeOutput> outputs(n);
@@ -591,7 +666,7 @@ private:
     }
 
     const OctreeBuildParams& p_;
-    const SoupResult& soup_;
+    SoupResult& soup_;
     std::string scratch_;
     AtomicFile& asset_;
     Progress* progress_;
@@ -627,15 +702,23 @@ OctreeBuildResult build_octree(const std::string& input_ply, const std::string& 
         const Clock::time_point t0 = Clock::now();
         SoupParams sp;
         sp.memory_bytes = params.memory_bytes;
+        sp.threads = params.threads;
+        sp.background_edges = true;
         // A soup the builder would read whole into memory anyway stays there (no write, no read back):
         // 30 % of the budget in records is within the builder's in-memory share, 40 % of the budget
         // at record + 16 bytes per triangle, for every record size (≥ 48 bytes).
         sp.memory_soup_bytes = static_cast<std::size_t>(0.3 * static_cast<double>(params.memory_bytes));
         result.soup = convert_to_soup(input_ply, scratch.file("soup"), sp, progress);
+        // A background edge sort ends before the temporary directory goes, whatever happens.
+        struct EndEdgeJob {
+            SoupResult& soup;
+            ~EndEdgeJob() { soup.edge_job.reset(); }
+        } end_edge_job{result.soup};
         result.soup_seconds = seconds_since(t0);
         const Clock::time_point t1 = Clock::now();
         Builder b(params, result.soup, scratch.path(), asset, progress);
         b.run(result);
+        result.soup.wait_edges();
         std::vector<std::byte>().swap(result.soup.memory);
         check_progress(progress, 1.0, "octree: simplifying");
         asset.commit();

@@ -35,6 +35,7 @@
 #include <cmath>
 #include <filesystem>
 #include <iterator>
+#include <limits>
 #include <system_error>
 
 namespace lodforge {
@@ -126,8 +127,8 @@ public:
         packed_.resize(chunk * layout.floats());
     }
     // Reads the next chunk; returns the count (records in packed()).
-    std::size_t next(PlyReader& reader) {
-        const std::size_t n = reader.read_vertices(p_, n_, c_, t_);
+    std::size_t next(PlyReader& reader, std::size_t max = std::numeric_limits<std::size_t>::max()) {
+        const std::size_t n = reader.read_vertices(std::span(p_).first(std::min(max, p_.size())), n_, c_, t_);
         const std::size_t f = layout_.floats();
         for (std::size_t i = 0; i < n; ++i) {
             float* r = &packed_[i * f];
@@ -174,15 +175,18 @@ class EdgeCounter {
 public:
     EdgeCounter(const std::string& path, std::uint64_t vertices, std::uint64_t expected_edges, std::size_t budget, bool enabled)
         : enabled_(enabled), shift_(std::max<int>(1, static_cast<int>(std::bit_width(vertices)))),
-          // When every key fits in 15 % of the budget they stay in memory (two buckets, one per sort thread:
-          // keys plus one sort buffer per thread stay within the 30 % the spilled version uses).
+          // When every key fits in 15 % of the budget they stay in memory, in buckets by their top bits
+          // (up to 512: a bucket of the dragon is ~40 KB, so its radix sort runs in the cache and needs 9
+          // bits fewer, one pass fewer; a hash spread hundreds of MB over two buckets sorted out of cache).
           in_memory_(expected_edges * 8 <= static_cast<std::uint64_t>(0.15 * budget)),
-          buckets_(in_memory_ ? 2 : static_cast<std::size_t>(std::max<std::uint64_t>(
+          top_bits_(in_memory_ ? std::min(9, 2 * shift_) : 0),
+          buckets_(in_memory_ ? std::size_t{1} << top_bits_ : static_cast<std::size_t>(std::max<std::uint64_t>(
               2, (expected_edges * 16 + static_cast<std::uint64_t>(0.15 * budget) - 1) / static_cast<std::uint64_t>(0.15 * budget)))) {
         if (!enabled_) return;
         if (in_memory_) {
             resident_.resize(buckets_);
-            for (auto& b : resident_) b.reserve(static_cast<std::size_t>(expected_edges / buckets_ + expected_edges / 64 + 16));
+            const std::uint64_t each = expected_edges / buckets_;
+            for (auto& b : resident_) b.reserve(static_cast<std::size_t>(each + each / 4 + 16));
         } else {
             spill_.emplace(path, buckets_, 8,
                            std::clamp<std::size_t>(static_cast<std::size_t>(0.1 * budget) / buckets_, 4096, std::size_t{1} << 20));
@@ -194,9 +198,8 @@ public:
             const std::uint32_t a = v[k], b = v[(k + 1) % 3];
             // Packed to 2 × bit_width(V) bits so the radix sort needs as few passes as possible.
             const std::uint64_t key = a < b ? (std::uint64_t{a} << shift_ | b) : (std::uint64_t{b} << shift_ | a);
-            const std::size_t bucket = ooc::mix64(key) % buckets_;
-            if (in_memory_) resident_[bucket].push_back(key);
-            else spill_->add(bucket, &key);
+            if (in_memory_) resident_[static_cast<std::size_t>(key >> (2 * shift_ - top_bits_))].push_back(key);
+            else spill_->add(ooc::mix64(key) % buckets_, &key);
         }
     }
     // The odd non-manifold edges; `border` receives the edges used exactly once. Both sorted.
@@ -226,7 +229,7 @@ public:
                         std::memcpy(&keys[at], data, bytes);
                     });
                 }
-                radix_sort(keys, tmp_keys, 2 * shift_);
+                radix_sort(keys, tmp_keys, 2 * shift_ - top_bits_);  // a resident bucket shares its top bits
                 for (std::size_t i = 0; i < keys.size();) {
                     std::size_t j = i + 1;
                     while (j < keys.size() && keys[j] == keys[i]) ++j;
@@ -266,35 +269,65 @@ public:
     }
 
 private:
-    // LSD radix sort, as few passes as the key width needs, with digits of at most 11 bits: 2 048
-    // counters and write streams stay in the L1 cache and the store buffers, where 16-bit digits (65 536
-    // scattered write streams) miss on nearly every store.
-    // `bits`: the keys' width (2 × bit_width(V), known up front: no pass to find the largest key).
+    // Radix sort. Digits of at most 11 bits: 2 048 counters and write streams stay in the L1 cache and
+    // the store buffers, where 16-bit digits (65 536 scattered write streams) miss on nearly every store.
+    // `bits`: the keys' width (2 × bit_width(V), known up front: no pass to find the largest key). More
+    // keys than the L2 cache holds are first split by their top 10 bits (one pass), and each part, a few
+    // thousand keys, is then sorted by the rest in the cache: one pass over memory instead of every
+    // digit's pass missing the cache.
     static void radix_sort(std::vector<std::uint64_t>& a, std::vector<std::uint64_t>& tmp, int bits) {
+        if (bits <= 0 || a.size() < 2) return;
+        tmp.resize(a.size());
+        constexpr std::size_t kInCache = std::size_t{1} << 15;  // keys (256 KB)
+        constexpr int kTop = 10;
+        if (a.size() <= kInCache || bits <= 2 * kTop) {
+            if (lsd_sort(a.data(), tmp.data(), a.size(), bits) != a.data()) a.swap(tmp);
+            return;
+        }
+        const int low = bits - kTop;
+        std::vector<std::size_t> start((std::size_t{1} << kTop) + 1, 0);
+        for (std::uint64_t k : a) ++start[(k >> low) + 1];
+        for (std::size_t d = 1; d < start.size(); ++d) start[d] += start[d - 1];
+        {
+            std::vector<std::size_t> fill(start.begin(), start.end() - 1);
+            for (std::uint64_t k : a) tmp[fill[k >> low]++] = k;
+        }
+        for (std::size_t d = 0; d + 1 < start.size(); ++d) {
+            const std::size_t n = start[d + 1] - start[d];
+            std::uint64_t* part = tmp.data() + start[d];
+            const std::uint64_t* sorted = lsd_sort(part, a.data() + start[d], n, low);
+            if (sorted != part) std::memcpy(part, sorted, n * 8);
+        }
+        a.swap(tmp);
+    }
+    // LSD passes over the low `bits` bits of a[0, n), buffer b; returns a or b, whichever holds the result.
+    static std::uint64_t* lsd_sort(std::uint64_t* a, std::uint64_t* b, std::size_t n, int bits) {
+        if (bits <= 0 || n < 2) return a;
         const int passes = (bits + 10) / 11;
         const int digit = (bits + passes - 1) / passes;
         const std::uint64_t mask = (std::uint64_t{1} << digit) - 1;
-        tmp.resize(a.size());
         // Every digit's histogram in one read of the keys.
         const std::size_t radix = std::size_t{1} << digit;
         std::vector<std::size_t> counts(static_cast<std::size_t>(passes) * radix, 0);
-        for (std::uint64_t k : a)
-            for (int p = 0; p < passes; ++p) ++counts[static_cast<std::size_t>(p) * radix + ((k >> (p * digit)) & mask)];
+        for (std::size_t i = 0; i < n; ++i)
+            for (int p = 0; p < passes; ++p) ++counts[static_cast<std::size_t>(p) * radix + ((a[i] >> (p * digit)) & mask)];
         for (int p = 0, shift = 0; p < passes; ++p, shift += digit) {
             const std::span<std::size_t> count(counts.data() + static_cast<std::size_t>(p) * radix, radix);
             std::size_t sum = 0;
             for (std::size_t& c : count) {
-                const std::size_t n = c;
+                const std::size_t k = c;
                 c = sum;
-                sum += n;
+                sum += k;
             }
-            for (std::uint64_t k : a) tmp[count[(k >> shift) & mask]++] = k;
-            a.swap(tmp);
+            for (std::size_t i = 0; i < n; ++i) b[count[(a[i] >> shift) & mask]++] = a[i];
+            std::swap(a, b);
         }
+        return a;
     }
     bool enabled_;
     int shift_;
     bool in_memory_;
+    int top_bits_;  // resident buckets: the keys' top bits that pick the bucket
     std::size_t buckets_;
     std::vector<std::vector<std::uint64_t>> resident_;  // in memory: the keys of each bucket
     std::optional<BucketSpill> spill_;                  // otherwise: spilled to disk
@@ -476,6 +509,27 @@ void check_triangle_count(const std::string& path, std::uint64_t triangles) {
 
 }  // namespace
 
+// ---- background edge sort ----------------------------------------------------------------------------
+
+struct SoupEdgeJob {
+    std::thread thread;
+    std::exception_ptr error;
+    std::vector<std::uint64_t> odd, border;
+    ~SoupEdgeJob() {
+        if (thread.joinable()) thread.join();
+    }
+};
+
+void SoupResult::wait_edges() {
+    if (!edge_job) return;
+    const std::shared_ptr<SoupEdgeJob> job = std::move(edge_job);
+    edge_job.reset();
+    job->thread.join();
+    if (job->error) std::rethrow_exception(job->error);
+    odd_non_manifold_edges = std::move(job->odd);
+    border_edges = std::move(job->border);
+}
+
 // ---- TempDirectory ----------------------------------------------------------------------------------
 
 TempDirectory::TempDirectory(const std::string& parent) {
@@ -601,6 +655,166 @@ void drop_seam_borders(SoupResult& r, std::size_t budget) {
     remove_seams(r, uses);
 }
 
+
+// ---- ASCII PLY on two threads -------------------------------------------------------------------------
+
+// ASCII PLY records are one per line (blank lines may separate them), so the rest of an element can be
+// cut into segments of whole lines by counting non-blank lines, which costs little next to parsing their
+// numbers. A helper thread counts ahead and parses every second segment with a reader of its own
+// (PlyReader::seek_ascii_record); this thread parses the others and consumes all of them in file order,
+// so everything downstream (soup, edge keys, asset) is the same as with one reader. The helper never
+// reports an error: where it cannot parse a segment, or the data ends early, this thread is left at the
+// start of that segment and reads on by itself, with the message and line number one reader gives.
+struct Unit {};  // a slot that carries nothing
+
+struct AsciiSegment {
+    std::uint64_t begin = 0, line = 0;  // byte offset of its first line and the newlines before it
+    std::uint64_t end = 0, end_line = 0;
+    std::uint64_t first = 0, count = 0;  // records
+};
+
+// Parses the rest of the reader's current element. `parse(reader, segment, slot)` reads the segment's
+// records into `slot` (either thread); `consume(slot, segment)` runs here, in file order. Returns with
+// the reader after the element, or at the first record it must read alone.
+template <class Slot, class Parse, class Consume>
+void parse_ascii_in_two(PlyReader& reader, const std::string& path, std::size_t segment_bytes, Parse parse, Consume consume) {
+    const PlyHeader& header = reader.header();
+    const std::size_t element = static_cast<std::size_t>(reader.current_element() - header.elements.data());
+    const std::uint64_t total = header.elements[element].count;
+    std::mutex mutex;
+    std::condition_variable changed;
+    std::vector<AsciiSegment> segments;                      // counted so far
+    std::size_t alone_from = std::numeric_limits<std::size_t>::max();  // segments this thread reads alone
+    bool counted_all = false;
+    std::optional<Slot> handed;  // the helper's parsed segment, not consumed yet
+    std::size_t handed_index = 0;
+    bool stop = false;
+    const std::uint64_t start = reader.position(), start_line = reader.line(), start_record = total - reader.remaining();
+
+    std::thread helper([&] {
+        std::size_t j = 0;
+        try {
+            File file(path, O_RDONLY);
+            const std::uint64_t size = file.size();
+            PlyReader own(path);
+            std::vector<char> buffer(std::size_t{1} << 20);
+            std::uint64_t pos = start, line = start_line, record = start_record;
+            std::uint64_t have = 0, at = start;  // buffer holds [at, at + have)
+            bool in_line_blank = true;           // the line being scanned has only blanks so far
+            while (record < total) {
+                AsciiSegment s{pos, line, 0, 0, record, 0};
+                bool ended = false;  // the data ended before `total` records
+                for (bool full = false; !full;) {
+                    if (pos == at + have) {
+                        if (pos >= size) {
+                            if (!in_line_blank) ++s.count, ++record, in_line_blank = true;  // a last line without '\n'
+                            ended = record < total;
+                            break;
+                        }
+                        at = pos;
+                        have = std::min<std::uint64_t>(buffer.size(), size - pos);
+                        file.read_at(buffer.data(), static_cast<std::size_t>(have), at);
+                    }
+                    // Line by line (memchr finds the ends); a line counts when it has a non-blank byte.
+                    const char* const lim = buffer.data() + have;
+                    for (const char* p = buffer.data() + (pos - at); p < lim;) {
+                        if (in_line_blank) {
+                            while (p < lim && (*p == ' ' || *p == '\t' || *p == '\r' || *p == '\f' || *p == '\v')) ++p;
+                            if (p == lim) break;
+                            if (*p != '\n') in_line_blank = false;
+                        }
+                        const char* nl = static_cast<const char*>(std::memchr(p, '\n', static_cast<std::size_t>(lim - p)));
+                        if (!nl) {
+                            p = lim;
+                            break;
+                        }
+                        p = nl + 1;
+                        ++line;
+                        if (!in_line_blank) {
+                            ++s.count;
+                            ++record;
+                            in_line_blank = true;
+                            if (record == total || static_cast<std::uint64_t>(p - buffer.data()) + at - s.begin >= segment_bytes) {
+                                pos = at + static_cast<std::uint64_t>(p - buffer.data());
+                                full = true;
+                                break;
+                            }
+                        }
+                    }
+                    if (!full) pos = at + have;
+                }
+                if (ended) break;  // this thread reads the short tail itself, and reports it
+                s.end = pos;
+                s.end_line = line;
+                {
+                    std::lock_guard lock(mutex);
+                    segments.push_back(s);
+                }
+                changed.notify_all();
+                if (j % 2 == 1) {
+                    Slot slot;
+                    own.seek_ascii_record(element, s.first, s.begin, s.line);
+                    parse(own, s, slot);
+                    std::unique_lock lock(mutex);
+                    changed.wait(lock, [&] { return !handed || stop; });
+                    if (stop) return;
+                    handed.emplace(std::move(slot));
+                    handed_index = j;
+                    changed.notify_all();
+                }
+                ++j;
+            }
+        } catch (...) {
+        }
+        std::lock_guard lock(mutex);
+        alone_from = std::min(alone_from, j);
+        counted_all = true;
+        changed.notify_all();
+    });
+    struct Join {
+        std::mutex& m;
+        std::condition_variable& c;
+        bool& stop;
+        std::thread& t;
+        ~Join() {
+            {
+                std::lock_guard lock(m);
+                stop = true;
+            }
+            c.notify_all();
+            t.join();
+        }
+    } join{mutex, changed, stop, helper};
+
+    for (std::size_t j = 0;; ++j) {
+        AsciiSegment s;
+        {
+            std::unique_lock lock(mutex);
+            changed.wait(lock, [&] { return segments.size() > j || counted_all; });
+            if (j >= alone_from || j >= segments.size()) return;  // read alone from here (or done)
+            s = segments[j];
+            if (j % 2 == 1) {
+                changed.wait(lock, [&] { return (handed && handed_index == j) || j >= alone_from; });
+                if (!handed || handed_index != j) return;
+            }
+        }
+        if (j % 2 == 0) {
+            Slot slot;
+            parse(reader, s, slot);
+            consume(slot, s);
+        } else {
+            Slot slot = std::move(*handed);
+            {
+                std::lock_guard lock(mutex);
+                handed.reset();
+            }
+            changed.notify_all();
+            reader.seek_ascii_record(element, s.first + s.count, s.end, s.end_line);
+            consume(slot, s);
+        }
+    }
+}
+
 }  // namespace
 
 
@@ -658,41 +872,80 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
         if (expected_bytes > cap) cap = 0;
         SoupWriter out(soup_path, L, cap);
         out.reserve(expected_bytes);
-        EdgeCounter edges(edges_path, r.vertices, expected_edges, budget, params.count_edges);
-        EdgeWorker edge_worker(edges, params.count_edges);
+        auto edges = std::make_unique<EdgeCounter>(edges_path, r.vertices, expected_edges, budget, params.count_edges);
+        EdgeWorker edge_worker(*edges, params.count_edges);
         std::vector<std::uint64_t> degenerate_uses;  // edges of triangles with a repeated vertex
         std::uint64_t loaded = 0;
+        auto take_faces = [&](const PlyFaceChunk& fc) {
+            r.skipped_faces += fc.skipped_faces;
+            edge_worker.push(fc.indices);
+            for (std::size_t t = 0; t + 2 < fc.indices.size(); t += 3) {
+                const std::uint32_t* v = &fc.indices[t];
+                if (v[0] != v[1] && v[1] != v[2] && v[0] != v[2]) continue;
+                for (int k = 0; k < 3; ++k) {
+                    const std::uint32_t a = v[k], b = v[(k + 1) % 3];
+                    if (a != b) degenerate_uses.push_back(a < b ? (std::uint64_t{a} << 32 | b) : (std::uint64_t{b} << 32 | a));
+                }
+            }
+            if (r.wedge_texcoords) {
+                for (std::size_t c = 0; c < fc.indices.size(); ++c) {
+                    const std::uint32_t id = fc.indices[c];
+                    std::memcpy(wedge.data(), &vertices[static_cast<std::size_t>(id) * floats], vrec);
+                    set_wedge(wedge.data(), fc.corner_texcoords[c]);
+                    out.corner(id, wedge.data());
+                }
+            } else {
+                for (std::uint32_t id : fc.indices) out.corner(id, &vertices[static_cast<std::size_t>(id) * floats]);
+            }
+            r.triangles += fc.triangle_count();
+        };
+        // ASCII elements are parsed on two threads (see parse_ascii_in_two); the rest of the element, if
+        // the helper stops early, and binary files go through the single-reader loop.
+        const bool split_ascii = params.threads >= 2 && header.format == PlyEncoding::ascii;
+        const std::size_t segment_bytes = std::clamp<std::size_t>(budget / 32, 64 << 10, 512 << 10);
+        std::size_t split_element = header.elements.size();  // the element last split
+        auto parse_vertices = [&](PlyReader& rd, const AsciiSegment& s, Unit&) {
+            VertexChunks own(L, kVertexChunk);
+            for (std::uint64_t done = 0; done < s.count;) {
+                const std::size_t n = own.next(rd, static_cast<std::size_t>(std::min<std::uint64_t>(kVertexChunk, s.count - done)));
+                if (n == 0) break;
+                std::memcpy(&vertices[static_cast<std::size_t>(s.first + done) * floats], own.packed(), n * vrec);
+                done += n;
+            }
+        };
+        auto parse_faces = [&](PlyReader& rd, const AsciiSegment& s, PlyFaceChunk& chunk) {
+            for (std::uint64_t done = 0; done < s.count;) {
+                const std::size_t n = rd.read_faces(static_cast<std::size_t>(s.count - done), chunk);
+                if (n == 0) break;
+                done += n;
+            }
+        };
         try {
-            while (reader.current_element()) {
+            while (const PlyElement* e = reader.current_element()) {
                 check_progress(progress, static_cast<double>(reader.position()) / file_size, "soup: reading");
-                if (reader.at_vertices()) {
+                const std::size_t el = static_cast<std::size_t>(e - header.elements.data());
+                if (split_ascii && el != split_element && (reader.at_vertices() || reader.at_faces())) {
+                    split_element = el;
+                    if (reader.at_vertices()) {
+                        parse_ascii_in_two<Unit>(reader, ply_path, segment_bytes, parse_vertices, [&](Unit&, const AsciiSegment& s) {
+                            loaded = s.first + s.count;
+                            check_progress(progress, static_cast<double>(s.end) / file_size, "soup: reading");
+                        });
+                    } else {
+                        parse_ascii_in_two<PlyFaceChunk>(reader, ply_path, segment_bytes, parse_faces,
+                                                         [&](PlyFaceChunk& chunk, const AsciiSegment& s) {
+                            take_faces(chunk);
+                            check_progress(progress, static_cast<double>(s.end) / file_size, "soup: reading");
+                        });
+                    }
+                } else if (reader.at_vertices()) {
                     const std::size_t n = chunks.next(reader);
                     std::memcpy(&vertices[loaded * floats], chunks.packed(), n * vrec);
                     loaded += n;
                 } else if (reader.at_faces()) {
                     faces.clear();
                     reader.read_faces(kFaceChunk, faces);
-                    r.skipped_faces += faces.skipped_faces;
-                    edge_worker.push(faces.indices);
-                    for (std::size_t t = 0; t + 2 < faces.indices.size(); t += 3) {
-                        const std::uint32_t* v = &faces.indices[t];
-                        if (v[0] != v[1] && v[1] != v[2] && v[0] != v[2]) continue;
-                        for (int k = 0; k < 3; ++k) {
-                            const std::uint32_t a = v[k], b = v[(k + 1) % 3];
-                            if (a != b) degenerate_uses.push_back(a < b ? (std::uint64_t{a} << 32 | b) : (std::uint64_t{b} << 32 | a));
-                        }
-                    }
-                    if (r.wedge_texcoords) {
-                        for (std::size_t c = 0; c < faces.indices.size(); ++c) {
-                            const std::uint32_t id = faces.indices[c];
-                            std::memcpy(wedge.data(), &vertices[static_cast<std::size_t>(id) * floats], vrec);
-                            set_wedge(wedge.data(), faces.corner_texcoords[c]);
-                            out.corner(id, wedge.data());
-                        }
-                    } else {
-                        for (std::uint32_t id : faces.indices) out.corner(id, &vertices[static_cast<std::size_t>(id) * floats]);
-                    }
-                    r.triangles += faces.triangle_count();
+                    take_faces(faces);
                 } else {
                     reader.skip_element();
                 }
@@ -701,10 +954,30 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
             if (r.triangles == 0) throw_error(Error::Kind::invalid, ply_path, "no triangles");
             out.finish(r);
             edge_worker.finish();
-            r.odd_non_manifold_edges = edges.odd_non_manifold(progress, 0.9, 1.0, r.border_edges);
-            drop_seam_borders(r, vertices.data(), floats, degenerate_uses);
-            std::vector<float>().swap(vertices);
             r.temp_bytes_peak = out.bytes();
+            if (params.background_edges && params.count_edges) {
+                // The counter, the vertex table and the degenerate uses move to the job, which frees them.
+                auto job = std::make_shared<SoupEdgeJob>();
+                job->thread = std::thread([job = job.get(), counter = std::move(edges), table = std::move(vertices),
+                                           degenerate = std::move(degenerate_uses), floats]() mutable {
+                    try {
+                        SoupResult part;
+                        part.odd_non_manifold_edges = counter->odd_non_manifold(nullptr, 0, 1, part.border_edges);
+                        counter.reset();
+                        drop_seam_borders(part, table.data(), floats, degenerate);
+                        job->odd = std::move(part.odd_non_manifold_edges);
+                        job->border = std::move(part.border_edges);
+                    } catch (...) {
+                        job->error = std::current_exception();
+                    }
+                });
+                r.edge_job = std::move(job);
+            } else {
+                r.odd_non_manifold_edges = edges->odd_non_manifold(progress, 0.9, 1.0, r.border_edges);
+                edges.reset();
+                drop_seam_borders(r, vertices.data(), floats, degenerate_uses);
+                std::vector<float>().swap(vertices);
+            }
         } catch (...) {
             std::error_code ignored;
             fs::remove(soup_path, ignored);

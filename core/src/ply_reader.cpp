@@ -849,6 +849,21 @@ std::size_t PlyReader::read_faces(std::size_t max_records, PlyFaceChunk& out) {
 
 void PlyReader::skip_element() { impl_->skip_element(); }
 
+void PlyReader::seek_ascii_record(std::size_t element, std::uint64_t record, std::uint64_t byte_offset, std::uint64_t line) {
+    Impl& m = *impl_;
+    if (!m.ascii) m.fail(Error::Kind::argument, "seek_ascii_record on a binary file");
+    if (element >= m.header.elements.size() || element < m.element || record > m.header.elements[element].count ||
+        byte_offset < m.in.offset())
+        m.fail(Error::Kind::argument, "seek_ascii_record: cannot move back or past the element");
+    if (!m.in.skip(byte_offset - m.in.offset())) m.truncated();
+    m.element = element;
+    m.remaining = m.header.elements[element].count - record;
+    m.line = line;
+    m.advance();
+}
+
+std::uint64_t PlyReader::line() const { return impl_->line; }
+
 // ---- read_ply -------------------------------------------------------------------------------------
 
 namespace {

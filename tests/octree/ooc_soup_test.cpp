@@ -282,5 +282,117 @@ TEST(OocSoup, TruncatedAndLyingInputsStopWithTheFileName) {
     EXPECT_EQ(leftovers, 0u);
 }
 
+// An ASCII file is parsed on two threads (segments of whole lines, docs/octree.md): the soup, the odd
+// and the border edges must be those of one reader, on a real scan and on a rewrite of it with blank
+// lines, leading blanks, CRLF line ends and polygons.
+std::string read_all(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string((std::istreambuf_iterator<char>(in)), {});
+}
+
+// The dragon at res 2 (7 MB ASCII) with its body lines rewritten: `edit(i, line)` returns the new text
+// of data line i (without its '\n').
+template <class Edit>
+std::string rewrite_dragon(const ScratchDir& dir, const std::string& name, Edit edit) {
+    const std::string text = read_all(shared_data("scan-dragon/dragon_vrip_res2.ply"));
+    const std::size_t body = text.find("end_header\n") + 11;
+    std::string out = text.substr(0, body);
+    std::size_t i = 0;
+    for (std::size_t at = body; at < text.size(); ++i) {
+        const std::size_t nl = text.find('\n', at);
+        out += edit(i, text.substr(at, nl - at));
+        at = nl + 1;
+    }
+    const std::string path = dir.file(name);
+    std::ofstream(path, std::ios::binary) << out;
+    return path;
+}
+
+SoupResult soup_with_threads(const std::string& ply, const std::string& soup, int threads) {
+    SoupParams p;
+    p.memory_bytes = 4u << 20;  // 128 KB segments: dozens of them
+    p.threads = threads;
+    return convert_to_soup(ply, soup, p);
+}
+
+TEST(OocSoup, AsciiOnTwoThreadsGivesTheSoupOfOneReader) {
+    ScratchDir dir("soup-ascii-threads");
+    const std::string odd = rewrite_dragon(dir, "odd.ply", [](std::size_t i, std::string line) {
+        if (i % 50 == 49 && line.rfind("3 ", 0) == 0) {  // a quad
+            line.erase(line.find_last_not_of(' ') + 1);
+            line = "4" + line.substr(1) + line.substr(line.rfind(' '));
+        }
+        if (i % 7 == 0) line = "  " + line;
+        if (i % 11 == 0) line += "\r";
+        if (i % 13 == 0) line += "\n \t\n";
+        return line + "\n";
+    });
+    for (const std::string& ply : {shared_data("scan-dragon/dragon_vrip_res2.ply"), odd}) {
+        const SoupResult one = soup_with_threads(ply, dir.file("one"), 1);
+        const SoupResult two = soup_with_threads(ply, dir.file("two"), 2);
+        EXPECT_FALSE(two.external);
+        EXPECT_EQ(one.triangles, two.triangles);
+        EXPECT_GT(one.triangles, 200000u);
+        EXPECT_EQ(one.skipped_faces, two.skipped_faces);
+        EXPECT_EQ(one.odd_non_manifold_edges, two.odd_non_manifold_edges);
+        EXPECT_EQ(one.border_edges, two.border_edges);
+        EXPECT_TRUE(read_all(dir.file("one")) == read_all(dir.file("two"))) << ply;
+        if (ply == odd) expect_soup_matches(ply, two);
+        // The edge lists sorted in the background (as the octree builder asks) are the same once waited for.
+        SoupParams p;
+        p.memory_bytes = 4u << 20;
+        p.background_edges = true;
+        SoupResult later = convert_to_soup(ply, dir.file("later"), p);
+        EXPECT_TRUE(later.edge_job != nullptr);
+        later.wait_edges();
+        EXPECT_TRUE(later.edge_job == nullptr);
+        EXPECT_EQ(later.odd_non_manifold_edges, one.odd_non_manifold_edges);
+        EXPECT_EQ(later.border_edges, one.border_edges);
+    }
+    // And on the open bunny, which has border edges.
+    const std::string bunny = shared_data("scan-bunny/bun_zipper.ply");
+    const SoupResult now = soup_with_threads(bunny, dir.file("now"), 2);
+    SoupParams p;
+    p.background_edges = true;
+    SoupResult later = convert_to_soup(bunny, dir.file("later"), p);
+    later.wait_edges();
+    EXPECT_FALSE(now.border_edges.empty());
+    EXPECT_EQ(later.border_edges, now.border_edges);
+    EXPECT_EQ(later.odd_non_manifold_edges, now.odd_non_manifold_edges);
+}
+
+// Errors in any segment (the helper's included) and a cut-off file give one reader's message.
+TEST(OocSoup, AsciiErrorsOnTwoThreadsAreThoseOfOneReader) {
+    ScratchDir dir("soup-ascii-errors");
+    auto message = [&](const std::string& ply, int threads) {
+        try {
+            soup_with_threads(ply, dir.file("soup"), threads);
+        } catch (const Error& e) {
+            EXPECT_FALSE(fs::exists(dir.file("soup")));
+            return std::string(e.what());
+        }
+        return std::string("no error");
+    };
+    std::vector<std::string> bad;
+    for (std::size_t at : {60000u, 90000u, 250000u, 300000u})  // vertex and face lines, both threads' segments
+        bad.push_back(rewrite_dragon(dir, "bad" + std::to_string(at) + ".ply",
+                                     [at](std::size_t i, const std::string& line) { return (i == at ? line + " 7" : line) + "\n"; }));
+    bad.push_back(rewrite_dragon(dir, "index.ply", [](std::size_t i, const std::string& line) {
+        return (i == 280000 ? std::string("3 0 1 99999999") : line) + "\n";
+    }));
+    const std::string cut = dir.file("cut.ply");
+    {
+        const std::string text = read_all(shared_data("scan-dragon/dragon_vrip_res2.ply"));
+        std::ofstream(cut, std::ios::binary) << text.substr(0, text.size() * 4 / 5);
+    }
+    bad.push_back(cut);
+    for (const std::string& ply : bad) {
+        const std::string one = message(ply, 1);
+        EXPECT_NE(one, "no error") << ply;
+        EXPECT_NE(one.find(fs::path(ply).filename().string()), std::string::npos) << one;
+        EXPECT_EQ(message(ply, 2), one);
+    }
+}
+
 }  // namespace
 }  // namespace lodforge

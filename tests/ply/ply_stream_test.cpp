@@ -214,3 +214,32 @@ TEST(PlyStream, TinyReadBuffersGiveTheSameResult) {
     }
     ply_detail::set_file_buffer_size(std::size_t(1) << 20);
 }
+
+// Two readers of one ASCII file can split an element (the octree soup parses on two threads this way):
+// the second, moved to a line, reads the records from there and names lines as one reader does.
+TEST(PlyStream, AsciiReaderMovedToARecordReadsFromThere) {
+    ScratchDir dir("ply-seek");
+    const std::string path = dir.file("seek.ply");
+    const std::string head = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+                             "element face 3\nproperty list uchar int vertex_indices\nend_header\n";
+    const std::string body = "0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n\n3 0 2 3\n3 1 2 x\n";
+    std::ofstream(path, std::ios::binary) << head << body;
+    const std::uint64_t second_face = head.size() + body.find("\n\n3 0 2 3") + 1;  // the blank line before it
+    PlyReader reader(path);
+    reader.seek_ascii_record(1, 1, second_face, 14);
+    ASSERT_TRUE(reader.at_faces());
+    EXPECT_EQ(reader.remaining(), 2u);
+    PlyFaceChunk faces;
+    EXPECT_EQ(reader.read_faces(1, faces), 1u);
+    EXPECT_EQ(faces.indices, (std::vector<std::uint32_t>{0, 2, 3}));
+    EXPECT_EQ(reader.line(), 16u);
+    try {
+        reader.read_faces(1, faces);
+        FAIL() << "a bad index was accepted";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("line 17"), std::string::npos) << e.what();
+    }
+    EXPECT_THROW(reader.seek_ascii_record(1, 0, head.size(), 9), Error);  // backwards
+    PlyReader binary(shared_data("color-open3d-frag115/frag_115.ply"));
+    EXPECT_THROW(binary.seek_ascii_record(0, 0, binary.position(), 0), Error);
+}

@@ -17,6 +17,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
@@ -70,7 +71,16 @@ struct SoupParams {
     // SoupResult::memory instead of being written (the octree builder asks for this when the whole soup
     // would be processed in memory anyway); larger soups are written as usual.
     std::size_t memory_soup_bytes = 0;
+    // 2: an ASCII PLY is parsed on two threads (same soup bytes as with 1).
+    int threads = 2;
+    // In-memory path: the edge keys are sorted on background threads after convert_to_soup returns, so
+    // that the caller's first steps overlap the sort. SoupResult::wait_edges() must then be called before
+    // the two edge lists are read and before the temporary directory is removed. The sort reports no
+    // progress and is not cancelled (it takes a fraction of the conversion).
+    bool background_edges = false;
 };
+
+struct SoupEdgeJob;  // edge keys being sorted in the background (SoupParams::background_edges)
 
 struct SoupResult {
     std::string path;
@@ -95,6 +105,10 @@ struct SoupResult {
     // (SoupParams::memory_soup_bytes); `path` then names no file.
     std::vector<std::byte> memory;
     bool kept_in_memory = false;  // stays true after the builder has consumed (and freed) `memory`
+    // Set while the edge lists are still being sorted (SoupParams::background_edges).
+    std::shared_ptr<SoupEdgeJob> edge_job;
+    // Waits for a background sort and fills the two edge lists (rethrows its error); no-op otherwise.
+    void wait_edges();
 };
 
 // Throws Error(io / format / invalid) for unreadable, malformed or unusable input (no triangles, no

@@ -151,6 +151,13 @@ public:
     // Skips the rest of the current element (binary files with fixed-size records skip in one seek).
     void skip_element();
 
+    // ASCII records are one per line. Moves an ASCII reader forward to `byte_offset`, the start of a
+    // line such that only blank lines precede record `record` of element `element` from there; `line` is
+    // the number of newlines before `byte_offset` (for messages). Lets several readers of one file parse
+    // parts of an element on different threads. Error(argument) for a binary file or a backward move.
+    void seek_ascii_record(std::size_t element, std::uint64_t record, std::uint64_t byte_offset, std::uint64_t line);
+    std::uint64_t line() const;  // ASCII: newlines consumed so far, header included
+
 private:
     struct Impl;
     std::unique_ptr<Impl> impl_;
