@@ -584,9 +584,10 @@ void Simplifier::setup() {
         const Vec3d un{n.x / len, n.y / len, n.z / len};
         const Quadric q = Quadric::from_plane(un, -dotd(un, p0), area);
         for (int k = 0; k < 3; ++k) geo_[pid_[c[k]]] += q;
-        if (dims_ > 0)
-            for (int k = 0; k < 3; ++k)
-                aq_.add_triangle(c[k], p0, p1, p2, attr(c[0]), attr(c[1]), attr(c[2]), area);
+        if (dims_ > 0) {
+            const std::size_t wedges[3] = {c[0], c[1], c[2]};
+            aq_.add_triangle(wedges, 3, p0, p1, p2, attr(c[0]), attr(c[1]), attr(c[2]), area);
+        }
     }
     point_alive_.assign(points_, 1);
     plain_ = dims_ == 0 && mesh_.face_materials.empty() && params_.extra_frames.empty() &&
