@@ -37,6 +37,11 @@ AttributeQuadrics::AttributeQuadrics(std::size_t count, std::size_t dimension)
 
 void AttributeQuadrics::add_triangle(std::size_t index, Vec3d p0, Vec3d p1, Vec3d p2, const double* s0,
                                      const double* s1, const double* s2, double weight) {
+    add_triangle(&index, 1, p0, p1, p2, s0, s1, s2, weight);
+}
+
+void AttributeQuadrics::add_triangle(const std::size_t* indices, std::size_t count, Vec3d p0, Vec3d p1, Vec3d p2,
+                                     const double* s0, const double* s1, const double* s2, double weight) {
     if (m_ == 0) return;
     const Vec3d e1 = sub(p1, p0), e2 = sub(p2, p0);
     const Vec3d n = crossd(e1, e2);
@@ -44,29 +49,27 @@ void AttributeQuadrics::add_triangle(std::size_t index, Vec3d p0, Vec3d p1, Vec3
     if (!(nn > 0) || !(weight > 0)) return;  // a degenerate face has no attribute gradient
     // g·e1 = Δs1, g·e2 = Δs2, g·n = 0  ⇒  g = (Δs1 (e2×n) + Δs2 (n×e1)) / |n|²
     const Vec3d u = crossd(e2, n), v = crossd(n, e1);
-    double* q = &data_[index * stride()];
-    double* G = q + 11;
-    double* D = q + 11 + 3 * m_;
     for (std::size_t j = 0; j < m_; ++j) {
         const double d1 = s1[j] - s0[j], d2 = s2[j] - s0[j];
         const Vec3d g{(d1 * u.x + d2 * v.x) / nn, (d1 * u.y + d2 * v.y) / nn, (d1 * u.z + d2 * v.z) / nn};
         const double d = s0[j] - dotd(g, p0);
-        q[0] += weight * g.x * g.x;
-        q[1] += weight * g.x * g.y;
-        q[2] += weight * g.x * g.z;
-        q[3] += weight * g.y * g.y;
-        q[4] += weight * g.y * g.z;
-        q[5] += weight * g.z * g.z;
-        q[6] += weight * d * g.x;
-        q[7] += weight * d * g.y;
-        q[8] += weight * d * g.z;
-        q[9] += weight * d * d;
-        G[3 * j + 0] += weight * g.x;
-        G[3 * j + 1] += weight * g.y;
-        G[3 * j + 2] += weight * g.z;
-        D[j] += weight * d;
+        // The same terms for every target, in the same order as one call per target: identical sums.
+        const double t[14] = {weight * g.x * g.x, weight * g.x * g.y, weight * g.x * g.z, weight * g.y * g.y,
+                              weight * g.y * g.z, weight * g.z * g.z, weight * d * g.x,   weight * d * g.y,
+                              weight * d * g.z,   weight * d * d,     weight * g.x,       weight * g.y,
+                              weight * g.z,       weight * d};
+        for (std::size_t i = 0; i < count; ++i) {
+            double* q = &data_[indices[i] * stride()];
+            double* G = q + 11;
+            double* D = q + 11 + 3 * m_;
+            for (int k = 0; k < 10; ++k) q[k] += t[k];
+            G[3 * j + 0] += t[10];
+            G[3 * j + 1] += t[11];
+            G[3 * j + 2] += t[12];
+            D[j] += t[13];
+        }
     }
-    q[10] += weight;
+    for (std::size_t i = 0; i < count; ++i) data_[indices[i] * stride() + 10] += weight;
 }
 
 void AttributeQuadrics::accumulate(std::size_t dst, std::size_t src) {

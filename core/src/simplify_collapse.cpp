@@ -435,19 +435,26 @@ private:
     std::vector<std::uint32_t> pid_;          // wedge → point
     std::vector<std::uint32_t> representative_;
     std::size_t points_ = 0;
-    // What costing reads of a *neighbour* (its position and kind) and the per-round bookkeeping, packed in
-    // half a cache line, so a ring of neighbours costs a few cold lines; the quadric, read only for the
-    // point being costed (in index order) or collapsed, lives apart. `constrained`: the point's entry is
-    // not its cheapest edge, that one being invalid; it is fully re-costed when its neighbourhood changes.
-    struct alignas(32) PointRec {
+    // Everything the walk and costing read or write of a *neighbour* in one cache line: its position and
+    // kind, the round schedule's state (entry cost, gained point, lock) and the stamped marks of
+    // neighbours() and valid(), so a neighbour touched by a collapse costs one cold line instead of four
+    // (record, round state, two mark arrays). The quadric, read only for the point being costed (in
+    // index order) or collapsed, lives apart. `constrained`: the point's entry is not its cheapest edge,
+    // that one being invalid; it is fully re-costed when its neighbourhood changes.
+    struct alignas(64) PointRec {
         Vec3d pos;
         std::uint32_t best_to = kNone;
         Kind kind = Kind::interior;
         std::uint8_t one_wedge = 0;
         std::uint8_t constrained = 0;
         std::uint8_t dirty = 0;  // pass schedule (see run_passes)
+        double cost = std::numeric_limits<double>::infinity();  // pass schedule: cost of the entry
+        std::uint32_t gained = kNone;  // pass schedule: the kept point of a collapse next to it (kGained)
+        std::uint32_t lock = 0;        // pass schedule: the round that locked it
+        std::uint32_t seen = 0;        // stamp of neighbours() / plain_valid() / classify_points()
+        std::uint32_t ring = 0;        // stamp of valid() / plain_valid(): in v's ring
     };
-    static_assert(sizeof(PointRec) == 32);
+    static_assert(sizeof(PointRec) == 64);
     std::vector<Quadric> geo_;
     std::vector<PointRec> pts_;
     Vec3d centre_;
@@ -470,16 +477,22 @@ private:
     std::size_t alive_faces_ = 0;
     std::size_t start_faces_ = 0;
     std::vector<std::uint32_t> scratch_a_, scratch_b_, scratch_n_, ring_, scratch_fill_;
-    // Stamped membership marks (no clearing between uses): neighbours() dedupes with seen_, valid()
-    // marks v's ring in in_ring_.
-    std::vector<std::uint32_t> seen_, in_ring_;
+    // Stamped membership marks in PointRec (no clearing between uses): neighbours() dedupes with
+    // `seen`, valid() marks v's ring in `ring`.
     std::uint32_t seen_stamp_ = 0, ring_stamp_ = 0;
-    static std::uint32_t next_stamp(std::vector<std::uint32_t>& marks, std::uint32_t& stamp) {
-        if (++stamp == 0) {
-            std::fill(marks.begin(), marks.end(), 0u);
-            stamp = 1;
+    std::uint32_t next_seen() {
+        if (++seen_stamp_ == 0) {
+            for (PointRec& r : pts_) r.seen = 0;
+            seen_stamp_ = 1;
         }
-        return stamp;
+        return seen_stamp_;
+    }
+    std::uint32_t next_ring() {
+        if (++ring_stamp_ == 0) {
+            for (PointRec& r : pts_) r.ring = 0;
+            ring_stamp_ = 1;
+        }
+        return ring_stamp_;
     }
     std::vector<std::pair<double, std::uint32_t>> options_;
     std::size_t frames_ = 0;                  // extra frames
@@ -571,15 +584,14 @@ void Simplifier::setup() {
         const Vec3d un{n.x / len, n.y / len, n.z / len};
         const Quadric q = Quadric::from_plane(un, -dotd(un, p0), area);
         for (int k = 0; k < 3; ++k) geo_[pid_[c[k]]] += q;
-        if (dims_ > 0)
-            for (int k = 0; k < 3; ++k)
-                aq_.add_triangle(c[k], p0, p1, p2, attr(c[0]), attr(c[1]), attr(c[2]), area);
+        if (dims_ > 0) {
+            const std::size_t wedges[3] = {c[0], c[1], c[2]};
+            aq_.add_triangle(wedges, 3, p0, p1, p2, attr(c[0]), attr(c[1]), attr(c[2]), area);
+        }
     }
     point_alive_.assign(points_, 1);
     plain_ = dims_ == 0 && mesh_.face_materials.empty() && params_.extra_frames.empty() &&
              params_.placement == Placement::half_edge;
-    seen_.assign(points_, 0);
-    in_ring_.assign(points_, 0);
     heap_.reset(points_);
     if (!params_.extra_frames.empty()) setup_frames();
 }
@@ -752,13 +764,13 @@ void Simplifier::classify_points() {
     std::vector<std::uint8_t> count(points_, 0);
     for (std::uint32_t p = 0; p < points_; ++p) {
         ring.clear();
-        const std::uint32_t stamp = next_stamp(seen_, seen_stamp_);
+        const std::uint32_t stamp = next_seen();
         for (std::uint32_t f : faces_of(p))
             for (int k = 0; k < 3; ++k) {
                 const std::uint32_t q = fpt_[3 * f + k];
                 if (q == p) continue;
-                if (seen_[q] != stamp) {
-                    seen_[q] = stamp;
+                if (pts_[q].seen != stamp) {
+                    pts_[q].seen = stamp;
                     count[q] = 1;
                     ring.push_back(q);
                 } else if (count[q] < 3) {
@@ -792,14 +804,14 @@ void Simplifier::neighbours(std::uint32_t p, std::vector<std::uint32_t>& out) {
     out.clear();
     const auto faces = faces_of(p);
     for (std::uint32_t f : faces) prefetch(&fpt_[3 * f]);
-    const std::uint32_t stamp = next_stamp(seen_, seen_stamp_);
-    seen_[p] = stamp;
+    const std::uint32_t stamp = next_seen();
+    pts_[p].seen = stamp;
     for (std::uint32_t f : faces) {
         if (killed(&fpt_[3 * f])) continue;
         for (int k = 0; k < 3; ++k) {
             const std::uint32_t q = fpt_[3 * f + k];
-            if (seen_[q] != stamp) {
-                seen_[q] = stamp;
+            if (pts_[q].seen != stamp) {
+                pts_[q].seen = stamp;
                 out.push_back(q);
             }
         }
@@ -908,10 +920,10 @@ bool Simplifier::valid(std::uint32_t u, std::uint32_t v, const Plan& plan) {
     // Link condition on points: the common neighbours of u and v are exactly the apexes of uv's faces.
     neighbours(u, scratch_a_);
     neighbours(v, scratch_b_);
-    const std::uint32_t ring = next_stamp(in_ring_, ring_stamp_);
-    for (std::uint32_t b : scratch_b_) in_ring_[b] = ring;
+    const std::uint32_t ring = next_ring();
+    for (std::uint32_t b : scratch_b_) pts_[b].ring = ring;
     int common = 0;
-    for (std::uint32_t a : scratch_a_) common += in_ring_[a] == ring;
+    for (std::uint32_t a : scratch_a_) common += pts_[a].ring == ring;
     if (common != plan.edge_faces) return false;
 
     const double min_dot = params_.min_normal_dot;
@@ -943,7 +955,7 @@ bool Simplifier::valid(std::uint32_t u, std::uint32_t v, const Plan& plan) {
         // A face whose other two points are both common neighbours may already exist around v
         // (tetrahedron-like configurations the vertex link test misses).
         const std::uint32_t o1 = a == u ? b : a, o2 = cc == u ? b : cc;
-        const bool c1 = in_ring_[o1] == ring, c2 = in_ring_[o2] == ring;
+        const bool c1 = pts_[o1].ring == ring, c2 = pts_[o2].ring == ring;
         if (c1 && c2) {
             for (std::uint32_t g : faces_of(v)) {
                 const std::uint32_t* d = &fpt_[3 * g];
@@ -980,16 +992,16 @@ double Simplifier::plain_plan(std::uint32_t u, std::uint32_t v, Plan& plan) cons
 // along uv, the flip and needle checks and the twin-face check all come from one walk over u's faces.
 // Leaves u's ring in scratch_a_ as valid() does.
 bool Simplifier::plain_valid(std::uint32_t u, std::uint32_t v, const Plan& plan) {
-    const std::uint32_t ring = next_stamp(in_ring_, ring_stamp_);
+    const std::uint32_t ring = next_ring();
     for (std::uint32_t g : faces_of(v)) {
         const std::uint32_t* d = &fpt_[3 * g];
         if (killed(d)) continue;
-        in_ring_[d[0]] = in_ring_[d[1]] = in_ring_[d[2]] = ring;
+        pts_[d[0]].ring = pts_[d[1]].ring = pts_[d[2]].ring = ring;
     }
-    in_ring_[v] = 0;  // v's ring proper (u is in it, but never counted: it is not u's neighbour)
+    pts_[v].ring = 0;  // v's ring proper (u is in it, but never counted: it is not u's neighbour)
     scratch_a_.clear();
-    const std::uint32_t stamp = next_stamp(seen_, seen_stamp_);
-    seen_[u] = stamp;
+    const std::uint32_t stamp = next_seen();
+    pts_[u].seen = stamp;
     int common = 0, edge_faces = 0;
     bool ok = true;
     const double min_dot = params_.min_normal_dot;
@@ -999,10 +1011,10 @@ bool Simplifier::plain_valid(std::uint32_t u, std::uint32_t v, const Plan& plan)
         if (killed(c)) continue;
         for (int k = 0; k < 3; ++k) {
             const std::uint32_t q = c[k];
-            if (seen_[q] != stamp) {
-                seen_[q] = stamp;
+            if (pts_[q].seen != stamp) {
+                pts_[q].seen = stamp;
                 scratch_a_.push_back(q);
-                common += in_ring_[q] == ring;
+                common += pts_[q].ring == ring;
             }
         }
         if (!ok) continue;  // the ring is still needed whole
@@ -1025,7 +1037,7 @@ bool Simplifier::plain_valid(std::uint32_t u, std::uint32_t v, const Plan& plan)
                 continue;
             }
         }
-        if (in_ring_[o1] == ring && in_ring_[o2] == ring) {
+        if (pts_[o1].ring == ring && pts_[o2].ring == ring) {
             for (std::uint32_t g : faces_of(v)) {
                 const std::uint32_t* d = &fpt_[3 * g];
                 if (killed(d)) continue;
@@ -1328,14 +1340,8 @@ constexpr double kPassRank = 0.25;
 constexpr double kPassSlack = 1.5;
 
 void Simplifier::run_passes(std::size_t target, double limit, double& max_cost) {
-    // Per point: cost of its entry, the kept point of a collapse next to it (see kGained) and the round
-    // that locked it, together so the ring walk after a collapse reads one line per point.
-    struct Round {
-        double cost = std::numeric_limits<double>::infinity();
-        std::uint32_t gained = kNone;
-        std::uint32_t lock = 0;
-    };
-    std::vector<Round> round(points_);
+    // Per point (in PointRec): cost of its entry, the kept point of a collapse next to it (see kGained)
+    // and the round that locked it.
     // PointRec::dirty: 0 = entry current, kGained = compare the edge to Round::gained, else re-cost fully.
     constexpr std::uint8_t kGained = 2;
     for (PointRec& r : pts_) r.dirty = 1;
@@ -1366,11 +1372,11 @@ void Simplifier::run_passes(std::size_t target, double limit, double& max_cost) 
                 // Only a new edge to the kept point of a collapse appeared (half-edge: nothing else
                 // about this point's costs changed), so it is compared against the current entry.
                 pts_[a].dirty = 0;
-                const std::uint32_t v = round[a].gained;
+                const std::uint32_t v = pts_[a].gained;
                 if (point_alive_[v]) {
                     const double c = evaluate(a, v, plan, false);
-                    if (c < round[a].cost) {
-                        round[a].cost = c;
+                    if (c < pts_[a].cost) {
+                        pts_[a].cost = c;
                         pts_[a].best_to = v;
                     }
                 }
@@ -1380,13 +1386,13 @@ void Simplifier::run_passes(std::size_t target, double limit, double& max_cost) 
                 const std::uint32_t to = pts_[a].constrained ? cheapest_valid(a, kNone, c) : cheapest(a, c);
                 pts_[a].constrained = 0;
                 pts_[a].best_to = to;
-                round[a].cost = to == kNone ? std::numeric_limits<double>::infinity() : c;
+                pts_[a].cost = to == kNone ? std::numeric_limits<double>::infinity() : c;
             }
-            if (std::isfinite(round[a].cost)) {
+            if (std::isfinite(pts_[a].cost)) {
                 // Non-negative floats order as their bit patterns; the cost is rounded up so a key never
                 // undercuts its cost.
-                float key = static_cast<float>(round[a].cost);
-                if (double(key) < round[a].cost) key = std::nextafter(key, std::numeric_limits<float>::infinity());
+                float key = static_cast<float>(pts_[a].cost);
+                if (double(key) < pts_[a].cost) key = std::nextafter(key, std::numeric_limits<float>::infinity());
                 std::uint32_t bits;
                 std::memcpy(&bits, &key, sizeof bits);
                 order.push_back(std::uint64_t(bits) << 32 | a);
@@ -1403,7 +1409,7 @@ void Simplifier::run_passes(std::size_t target, double limit, double& max_cost) 
             order.swap(tmp);
         }
         const std::size_t rank = std::min(order.size() - 1, static_cast<std::size_t>(double(order.size()) * kPassRank));
-        const double threshold = kPassSlack * round[static_cast<std::uint32_t>(order[rank])].cost;
+        const double threshold = kPassSlack * pts_[static_cast<std::uint32_t>(order[rank])].cost;
         std::size_t applied = 0;
         bool limited = false, changed = false;
         // The walk jumps across the mesh in cost order, so each candidate's records are cold: they are
@@ -1414,16 +1420,16 @@ void Simplifier::run_passes(std::size_t target, double limit, double& max_cost) 
             if (i + 16 < walk) {
                 const auto a = static_cast<std::uint32_t>(order[i + 16]);
                 prefetch(&pts_[a]);
-                prefetch(&round[a]);
                 prefetch(&csr_begin_[a]);
             }
             if (i + 8 < walk) {
                 const auto a = static_cast<std::uint32_t>(order[i + 8]);
                 prefetch(&csr_faces_[csr_begin_[a]]);
+                prefetch(&geo_[a]);  // the cost (plain_plan) and the collapse read Q_u (88 bytes)
+                prefetch(reinterpret_cast<const char*>(&geo_[a]) + 64);
                 const std::uint32_t b = pts_[a].best_to;
                 if (b != kNone) {
                     prefetch(&pts_[b]);
-                    prefetch(&round[b]);
                     prefetch(&csr_begin_[b]);
                 }
             }
@@ -1432,15 +1438,27 @@ void Simplifier::run_passes(std::size_t target, double limit, double& max_cost) 
                 for (std::uint32_t k = csr_begin_[a], e = std::min(csr_begin_[a + 1], csr_begin_[a] + 8); k < e; ++k)
                     prefetch(&fpt_[3 * csr_faces_[k]]);
                 const std::uint32_t b = pts_[a].best_to;
-                if (b != kNone) prefetch(&csr_faces_[csr_begin_[b]]);
+                if (b != kNone) {
+                    prefetch(&csr_faces_[csr_begin_[b]]);
+                    prefetch(&geo_[b]);  // Q_v += Q_u
+                    prefetch(reinterpret_cast<const char*>(&geo_[b]) + 64);
+                }
+            }
+            if (i + 2 < walk) {
+                // v's faces (its ring is marked first) and the corners the collapse rewrites.
+                const auto a = static_cast<std::uint32_t>(order[i + 2]);
+                const std::uint32_t b = pts_[a].best_to;
+                if (b != kNone)
+                    for (std::uint32_t k = csr_begin_[b], e = std::min(csr_begin_[b + 1], csr_begin_[b] + 8); k < e; ++k)
+                        prefetch(&fpt_[3 * csr_faces_[k]]);
             }
         };
         for (std::size_t i = 0; i < walk; ++i) {
             ahead(i);
             const auto u = static_cast<std::uint32_t>(order[i]);
-            if (round[u].cost > threshold && applied > 0) break;  // a pass never ends empty-handed
+            if (pts_[u].cost > threshold && applied > 0) break;  // a pass never ends empty-handed
             const std::uint32_t v = pts_[u].best_to;
-            if (round[u].lock == pass || round[v].lock == pass) continue;  // the next pass sees it again
+            if (pts_[u].lock == pass || pts_[v].lock == pass) continue;  // the next pass sees it again
             bool plain = plain_pair(u, v);
             double c = plain ? plain_plan(u, v, plan) : evaluate(u, v, plan, true);
             if (plain && c > limit && pts_[u].kind == Kind::border) {
@@ -1455,7 +1473,7 @@ void Simplifier::run_passes(std::size_t target, double limit, double& max_cost) 
                 continue;
             }
             if (c > limit) {
-                round[u].cost = c;
+                pts_[u].cost = c;
                 limited = true;
                 continue;
             }
@@ -1467,20 +1485,20 @@ void Simplifier::run_passes(std::size_t target, double limit, double& max_cost) 
             // valid() left u's ring in scratch_a_ and v's in scratch_b_.
             for (std::uint32_t n : scratch_a_) {
                 if (moves_kept || n == v || pts_[n].best_to == u || pts_[n].best_to == v || pts_[n].constrained ||
-                    !std::isfinite(round[n].cost) || (pts_[n].dirty == kGained && round[n].gained != v))
+                    !std::isfinite(pts_[n].cost) || (pts_[n].dirty == kGained && pts_[n].gained != v))
                     pts_[n].dirty = 1;
                 else if (pts_[n].dirty == 0) {
                     pts_[n].dirty = kGained;
-                    round[n].gained = v;
+                    pts_[n].gained = v;
                 }
             }
-            round[v].lock = pass;
+            pts_[v].lock = pass;
             if (moves_kept)
                 for (std::uint32_t n : scratch_b_) pts_[n].dirty = 1;  // v moved: their edges to it changed
-            round[u].lock = pass;
+            pts_[u].lock = pass;
             max_cost = std::max(max_cost, c);
             collapse(u, v, plan);
-            round[u].cost = std::numeric_limits<double>::infinity();
+            pts_[u].cost = std::numeric_limits<double>::infinity();
             changed = true;
             if (alive_faces_ <= target) {
                 result_.reason = SimplifyResult::StopReason::target_reached;

@@ -60,3 +60,29 @@ TEST(AttributeQuadric, AccumulateAddsErrors) {
     EXPECT_NEAR(aq.evaluate(0, {0.1, 0.1, 0}, s), e0 + e1, 1e-12);
     EXPECT_DOUBLE_EQ(aq.weight(0), 2.0);
 }
+
+// The simplifier adds each face to its three corners' wedges in one call; the sums must be bit for bit
+// those of one call per wedge (its results are compared against runs made that way).
+TEST(AttributeQuadric, OneCallForSeveralTargetsGivesTheSameSums) {
+    AttributeQuadrics one(4, 3), many(4, 3);
+    const double s[4][3] = {{0.1, 0.7, 0.3}, {0.9, 0.2, 0.4}, {0.33, 0.61, 0.05}, {0.5, 0.5, 0.97}};
+    const Vec3d p[4] = {{0.1, 0.2, 0.3}, {1.3, 0.1, -0.2}, {0.2, 1.7, 0.4}, {0.9, 0.8, 1.1}};
+    const int faces[3][3] = {{0, 1, 2}, {1, 3, 2}, {0, 3, 1}};
+    for (const auto& f : faces) {
+        const double area = 0.37 + 0.1 * f[1];
+        for (int k = 0; k < 3; ++k)
+            one.add_triangle(std::size_t(f[k]), p[f[0]], p[f[1]], p[f[2]], s[f[0]], s[f[1]], s[f[2]], area);
+        const std::size_t targets[3] = {std::size_t(f[0]), std::size_t(f[1]), std::size_t(f[2])};
+        many.add_triangle(targets, 3, p[f[0]], p[f[1]], p[f[2]], s[f[0]], s[f[1]], s[f[2]], area);
+    }
+    const double at[3] = {0.4, 0.4, 0.4};
+    for (std::size_t i = 0; i < 4; ++i) {
+        EXPECT_EQ(one.weight(i), many.weight(i)) << i;
+        EXPECT_EQ(one.evaluate(i, {0.3, 0.9, -0.4}, at), many.evaluate(i, {0.3, 0.9, -0.4}, at)) << i;
+        const Quadric a = one.eliminated(i), b = many.eliminated(i);
+        EXPECT_EQ(a.a00, b.a00) << i;
+        EXPECT_EQ(a.b1, b.b1) << i;
+        EXPECT_EQ(a.c, b.c) << i;
+    }
+    EXPECT_GT(one.evaluate(3, {0.3, 0.9, -0.4}, at), 0.0);  // the comparison is not of empty quadrics
+}

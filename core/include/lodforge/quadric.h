@@ -60,6 +60,10 @@ public:
     // long) weighted by `weight` (usually the area) to quadric `index`.
     void add_triangle(std::size_t index, Vec3d p0, Vec3d p1, Vec3d p2, const double* s0, const double* s1,
                       const double* s2, double weight);
+    // The same triangle added to `count` quadrics (e.g. the wedges of its three corners): the gradients are
+    // computed once; for distinct indices the sums are exactly those of `count` single-index calls.
+    void add_triangle(const std::size_t* indices, std::size_t count, Vec3d p0, Vec3d p1, Vec3d p2,
+                      const double* s0, const double* s1, const double* s2, double weight);
     // quadric[dst] += quadric[src]
     void accumulate(std::size_t dst, std::size_t src);
     // quadric[dst] += other's quadric[src] (same dimension; for sums kept in separate sets)
