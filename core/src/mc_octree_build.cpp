@@ -235,23 +235,32 @@ public:
                    z = float((key >> 34) & mc::max_lattice);
         return {origin_.x + x * h_, origin_.y + y * h_, origin_.z + z * h_};
     }
-    // Evaluates every key not known yet (duplicates allowed), in parallel. Duplicates and known keys are
-    // dropped through the blocks' bit masks (one look-up per key, mostly the cached last block), not by
-    // sorting: the keys come in flood order, which is spatially coherent already.
+    // Evaluates every key not known yet (duplicates allowed), in parallel; `keys` is left holding the
+    // evaluated keys. Duplicates and known keys are dropped through the blocks' bit masks (one look-up per
+    // key, mostly the cached last block), not by sorting, and the rest is read back block by block from
+    // those bits (blocks in order of first use), so each query's hint, the previous key's nearest point,
+    // is mostly within 3 lattice steps: the closing's keys otherwise alternate between levels (on the dragon
+    // at 256, 6 % fewer points pass a query's bound). The values do not depend on the order (D1).
     void evaluate(std::vector<std::uint64_t>& keys) {
-        std::size_t kept = 0;
+        touched_.clear();
         for (const std::uint64_t k : keys) {
             const std::uint32_t b = block_of(k);
             const std::uint64_t bit = std::uint64_t(1) << local(k);
             if ((valid_[b] | pending_[b]) & bit) continue;
+            if (!pending_[b]) touched_.push_back(b);
             pending_[b] |= bit;
-            keys[kept++] = k;
         }
-        keys.resize(kept);
+        keys.clear();
+        for (const std::uint32_t b : touched_) {
+            for (std::uint64_t bits = pending_[b]; bits; bits &= bits - 1) {
+                const auto l = static_cast<std::uint32_t>(std::countr_zero(bits));
+                keys.push_back(block_key_[b] | pack(l & 3, (l >> 2) & 3, l >> 4));
+            }
+        }
         scratch_d_.resize(keys.size());
         scratch_n_.resize(keys.size());
         parallel_for(keys.size(), threads_, [&](std::size_t b, std::size_t e) {
-            std::uint32_t hint = none;  // the previous key's nearest point: the keys come in flood order
+            std::uint32_t hint = none;  // the previous key's nearest point: the keys come block by block
             for (std::size_t i = b; i < e; ++i) {
                 query(keys[i], scratch_d_[i], scratch_n_[i], hint);
                 hint = scratch_n_[i];
@@ -422,6 +431,7 @@ private:
     std::size_t scattered_ = 0;
     std::vector<float> scratch_d_;
     std::vector<std::uint32_t> scratch_n_;
+    std::vector<std::uint32_t> touched_;  // blocks with pending keys, in order of first use
     std::size_t evaluated_ = 0;
 };
 
