@@ -351,29 +351,9 @@ private:
                     out[o]->close();
                 }
         };
-        if (workers == 1) {
-            split_part(0, 0, in.count);
-        } else {
-            // The helper never polls progress; an error on either side stops both and is rethrown here.
-            const std::uint64_t half = in.count / 2;
-            std::exception_ptr helper_error;
-            std::thread helper([&] {
-                try {
-                    split_part(1, half, in.count);
-                } catch (...) {
-                    helper_error = std::current_exception();
-                }
-            });
-            try {
-                split_part(0, 0, half);
-            } catch (...) {
-                stop = true;
-                helper.join();
-                throw;
-            }
-            helper.join();
-            if (helper_error) std::rethrow_exception(helper_error);
-        }
+        // The helper never polls progress; an error on either side stops both and is rethrown here.
+        const std::uint64_t half = workers == 2 ? in.count / 2 : in.count;
+        ooc::run_workers(workers, stop, [&](int w) { split_part(w, w ? half : 0, w ? in.count : half); });
         remove_owned(in);
         std::array<std::uint64_t, 8> counts{};
         for (int o = 0; o < 8; ++o) counts[o] = parts[0].counts[o] + parts[1].counts[o];

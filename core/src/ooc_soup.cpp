@@ -243,24 +243,7 @@ public:
                 }
             }
         };
-        std::exception_ptr helper_error;
-        std::thread helper([&] {
-            try {
-                work(1);
-            } catch (...) {
-                helper_error = std::current_exception();
-                stop = true;
-            }
-        });
-        try {
-            work(0);
-        } catch (...) {
-            stop = true;
-            helper.join();
-            throw;
-        }
-        helper.join();
-        if (helper_error) std::rethrow_exception(helper_error);
+        ooc::run_workers(2, stop, work);
         for (Part& p : parts) {
             out.insert(out.end(), p.odd.begin(), p.odd.end());
             border.insert(border.end(), p.border.begin(), p.border.end());
@@ -819,35 +802,6 @@ void parse_ascii_in_two(PlyReader& reader, const std::string& path, std::size_t 
 
 // ---- External passes on two threads ---------------------------------------------------------------
 
-// Runs body(w) for w < workers: worker 0 on this thread (it alone reports progress and polls cancel),
-// worker 1 on a helper that returns when `stop` is set. The first error stops both and is rethrown here
-// once both have ended.
-template <class Body>
-void run_workers(int workers, std::atomic<bool>& stop, Body body) {
-    if (workers < 2) {
-        body(0);
-        return;
-    }
-    std::exception_ptr helper_error;
-    std::thread helper([&] {
-        try {
-            body(1);
-        } catch (...) {
-            helper_error = std::current_exception();
-            stop = true;
-        }
-    });
-    try {
-        body(0);
-    } catch (...) {
-        stop = true;
-        helper.join();
-        throw;
-    }
-    helper.join();
-    if (helper_error) std::rethrow_exception(helper_error);
-}
-
 // Hands the right to write on in index order between the workers of run_workers.
 class Turn {
 public:
@@ -1121,7 +1075,7 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
                 placed.push_back(std::make_unique<BucketSpill>(w ? corners2_path : corners_path, chunks_out, placed_bytes,
                                                                buffer_for(chunks_out * workers)));
             std::atomic<bool> stop{false};
-            run_workers(workers, stop, [&](int w) {
+            ooc::run_workers(workers, stop, [&](int w) {
                 File vertices(vertex_path, O_RDONLY);
                 std::vector<float> resident;
                 std::vector<char> tmp;
@@ -1167,7 +1121,7 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
             // Pass 3.
             SoupWriter out(soup_path, L);
             Turn turn;
-            run_workers(workers, stop, [&](int w) {
+            ooc::run_workers(workers, stop, [&](int w) {
                 std::vector<char> slots;
                 std::vector<char> tmp;
                 for (std::size_t s = static_cast<std::size_t>(w); s < chunks_out; s += workers) {
