@@ -20,10 +20,12 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <cmath>
 #include <cstring>
+#include <exception>
 #include <filesystem>
 #include <iterator>
 #include <memory>
@@ -53,13 +55,22 @@ struct NodeResult {
     explicit NodeResult(std::size_t dimension) : quadric(dimension) {}
 };
 
-// Triangles on disk: a file region of fixed-size records.
-struct TriangleFile {
+// Triangles on disk: file regions of fixed-size records, read in order (a node split on two threads has
+// one region from each thread).
+struct TriangleRegion {
     std::string path;
     std::uint64_t offset = 0;
     std::uint64_t count = 0;
     bool owned = true;  // delete when consumed
 };
+struct TriangleFile {
+    std::vector<TriangleRegion> regions;
+    std::uint64_t count = 0;
+};
+
+// A streaming split takes two threads from this many triangles on (below it a thread costs more than
+// the half it saves).
+constexpr std::uint64_t kTwoThreadSplit = 16384;
 
 class Builder {
 public:
@@ -112,7 +123,7 @@ public:
             const std::size_t count = soup_.memory.size() / tri_bytes_;
             process_loaded(0, soup_.memory.data(), count, 0);
         } else {
-            process_file(0, {soup_.path, 64, soup_.triangles, true}, 0);
+            process_file(0, {{{soup_.path, 64, soup_.triangles, true}}, soup_.triangles}, 0);
         }
         // Table, footer, then the header with the final numbers.
         const std::uint64_t table = offset_;
@@ -275,57 +286,92 @@ private:
         return process_memory(id, data, order.data(), order.size(), scratch.data(), depth);
     }
 
-    NodeResult process_file(std::uint32_t id, TriangleFile in, int depth) {
+    NodeResult process_file(std::uint32_t id, const TriangleFile& in, int depth) {
         if (is_leaf(in.count, depth) || in.count <= in_memory_limit_) {
             std::vector<std::byte> data(static_cast<std::size_t>(in.count) * tri_bytes_);
-            {
-                ooc::File f(in.path, O_RDONLY);
-                f.read_at(data.data(), data.size(), in.offset);
+            std::size_t at = 0;
+            for (const TriangleRegion& r : in.regions) {
+                ooc::File f(r.path, O_RDONLY);
+                f.read_at(data.data() + at, static_cast<std::size_t>(r.count) * tri_bytes_, r.offset);
+                at += static_cast<std::size_t>(r.count) * tri_bytes_;
             }
-            if (in.owned) remove_file(in.path);
+            remove_owned(in);
             return process_loaded(id, data.data(), static_cast<std::size_t>(in.count), depth);
         }
-        // Split by streaming: one read of the node's triangles, eight buffered child files.
+        // Split by streaming: one read of the node's triangles, eight buffered child files per thread.
+        // With two threads, each takes one half of the node's triangles (in file order) and writes its
+        // own eight files; child o is then the first thread's file o followed by the second's, which
+        // is the order one thread writes, so the tree and the asset do not depend on the thread count.
         ++split_passes_;
         double mid[3];
         cell_mid(id, mid);
-        std::array<std::unique_ptr<ooc::SequentialWriter>, 8> out;
-        std::array<std::uint64_t, 8> counts{};
-        const std::size_t buffer = std::clamp<std::size_t>(p_.memory_bytes / 32, 64 << 10, 8 << 20);
-        const std::uint64_t chunk = std::max<std::uint64_t>(1, (p_.memory_bytes / 8) / tri_bytes_);
-        {
-            ooc::File f(in.path, O_RDONLY);
+        const int workers = p_.threads >= 2 && in.count >= kTwoThreadSplit ? 2 : 1;
+        // The same memory as one thread: buffers and chunk are shared out.
+        const std::size_t buffer = std::clamp<std::size_t>(p_.memory_bytes / 32 / workers, 64 << 10, 8 << 20);
+        const std::uint64_t chunk = std::max<std::uint64_t>(1, (p_.memory_bytes / 8 / workers) / tri_bytes_);
+        struct Part {
+            std::array<std::string, 8> paths;
+            std::array<std::uint64_t, 8> counts{};
+        };
+        std::array<Part, 2> parts;
+        std::atomic<bool> stop{false};
+        // Worker w: triangles [first, last) of the node, in order, into its eight files.
+        auto split_part = [&](int w, std::uint64_t first, std::uint64_t last) {
+            std::array<std::unique_ptr<ooc::SequentialWriter>, 8> out;
             std::vector<std::byte> data;
-            for (std::uint64_t done = 0; done < in.count;) {
-                check_progress(progress_, fraction(), "octree: splitting");
-                const std::uint64_t n = std::min(chunk, in.count - done);
-                data.resize(static_cast<std::size_t>(n) * tri_bytes_);
-                f.read_at(data.data(), data.size(), in.offset + done * tri_bytes_);
-                for (std::size_t t = 0; t < n; ++t) {
-                    const std::byte* tri = data.data() + t * tri_bytes_;
-                    const int o = octant(tri, mid);
-                    if (!out[o])
-                        out[o] = std::make_unique<ooc::SequentialWriter>(
-                            (fs::path(scratch_) / ("node" + std::to_string(id) + "-" + std::to_string(o))).string(), buffer);
-                    out[o]->write(tri, tri_bytes_);
-                    ++counts[o];
+            std::uint64_t region_first = 0;  // node index of the region's first triangle
+            for (const TriangleRegion& r : in.regions) {
+                const std::uint64_t lo = std::max(first, region_first), hi = std::min(last, region_first + r.count);
+                if (lo < hi) {
+                    ooc::File f(r.path, O_RDONLY);
+                    for (std::uint64_t t0 = lo; t0 < hi;) {
+                        if (w == 0) check_progress(progress_, fraction(), "octree: splitting");
+                        else if (stop.load(std::memory_order_relaxed)) return;
+                        const std::uint64_t n = std::min(chunk, hi - t0);
+                        data.resize(static_cast<std::size_t>(n) * tri_bytes_);
+                        f.read_at(data.data(), data.size(), r.offset + (t0 - region_first) * tri_bytes_);
+                        for (std::size_t t = 0; t < n; ++t) {
+                            const std::byte* tri = data.data() + t * tri_bytes_;
+                            const int o = octant(tri, mid);
+                            if (!out[o])
+                                out[o] = std::make_unique<ooc::SequentialWriter>(
+                                    (fs::path(scratch_) / ("node" + std::to_string(id) + "-" + std::to_string(o) +
+                                                           (w ? "b" : ""))).string(), buffer);
+                            out[o]->write(tri, tri_bytes_);
+                            ++parts[w].counts[o];
+                        }
+                        t0 += n;
+                    }
                 }
-                done += n;
+                region_first += r.count;
             }
-        }
-        std::array<std::string, 8> paths;
-        for (int o = 0; o < 8; ++o)
-            if (out[o]) {
-                paths[o] = out[o]->path();
-                out[o]->close();
-                out[o].reset();
-            }
-        if (in.owned) remove_file(in.path);
+            for (int o = 0; o < 8; ++o)
+                if (out[o]) {
+                    parts[w].paths[o] = out[o]->path();
+                    out[o]->close();
+                }
+        };
+        // The helper never polls progress; an error on either side stops both and is rethrown here.
+        const std::uint64_t half = workers == 2 ? in.count / 2 : in.count;
+        ooc::run_workers(workers, stop, [&](int w) { split_part(w, w ? half : 0, w ? in.count : half); });
+        remove_owned(in);
+        std::array<std::uint64_t, 8> counts{};
+        for (int o = 0; o < 8; ++o) counts[o] = parts[0].counts[o] + parts[1].counts[o];
         const std::array<std::uint32_t, 8> ids = add_children(id, counts);
         std::vector<NodeResult> children;
-        for (int o = 0; o < 8; ++o)
-            if (counts[o]) children.push_back(process_file(ids[o], {paths[o], 0, counts[o], true}, depth + 1));
+        for (int o = 0; o < 8; ++o) {
+            if (!counts[o]) continue;
+            TriangleFile child;
+            child.count = counts[o];
+            for (const Part& part : parts)
+                if (part.counts[o]) child.regions.push_back({part.paths[o], 0, part.counts[o], true});
+            children.push_back(process_file(ids[o], child, depth + 1));
+        }
         return finish_inner(id, children);
+    }
+    static void remove_owned(const TriangleFile& in) {
+        for (const TriangleRegion& r : in.regions)
+            if (r.owned) remove_file(r.path);
     }
 
     // What computing one node yields besides its NodeResult: the encoded chunks to append to the asset

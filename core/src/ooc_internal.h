@@ -6,13 +6,16 @@
 
 #include "lodforge/error.h"
 
+#include <atomic>
 #include <cerrno>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <exception>
 #include <fcntl.h>
 #include <string>
 #include <sys/stat.h>
+#include <thread>
 #include <unistd.h>
 #include <utility>
 #include <vector>
@@ -191,5 +194,34 @@ private:
     std::vector<std::uint32_t> values_;
     std::size_t size_ = 0;
 };
+
+// Runs body(w) for w < workers: worker 0 on this thread (it alone reports progress and polls cancel),
+// worker 1 on a helper that returns when `stop` is set. The first error stops both and is rethrown here
+// once both have ended.
+template <class Body>
+void run_workers(int workers, std::atomic<bool>& stop, Body body) {
+    if (workers < 2) {
+        body(0);
+        return;
+    }
+    std::exception_ptr helper_error;
+    std::thread helper([&] {
+        try {
+            body(1);
+        } catch (...) {
+            helper_error = std::current_exception();
+            stop = true;
+        }
+    });
+    try {
+        body(0);
+    } catch (...) {
+        stop = true;
+        helper.join();
+        throw;
+    }
+    helper.join();
+    if (helper_error) std::rethrow_exception(helper_error);
+}
 
 }  // namespace lodforge::ooc

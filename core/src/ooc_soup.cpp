@@ -25,6 +25,7 @@
 #include <array>
 #include <atomic>
 #include <bit>
+#include <chrono>
 #include <condition_variable>
 #include <deque>
 #include <exception>
@@ -36,6 +37,7 @@
 #include <filesystem>
 #include <iterator>
 #include <limits>
+#include <memory>
 #include <system_error>
 
 namespace lodforge {
@@ -241,24 +243,7 @@ public:
                 }
             }
         };
-        std::exception_ptr helper_error;
-        std::thread helper([&] {
-            try {
-                work(1);
-            } catch (...) {
-                helper_error = std::current_exception();
-                stop = true;
-            }
-        });
-        try {
-            work(0);
-        } catch (...) {
-            stop = true;
-            helper.join();
-            throw;
-        }
-        helper.join();
-        if (helper_error) std::rethrow_exception(helper_error);
+        ooc::run_workers(2, stop, work);
         for (Part& p : parts) {
             out.insert(out.end(), p.odd.begin(), p.odd.end());
             border.insert(border.end(), p.border.begin(), p.border.end());
@@ -815,6 +800,34 @@ void parse_ascii_in_two(PlyReader& reader, const std::string& path, std::size_t 
     }
 }
 
+// ---- External passes on two threads ---------------------------------------------------------------
+
+// Hands the right to write on in index order between the workers of run_workers.
+class Turn {
+public:
+    // Waits until it is item i's turn; false when the workers are being stopped.
+    bool wait(std::size_t i, const std::atomic<bool>& stop) {
+        std::unique_lock lock(mutex_);
+        while (next_ != i) {
+            if (stop) return false;
+            changed_.wait_for(lock, std::chrono::milliseconds(10));
+        }
+        return true;
+    }
+    void done() {
+        {
+            std::lock_guard lock(mutex_);
+            ++next_;
+        }
+        changed_.notify_all();
+    }
+
+private:
+    std::mutex mutex_;
+    std::condition_variable changed_;
+    std::size_t next_ = 0;
+};
+
 }  // namespace
 
 
@@ -993,15 +1006,21 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
     const std::string vertex_path = (dir / "vertices.tmp").string();
     const std::string refs_path = (dir / "refs.tmp").string();
     const std::string corners_path = (dir / "corners.tmp").string();
+    const std::string corners2_path = (dir / "corners2.tmp").string();
+    // Passes 2 and 3 on two threads: the order of the placed corners inside a corner range does not
+    // matter (pass 3 puts each at its slot), so each thread dereferences every second vertex range
+    // into a spill of its own, then assembles every second corner range, written in order. Each
+    // thread holds half of the resident share, so the memory is that of one.
+    const int workers = params.threads >= 2 ? 2 : 1;
     struct Cleanup {
         std::vector<std::string> paths;
         ~Cleanup() {
             std::error_code ignored;
             for (const std::string& p : paths) fs::remove(p, ignored);
         }
-    } cleanup{{vertex_path, refs_path, corners_path, edges_path}};
+    } cleanup{{vertex_path, refs_path, corners_path, corners2_path, edges_path}};
     try {
-        const std::uint64_t range = std::max<std::uint64_t>(1024, static_cast<std::uint64_t>(0.4 * budget) / vrec);
+        const std::uint64_t range = std::max<std::uint64_t>(1024, static_cast<std::uint64_t>(0.4 * budget) / workers / vrec);
         const std::size_t ranges = static_cast<std::size_t>((r.vertices + range - 1) / range);
         const std::size_t ref_bytes = r.wedge_texcoords ? 20 : 12;  // vertex, corner[, wedge u v]
         auto buffer_for = [&](std::size_t buckets) {
@@ -1048,17 +1067,22 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
 
             // Pass 2.
             const std::uint64_t chunk_corners =
-                std::max<std::uint64_t>(3, static_cast<std::uint64_t>(0.4 * budget) / corner / 3 * 3);
+                std::max<std::uint64_t>(3, static_cast<std::uint64_t>(0.4 * budget) / workers / corner / 3 * 3);
             const std::size_t chunks_out = static_cast<std::size_t>((tail + chunk_corners - 1) / chunk_corners);
             const std::size_t placed_bytes = 8 + corner;
-            BucketSpill placed(corners_path, chunks_out, placed_bytes, buffer_for(chunks_out));
-            {
+            std::vector<std::unique_ptr<BucketSpill>> placed;
+            for (int w = 0; w < workers; ++w)
+                placed.push_back(std::make_unique<BucketSpill>(w ? corners2_path : corners_path, chunks_out, placed_bytes,
+                                                               buffer_for(chunks_out * workers)));
+            std::atomic<bool> stop{false};
+            ooc::run_workers(workers, stop, [&](int w) {
                 File vertices(vertex_path, O_RDONLY);
                 std::vector<float> resident;
                 std::vector<char> tmp;
                 std::vector<char> rec(placed_bytes);
-                for (std::size_t b = 0; b < ranges; ++b) {
-                    check_progress(progress, 0.5 + 0.3 * static_cast<double>(b) / ranges, "soup: dereferencing");
+                for (std::size_t b = static_cast<std::size_t>(w); b < ranges; b += workers) {
+                    if (w == 0) check_progress(progress, 0.5 + 0.3 * static_cast<double>(b) / ranges, "soup: dereferencing");
+                    else if (stop) return;
                     const std::uint64_t first = b * range;
                     const std::uint64_t count = std::min<std::uint64_t>(range, r.vertices - first);
                     resident.resize(static_cast<std::size_t>(count) * floats);
@@ -1078,13 +1102,17 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
                                 float* record = reinterpret_cast<float*>(rec.data() + 12);
                                 set_wedge(record, uv);
                             }
-                            placed.add(static_cast<std::size_t>(c / chunk_corners), rec.data());
+                            placed[static_cast<std::size_t>(w)]->add(static_cast<std::size_t>(c / chunk_corners), rec.data());
                         }
                     });
                 }
+            });
+            std::uint64_t placed_total = 0;
+            for (auto& p : placed) {
+                p->finish();
+                placed_total += p->bytes();
             }
-            placed.finish();
-            r.temp_bytes_peak = vertex_file.offset() + refs.bytes() + placed.bytes();
+            r.temp_bytes_peak = vertex_file.offset() + refs.bytes() + placed_total;
             {
                 std::error_code ignored;
                 fs::remove(vertex_path, ignored);
@@ -1092,25 +1120,32 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
 
             // Pass 3.
             SoupWriter out(soup_path, L);
-            std::vector<char> slots;
-            std::vector<char> tmp;
-            for (std::size_t s = 0; s < chunks_out; ++s) {
-                check_progress(progress, 0.8 + 0.2 * static_cast<double>(s) / chunks_out, "soup: assembling");
-                const std::uint64_t first = s * chunk_corners;
-                const std::uint64_t count = std::min<std::uint64_t>(chunk_corners, tail - first);
-                slots.assign(static_cast<std::size_t>(count) * corner, 0);
-                placed.for_each_block(s, tmp, [&](const char* data, std::size_t bytes) {
-                    for (std::size_t o = 0; o < bytes; o += placed_bytes) {
-                        std::uint64_t c;
-                        std::memcpy(&c, data + o, 8);
-                        std::memcpy(&slots[static_cast<std::size_t>(c - first) * corner], data + o + 8, corner);
-                    }
-                });
-                out.raw(slots.data(), slots.size());
-            }
+            Turn turn;
+            ooc::run_workers(workers, stop, [&](int w) {
+                std::vector<char> slots;
+                std::vector<char> tmp;
+                for (std::size_t s = static_cast<std::size_t>(w); s < chunks_out; s += workers) {
+                    if (w == 0) check_progress(progress, 0.8 + 0.2 * static_cast<double>(s) / chunks_out, "soup: assembling");
+                    else if (stop) return;
+                    const std::uint64_t first = s * chunk_corners;
+                    const std::uint64_t count = std::min<std::uint64_t>(chunk_corners, tail - first);
+                    slots.assign(static_cast<std::size_t>(count) * corner, 0);
+                    for (const auto& p : placed)
+                        p->for_each_block(s, tmp, [&](const char* data, std::size_t bytes) {
+                            for (std::size_t o = 0; o < bytes; o += placed_bytes) {
+                                std::uint64_t c;
+                                std::memcpy(&c, data + o, 8);
+                                std::memcpy(&slots[static_cast<std::size_t>(c - first) * corner], data + o + 8, corner);
+                            }
+                        });
+                    if (!turn.wait(s, stop)) return;
+                    out.raw(slots.data(), slots.size());
+                    turn.done();
+                }
+            });
             out.finish(r);
             drop_seam_borders(r, budget);
-            r.temp_bytes_peak = std::max(r.temp_bytes_peak, refs.bytes() + placed.bytes() + out.bytes());
+            r.temp_bytes_peak = std::max(r.temp_bytes_peak, refs.bytes() + placed_total + out.bytes());
         }
     } catch (...) {
         std::error_code ignored;

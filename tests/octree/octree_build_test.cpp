@@ -473,6 +473,50 @@ TEST(OctreeBuild, CancelMidBuildLeavesNoFiles) {
     EXPECT_EQ(std::distance(fs::directory_iterator(dir.path()), fs::directory_iterator()), 0);
 }
 
+TEST(OctreeBuild, StreamingSplitsOnTwoThreadsGiveTheAssetOfOne) {
+    // At 4 MB the 202K-triangle dragon is split by streaming at the root and again below it, so the
+    // children of a two-thread split (one file region per thread) are themselves split on two threads.
+    const std::string input = shared_data("scan-dragon/dragon_vrip_res2.ply");
+    ScratchDir dir("octree-split2");
+    std::vector<std::string> bytes;
+    for (int threads : {1, 2}) {
+        OctreeBuildParams p;
+        p.max_triangles = 300;
+        p.max_depth = 10;
+        p.memory_bytes = 4u << 20;
+        p.threads = threads;
+        const std::string asset = dir.file("t" + std::to_string(threads) + ".lfo");
+        const OctreeBuildResult r = build_octree(input, asset, p);
+        EXPECT_GT(r.split_passes, 1u);
+        EXPECT_EQ(r.stats.triangles_per_level.front(), 202520u);
+        std::ifstream f(asset, std::ios::binary);
+        bytes.emplace_back(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
+    }
+    ASSERT_FALSE(bytes[0].empty());
+    EXPECT_TRUE(bytes[0] == bytes[1]);
+}
+
+TEST(OctreeBuild, CancelDuringATwoThreadSplitLeavesNoFiles) {
+    // Cancelled at the first, second and fifth progress report of the root's streaming split, while
+    // the second thread is writing its half.
+    for (int n : {1, 2, 5}) {
+        ScratchDir dir("octree-cancel-split");
+        OctreeBuildParams p;
+        p.max_triangles = 300;
+        p.memory_bytes = 4u << 20;
+        p.threads = 2;
+        CancelAfter cancel(n);
+        try {
+            build_octree(shared_data("scan-dragon/dragon_vrip_res2.ply"), dir.file("out.lfo"), p, &cancel);
+            FAIL() << "not cancelled at " << n;
+        } catch (const Error& e) {
+            EXPECT_EQ(e.kind(), Error::Kind::cancelled) << n;
+        }
+        EXPECT_EQ(files_in(dir.path()), 0u) << n;
+        EXPECT_EQ(std::distance(fs::directory_iterator(dir.path()), fs::directory_iterator()), 0) << n;
+    }
+}
+
 TEST(OctreeBuild, CorruptInputAndAssetStopWithAClearError) {
     ScratchDir dir("octree-corrupt");
     const std::string bad = dir.file("nan.ply");

@@ -2,6 +2,7 @@
 #include "lodforge/mesh_io.h"
 #include "lodforge/ooc_soup.h"
 #include "lodforge/ply.h"
+#include "lodforge/progress.h"
 
 #include "support/test_paths.h"
 
@@ -114,6 +115,58 @@ std::vector<Vec2f> corner_texcoords_of(const std::string& ply) {
 std::string file_text(const std::string& path) {
     std::ifstream f(path, std::ios::binary);
     return {std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
+}
+
+// Cancels at the n-th report of a stage.
+class CancelInStage : public Progress {
+public:
+    CancelInStage(std::string stage, int n) : stage_(std::move(stage)), n_(n) {}
+    void report(double, std::string_view stage) override {
+        if (stage == stage_) --n_;
+    }
+    bool cancelled() const override { return n_ <= 0; }
+
+private:
+    std::string stage_;
+    int n_;
+};
+
+TEST(OocSoup, ExternalPassesOnTwoThreadsGiveTheSoupOfOne) {
+    // At 4 MB frag_115 has 2 (one thread) or 4 (two) vertex ranges and 11 or 21 corner ranges, so both
+    // threads dereference and assemble several ranges each; the soup and the edge lists must not change.
+    const std::string ply = shared_data("color-open3d-frag115/frag_115.ply");
+    ScratchDir dir("soup-external-threads");
+    std::vector<SoupResult> results;
+    for (int threads : {1, 2}) {
+        SoupParams p;
+        p.memory_bytes = 4u << 20;
+        p.threads = threads;
+        results.push_back(convert_to_soup(ply, dir.file("soup" + std::to_string(threads)), p));
+        EXPECT_TRUE(results.back().external);
+    }
+    const std::string one = file_text(results[0].path);
+    ASSERT_GT(one.size(), 64u + 3 * 44 * 100000);
+    EXPECT_TRUE(one == file_text(results[1].path));
+    EXPECT_EQ(results[0].odd_non_manifold_edges, results[1].odd_non_manifold_edges);
+    EXPECT_EQ(results[0].border_edges, results[1].border_edges);
+    EXPECT_FALSE(results[0].border_edges.empty());
+
+    // Cancelled while the two threads dereference or assemble: an error, and no file is left.
+    for (const char* stage : {"soup: dereferencing", "soup: assembling"}) {
+        for (int n : {1, 2}) {
+            ScratchDir cancel_dir("soup-external-cancel");
+            SoupParams p;
+            p.memory_bytes = 4u << 20;
+            CancelInStage cancel(stage, n);
+            try {
+                convert_to_soup(ply, cancel_dir.file("soup"), p, &cancel);
+                ADD_FAILURE() << "not cancelled in " << stage;
+            } catch (const Error& e) {
+                EXPECT_EQ(e.kind(), Error::Kind::cancelled) << stage;
+            }
+            EXPECT_EQ(std::distance(fs::directory_iterator(cancel_dir.path()), fs::directory_iterator()), 0) << stage << n;
+        }
+    }
 }
 
 TEST(OocSoup, WedgeTexcoordsTravelWithTheirCornerOnBothPaths) {

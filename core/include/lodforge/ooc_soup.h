@@ -71,7 +71,8 @@ struct SoupParams {
     // SoupResult::memory instead of being written (the octree builder asks for this when the whole soup
     // would be processed in memory anyway); larger soups are written as usual.
     std::size_t memory_soup_bytes = 0;
-    // 2: an ASCII PLY is parsed on two threads (same soup bytes as with 1).
+    // 2: an ASCII PLY is parsed on two threads, and the external path's dereference and assembly passes
+    // run on two threads (same soup bytes as with 1).
     int threads = 2;
     // In-memory path: the edge keys are sorted on background threads after convert_to_soup returns, so
     // that the caller's first steps overlap the sort. SoupResult::wait_edges() must then be called before
