@@ -10,6 +10,7 @@
 #include "lodforge/error.h"
 #include "lodforge/mc_octree.h"
 #include "mc_octree_internal.h"
+#include "parallel_for.h"
 
 #include <nanoflann.hpp>
 
@@ -152,18 +153,7 @@ unsigned thread_count(unsigned requested) {
 }
 
 template <class F> void parallel_for(std::size_t n, unsigned threads, F&& f) {
-    if (n < 4096 || threads <= 1) {
-        f(std::size_t(0), n);
-        return;
-    }
-    std::vector<std::thread> pool;
-    const std::size_t chunk = (n + threads - 1) / threads;
-    for (unsigned t = 0; t < threads; ++t) {
-        const std::size_t b = t * chunk, e = std::min(n, b + chunk);
-        if (b >= e) break;
-        pool.emplace_back([&f, b, e] { f(b, e); });
-    }
-    for (auto& th : pool) th.join();
+    detail::parallel_for(n, threads, 4096, std::forward<F>(f));
 }
 
 // Lattice points grouped in 4x4x4 blocks, numbered in order of first use: one hash look-up per block,

@@ -11,11 +11,11 @@
 // same seam triangulation the extraction uses, so the budget inverse is exact.
 #include "lodforge/error.h"
 #include "mc_octree_internal.h"
+#include "parallel_for.h"
 
 #include <algorithm>
 #include <cmath>
 #include <queue>
-#include <thread>
 
 namespace lodforge::mc {
 namespace {
@@ -157,23 +157,12 @@ std::size_t number_mc_octree(McOctree& tree, const std::vector<KeyMap>& maps, un
     // The seams' triangle counts (the costly part: triangulations through a cache) on every thread, then
     // the replay: every cut's exact count, in order.
     std::vector<std::uint32_t> counts(changes.size());
-    const unsigned workers = changes.size() < 4096 ? 1u : std::max(1u, threads);
-    {
-        auto count_range = [&](std::size_t b, std::size_t e) {
-            SeamCache cache;
-            for (std::size_t i = b; i < e; ++i)
-                counts[i] = static_cast<std::uint32_t>(node_triangle_count(
-                    tree, static_cast<std::uint32_t>(changes[i]), static_cast<std::uint32_t>(changes[i] >> 32), cache));
-        };
-        std::vector<std::thread> pool;
-        const std::size_t chunk = (changes.size() + workers - 1) / workers;
-        for (unsigned t = 1; t < workers; ++t) {
-            const std::size_t b = std::min(changes.size(), t * chunk), e = std::min(changes.size(), b + chunk);
-            if (b < e) pool.emplace_back(count_range, b, e);
-        }
-        count_range(0, std::min(changes.size(), chunk));
-        for (auto& th : pool) th.join();
-    }
+    detail::parallel_for(changes.size(), std::max(1u, threads), 4096, [&](std::size_t b, std::size_t e) {
+        SeamCache cache;
+        for (std::size_t i = b; i < e; ++i)
+            counts[i] = static_cast<std::uint32_t>(node_triangle_count(
+                tree, static_cast<std::uint32_t>(changes[i]), static_cast<std::uint32_t>(changes[i] >> 32), cache));
+    });
     std::uint64_t total = node_triangle_count(tree, 0, 0, seams);
     triangles[0] = static_cast<std::uint32_t>(total);
     sequence.push_back(total);

@@ -17,6 +17,7 @@
 
 #include "octree_format.h"
 #include "ooc_internal.h"
+#include "parallel_for.h"
 
 #include <algorithm>
 #include <array>
@@ -230,18 +231,7 @@ private:
             }
         };
         // Independent per triangle: large subtrees take both threads.
-        if (p_.threads >= 2 && count >= 65536) {
-            std::thread helper(compute, count / 2, count);
-            try {
-                compute(0, count / 2);
-            } catch (...) {
-                helper.join();
-                throw;
-            }
-            helper.join();
-        } else {
-            compute(0, count);
-        }
+        detail::parallel_for(count, p_.threads >= 2 ? 2u : 1u, 65536, compute);
         return paths;
     }
 
