@@ -16,7 +16,7 @@
 //
 //   lodforge_bench_morph [--models horse,sphere,cube] [--samples N] [--frame-stride S] [--reps N]
 //                        [--frame-cost max|sum] [--cost-frames N] [--orders single,per-frame,naive]
-//                        [--strips-only]
+//                        [--strips-only] [--schedule default|passes|greedy]
 
 #include "bench_util.h"
 #include "lodforge/error.h"
@@ -253,7 +253,7 @@ void gltf_section(const MorphMesh& morph, const std::vector<MorphLod>& lods, con
 int main(int argc, char** argv) {
     std::string models = "horse,sphere,cube";
     std::size_t samples = 20000, stride = 1, reps = 50, cost_frames = MorphLodParams{}.cost_frames;  // the product default (16)
-    std::string frame_cost = "sum", orders = "single,per-frame,naive";
+    std::string frame_cost = "sum", orders = "single,per-frame,naive", schedule = "default";
     bool strips_only = false;  // only the morph LODStrips tables (no Metro errors, .lfmorph, extraction)
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
@@ -272,10 +272,11 @@ int main(int argc, char** argv) {
         else if (a == "--orders") orders = next();
         else if (a == "--reps") reps = std::max<std::size_t>(1, std::strtoul(next().c_str(), nullptr, 10));
         else if (a == "--strips-only") strips_only = true;
+        else if (a == "--schedule") schedule = next();
         else {
             std::fprintf(stderr, "usage: lodforge_bench_morph [--models horse,sphere,cube] [--samples N] "
                                  "[--frame-stride S] [--reps N] [--frame-cost max|sum] [--cost-frames N]\n"
-                                 "       [--orders single,per-frame,naive] [--strips-only]\n");
+                                 "       [--orders single,per-frame,naive] [--strips-only] [--schedule default|passes|greedy]\n");
             return 2;
         }
     }
@@ -313,6 +314,8 @@ int main(int argc, char** argv) {
                 p.cost_frames = cost_frames;
                 p.order = order;
                 p.simplify.preserve_seams = !it->close_seams;
+                if (schedule == "passes") p.simplify.schedule = SimplifyParams::Schedule::passes;
+                else if (schedule == "greedy") p.simplify.schedule = SimplifyParams::Schedule::greedy;
                 t0 = Clock::now();
                 MorphLod lod = build_morph_lod(morph, p);
                 const double build = seconds_since(t0);

@@ -668,16 +668,20 @@ void Simplifier::add_frame_border_planes(std::uint32_t p, std::uint32_t q, std::
 double Simplifier::frames_cost(std::uint32_t u, std::uint32_t v, double geometric, double total,
                                double weight) const {
     auto mean = [](double q, double w) { return w > 0 ? q / w : q * 1e12; };
-    const double attributes = mean(total, weight) - mean(geometric, weight);
-    double combined = mean(geometric, weight);
+    // Accumulated as the excess over frame 0's geometric cost, so that frames equal to frame 0 add
+    // exactly nothing and the cost is bit for bit the one-frame cost (the greedy schedule's order
+    // depends on every last bit; tested by MorphLod.SingleOrderWithIdenticalFramesIsTheOneFrameOrder).
+    const double base = mean(geometric, weight);
+    double excess = 0;
     for (std::size_t f = 0; f < frames_; ++f) {
         const Quadric& q = frame_geo_[u * frames_ + f];
-        const double c = mean(q.evaluate(frame_pos_[v * frames_ + f]), q.weight);
-        if (params_.frame_cost == SimplifyParams::FrameCost::max) combined = std::max(combined, c);
-        else combined += c;
+        const double d = mean(q.evaluate(frame_pos_[v * frames_ + f]), q.weight) - base;
+        if (params_.frame_cost == SimplifyParams::FrameCost::max) excess = std::max(excess, d);
+        else excess += d;
     }
-    if (params_.frame_cost == SimplifyParams::FrameCost::sum) combined /= double(frames_ + 1);
-    return combined + attributes;
+    if (params_.frame_cost == SimplifyParams::FrameCost::sum) excess /= double(frames_ + 1);
+    const double total_mean = mean(total, weight);
+    return excess == 0 ? total_mean : total_mean + excess;
 }
 
 // No face around u flips or becomes a needle in any extra frame when u moves onto v. Other frames only
@@ -1260,7 +1264,9 @@ void Simplifier::reroute(std::uint32_t u, std::uint32_t rejected) {
 void Simplifier::after_collapse(std::uint32_t u, std::uint32_t v) {
     heap_.remove(u);
     update_best(v);
-    ring_ = scratch_n_;  // update_best left v's neighbours there; the loop below reuses scratch_n_
+    // v's neighbours, read here: update_best() leaves them in scratch_n_ only on its general path (the
+    // plain paths read the faces directly), and relying on that left a stale ring behind on plain runs.
+    neighbours(v, ring_);
     for (std::uint32_t n : ring_) {
         heap_.prefetch(n);
         prefetch(faces_of(n).data());

@@ -35,7 +35,14 @@ struct MorphLodParams {
     std::vector<float> levels = {0.5f, 0.25f, 0.1f, 0.03f};
     // Weights, seams, normal limit. Targets are set per level, placement is half-edge, weld is off
     // (morph_points() decides which wedges are one point), extra_frames are set for the single order.
-    SimplifyParams simplify;
+    // The schedule defaults to greedy here: on animated meshes (small, built offline) it gave a 2-14 %
+    // lower mean error than the round schedule at every level of the horse for 1.6x the build time
+    // (docs/morph.md).
+    SimplifyParams simplify = [] {
+        SimplifyParams p;
+        p.schedule = SimplifyParams::Schedule::greedy;
+        return p;
+    }();
     SimplifyParams::FrameCost frame_cost = SimplifyParams::FrameCost::sum;  // measured better (docs/morph.md)
     // Keyframes whose positions enter the single order's cost, spread evenly (first and last kept);
     // 0 = all of them. 16 measured best overall (docs/morph.md): more frames add flip constraints that
