@@ -1,4 +1,5 @@
 #include "commands.h"
+#include "mesh_output.h"
 #include "terminal_progress.h"
 
 #include "lodforge/mesh_io.h"
@@ -17,7 +18,7 @@ void add_convert_command(CLI::App& app, const GlobalOptions& global) {
     auto options = std::make_shared<Options>();
     CLI::App* cmd = app.add_subcommand("convert", "Convert any supported input to PLY or OBJ");
     cmd->add_option("IN", options->input, "Input mesh (.ply, .obj, .gltf, .glb)")->required();
-    cmd->add_option("OUT", options->output, "Output mesh (.ply or .obj)")->required();
+    cmd->add_option("OUT", options->output, "Output mesh (.ply, .obj or .glb)")->required();
     cmd->add_option("--encoding", options->encoding, "PLY encoding")
         ->check(CLI::IsMember({"ascii", "binary", "binary-be"}))
         ->capture_default_str();
@@ -26,6 +27,7 @@ void add_convert_command(CLI::App& app, const GlobalOptions& global) {
     cmd->add_flag("--no-colors", options->no_colors, "Drop vertex colours");
     cmd->add_flag("--no-texcoords", options->no_texcoords, "Drop texture coordinates");
     cmd->callback([options, &global] {
+        check_mesh_output("convert", options->output);
         TerminalProgress progress(!global.quiet && stderr_is_terminal());
         const Mesh mesh = read_mesh(options->input, {}, &progress);
         WriteOptions write;
@@ -36,7 +38,7 @@ void add_convert_command(CLI::App& app, const GlobalOptions& global) {
         write.write_normals = !options->no_normals;
         write.write_colors = !options->no_colors;
         write.write_texcoords = !options->no_texcoords;
-        write_mesh(mesh, options->output, write, &progress);
+        write_mesh_output(mesh, options->output, write, &progress);
         progress.finish();
         if (!global.quiet)
             std::fprintf(stderr, "wrote %s: %zu vertices, %zu triangles\n", options->output.c_str(),

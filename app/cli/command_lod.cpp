@@ -1,4 +1,5 @@
 #include "commands.h"
+#include "mesh_output.h"
 #include "simplify_options.h"
 #include "terminal_progress.h"
 
@@ -86,7 +87,7 @@ void add_lod_command(CLI::App& app, const GlobalOptions& global) {
     cmd->add_option("--level-errors", options->level_errors,
                     "Error bounds per step (fraction of the diagonal), increasing, e.g. 0.001,0.004");
     cmd->add_option("--format", options->format, "Level file format")
-        ->check(CLI::IsMember({"ply", "obj"}))
+        ->check(CLI::IsMember({"ply", "obj", "glb"}))
         ->capture_default_str();
     cmd->add_option("--weights", options->weights, "Attribute weights, e.g. normal=0.05,color=0.1,uv=0.1");
     cmd->add_flag("--lock-border", options->lock_border, "Never move border vertices");
@@ -122,7 +123,7 @@ void add_lod_command(CLI::App& app, const GlobalOptions& global) {
         for (std::size_t i = 0; i < chain.levels.size(); ++i) {
             const LodLevel& level = chain.levels[i];
             const std::string name = "lod" + std::to_string(i) + "." + o.format;
-            write_mesh(level.mesh, (fs::path(o.output_dir) / name).string(), {}, &progress);
+            write_mesh_output(level.mesh, (fs::path(o.output_dir) / name).string(), {}, &progress);
             nlohmann::ordered_json j;
             j["level"] = i;
             j["file"] = name;

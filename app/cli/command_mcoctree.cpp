@@ -1,5 +1,6 @@
 // `lodforge mcoctree build|extract|info`: the prioritized marching-cube octree (docs/mcoctree.md).
 #include "commands.h"
+#include "mesh_output.h"
 #include "terminal_progress.h"
 
 #include "lodforge/error.h"
@@ -77,13 +78,14 @@ void add_mcoctree_command(CLI::App& app, const GlobalOptions& global) {
     auto x = std::make_shared<ExtractOptions>();
     CLI::App* extract = cmd->add_subcommand("extract", "Extract the mesh of one priority or triangle budget");
     extract->add_option("IN", x->input, "Octree (.mco)")->required();
-    extract->add_option("-o,--output", x->output, "Output mesh (.ply or .obj)")->required();
+    extract->add_option("-o,--output", x->output, "Output mesh (.ply, .obj or .glb)")->required();
     CLI::Option* prio = extract->add_option("--priority", x->priority, "Priority index, 0 (root) .. the maximum (all leaves)");
     CLI::Option* tris = extract->add_option("--triangles", x->triangles, "Largest level with at most this many triangles");
     prio->excludes(tris);
     extract->callback([x, prio, tris, &global] {
         if (!prio->count() && !tris->count())
             throw Error(Error::Kind::argument, "mcoctree extract: give --priority or --triangles");
+        check_mesh_output("mcoctree extract", x->output);
         TerminalProgress progress(!global.quiet && stderr_is_terminal());
         const McOctree tree = read_mc_octree(x->input, &progress);
         McOctreeExtractor ex(tree);
@@ -98,7 +100,7 @@ void add_mcoctree_command(CLI::App& app, const GlobalOptions& global) {
             priority = ex.priority_for_triangles(static_cast<std::uint64_t>(x->triangles));
         }
         const McExtraction& e = ex.extract(priority);
-        write_mesh(e.mesh, x->output, {}, &progress);
+        write_mesh_output(e.mesh, x->output, {}, &progress);
         progress.finish();
         std::printf("priority %zu of %zu: %zu triangles, %zu vertices, %zu nodes (%zu on seams)\n", priority,
                     tree.max_priority(), e.mesh.triangle_count(), e.mesh.vertex_count(), e.active_nodes, e.transition_nodes);

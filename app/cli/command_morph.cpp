@@ -1,5 +1,6 @@
 // `lodforge morph build | extract | info`: morphing meshes with LOD (docs/morph.md).
 #include "commands.h"
+#include "mesh_output.h"
 #include "simplify_options.h"
 #include "terminal_progress.h"
 
@@ -164,10 +165,11 @@ void add_extract(CLI::App& morph, const GlobalOptions& global) {
         ->required();
     cmd->add_option("--t", o->t, "Time in [0, 1] across the whole sequence")->required();
     cmd->add_option("--lod", o->lod, "LOD factor in [0, 1]: 0 the coarsest stored level, 1 full detail")->required();
-    cmd->add_option("-o,--output", o->output, "Output mesh (.ply or .obj)")->required();
+    cmd->add_option("-o,--output", o->output, "Output mesh (.ply, .obj or .glb)")->required();
     cmd->callback([o, &global] {
         if (!(o->t >= 0 && o->t <= 1)) throw Error(Error::Kind::argument, "morph extract: --t must be in [0, 1]");
         if (!(o->lod >= 0 && o->lod <= 1)) throw Error(Error::Kind::argument, "morph extract: --lod must be in [0, 1]");
+        check_mesh_output("morph extract", o->output);
         TerminalProgress progress(!global.quiet && stderr_is_terminal());
         Mesh m;
         if (is_morph_lodstrips_file(o->input)) {
@@ -181,7 +183,7 @@ void add_extract(CLI::App& morph, const GlobalOptions& global) {
             const MorphLodFile f = read_morph_lod(o->input, &progress);
             m = extract_morph(f.morph, f.lod, o->t, o->lod);
         }
-        write_mesh(m, o->output, {}, &progress);
+        write_mesh_output(m, o->output, {}, &progress);
         std::printf("%s: t %.4g, LOD %.4g: %zu triangles, %zu vertices\n", o->output.c_str(), o->t, o->lod,
                     m.triangle_count(), m.vertex_count());
     });

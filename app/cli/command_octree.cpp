@@ -1,5 +1,6 @@
 // `lodforge octree build|info|extract`: the out-of-core octree LOD pipeline (docs/octree.md).
 #include "commands.h"
+#include "mesh_output.h"
 #include "simplify_options.h"
 #include "terminal_progress.h"
 
@@ -189,7 +190,7 @@ void add_extract(CLI::App& octree, const GlobalOptions& global) {
     auto o = std::make_shared<Options>();
     CLI::App* cmd = octree.add_subcommand("extract", "Extract a whole-model level or a view-dependent cut of an octree asset");
     cmd->add_option("ASSET", o->asset, "Octree asset (.lfo)")->required();
-    cmd->add_option("-o,--output", o->output, "Output mesh (.ply or .obj)")->required();
+    cmd->add_option("-o,--output", o->output, "Output mesh (.ply, .obj or .glb)")->required();
     CLI::Option* level = cmd->add_option("--level", o->level, "Whole model at this level (0 = input; see `octree info`)");
     CLI::Option* error = cmd->add_option("--screen-error", o->screen_error, "View-dependent cut: tolerance in pixels (needs --camera)");
     cmd->add_option("--camera", o->camera,
@@ -201,9 +202,7 @@ void add_extract(CLI::App& octree, const GlobalOptions& global) {
         if ((level->count() > 0) == (error->count() > 0))
             throw Error(Error::Kind::argument, "octree extract: give exactly one of --level and --screen-error");
         if (error->count() && o->camera.empty()) throw Error(Error::Kind::argument, "octree extract: --screen-error needs --camera");
-        const FileFormat f = format_from_extension(o->output);
-        if (f != FileFormat::ply && f != FileFormat::obj)
-            throw Error(Error::Kind::argument, "octree extract: " + o->output + ": the output must be .ply or .obj");
+        check_mesh_output("octree extract", o->output);
         TerminalProgress progress(!global.quiet && stderr_is_terminal());
         OctreeStore store(o->asset);
         Cut cut;
@@ -234,7 +233,7 @@ void add_extract(CLI::App& octree, const GlobalOptions& global) {
         }
         const Mesh m = extract_mesh(store, cut, &progress);
         if (m.triangle_count() == 0) throw Error(Error::Kind::invalid, o->asset + ": the cut is empty (nothing in view)");
-        write_mesh(m, o->output, {}, &progress);
+        write_mesh_output(m, o->output, {}, &progress);
         progress.finish();
         std::printf("%s: %s, %zu triangles, %zu vertices\n", o->output.c_str(), what.c_str(), m.triangle_count(), m.vertex_count());
     });

@@ -1,4 +1,5 @@
 #include "commands.h"
+#include "mesh_output.h"
 #include "simplify_options.h"
 #include "terminal_progress.h"
 
@@ -46,7 +47,7 @@ void add_simplify_command(CLI::App& app, const GlobalOptions& global) {
     auto options = std::make_shared<Options>();
     CLI::App* cmd = app.add_subcommand("simplify", "Simplify a mesh to a triangle ratio, count or error bound");
     cmd->add_option("IN", options->input, "Input mesh (.ply, .obj, .gltf, .glb)")->required();
-    cmd->add_option("-o,--output", options->output, "Output mesh (.ply or .obj)")->required();
+    cmd->add_option("-o,--output", options->output, "Output mesh (.ply, .obj or .glb)")->required();
     CLI::Option* ratio = cmd->add_option("--ratio", options->ratio, "Keep this fraction of the triangles, in (0, 1]");
     CLI::Option* triangles = cmd->add_option("--triangles", options->triangles, "Keep this many triangles");
     CLI::Option* max_error = cmd->add_option(
@@ -73,9 +74,7 @@ void add_simplify_command(CLI::App& app, const GlobalOptions& global) {
             throw Error(Error::Kind::argument, "simplify: --max-error needs --mode collapse (clustering targets a triangle count)");
         if (cluster && lock->count())
             throw Error(Error::Kind::argument, "simplify: --lock-border needs --mode collapse");
-        const FileFormat out_format = format_from_extension(o.output);
-        if (out_format != FileFormat::ply && out_format != FileFormat::obj)
-            throw Error(Error::Kind::argument, "simplify: " + o.output + ": the output must be .ply or .obj");
+        check_mesh_output("simplify", o.output);
         SimplifyWeights weights;
         if (!o.weights.empty()) parse_weights(o.weights, weights);
 
@@ -113,7 +112,7 @@ void add_simplify_command(CLI::App& app, const GlobalOptions& global) {
             reason = reason_text(r.reason);
             out = std::move(r.mesh);
         }
-        write_mesh(out, o.output, {}, &progress);
+        write_mesh_output(out, o.output, {}, &progress);
         progress.finish();
         std::printf("%s: %zu -> %zu triangles", o.output.c_str(), mesh.triangle_count(), out.triangle_count());
         if (target) std::printf(" (target %zu)", target);

@@ -1,5 +1,6 @@
 // `lodforge strips`: build a .lodstrips model, describe one, extract a level as a mesh.
 #include "commands.h"
+#include "mesh_output.h"
 #include "simplify_options.h"
 #include "terminal_progress.h"
 
@@ -108,8 +109,9 @@ void add_strips_command(CLI::App& app, const GlobalOptions& global) {
     extract->add_option("--triangles", o->triangles, "Or the finest level with at most this many triangles")
         ->check(CLI::NonNegativeNumber)
         ->excludes(lod);
-    extract->add_option("-o,--output", o->extract_output, "Output mesh (.ply or .obj)")->required();
+    extract->add_option("-o,--output", o->extract_output, "Output mesh (.ply, .obj or .glb)")->required();
     extract->callback([o, &global] {
+        check_mesh_output("strips extract", o->extract_output);
         lodstrips::LodStrips rt;
         std::string why;
         if (!rt.assign(read_lodstrips(o->extract_file), &why)) throw_error(Error::Kind::format, o->extract_file, why);
@@ -118,7 +120,7 @@ void add_strips_command(CLI::App& app, const GlobalOptions& global) {
         Mesh m = lodstrips_mesh(rt);
         m.source_dir = std::filesystem::path(o->extract_file).parent_path().string();
         TerminalProgress progress(!global.quiet && stderr_is_terminal());
-        write_mesh(m, o->extract_output, {}, &progress);
+        write_mesh_output(m, o->extract_output, {}, &progress);
         progress.finish();
         std::printf("level %zu of %zu: %zu triangles, %zu vertices -> %s\n", rt.level(), rt.collapse_count(),
                     rt.triangle_count(), rt.vertex_count(), o->extract_output.c_str());

@@ -2,6 +2,7 @@
 
 #include "lodforge/error.h"
 #include "lodforge/gltf_io.h"
+#include "lodforge/gltf_writer.h"
 #include "lodforge/mesh_validate.h"
 #include "lodforge/obj_io.h"
 #include "lodforge/ply.h"
@@ -98,13 +99,30 @@ void write_mesh(const Mesh& mesh, const std::string& path, const WriteOptions& o
     switch (format_from_extension(path)) {
         case FileFormat::ply: write_ply(mesh, path, options, progress); return;
         case FileFormat::obj: write_obj(mesh, path, options, progress); return;
+        case FileFormat::glb: {
+            if (mesh.triangle_count() == 0) throw_error(Error::Kind::invalid, path, "no triangles to write to a .glb");
+            // One level, one node: the pack's writer (materials, embedded images, v flipped back). A
+            // texture that cannot be read is dropped with a warning, as the OBJ writer keeps going
+            // with a dangling reference: the geometry is what was asked for.
+            GlbOptions glb;
+            glb.name = std::filesystem::path(path).stem().string();
+            if (glb.name.empty()) glb.name = "mesh";
+            glb.skip_missing_textures = true;
+            std::vector<Mesh> levels{mesh};  // the writer takes a list of levels
+            if (!options.write_normals) levels[0].normals.clear();
+            if (!options.write_colors) levels[0].colors.clear();
+            if (!options.write_texcoords) levels[0].texcoords.clear();
+            const GlbResult r = write_glb(levels, glb, path, progress);
+            if (options.warnings)
+                for (const std::string& w : r.warnings) options.warnings->push_back(path + ": " + w);
+            return;
+        }
         case FileFormat::gltf:
-        case FileFormat::glb:
             throw_error(Error::Kind::unsupported, path,
-                        "glTF output is written by LOD pack export; convert to .ply or .obj here");
+                        ".gltf output is not written; use .glb (the same glTF 2.0 with its buffers and textures in one file)");
         case FileFormat::unknown: break;
     }
-    throw_error(Error::Kind::unsupported, path, "unknown output format (use .ply or .obj)");
+    throw_error(Error::Kind::unsupported, path, "unknown output format (use .ply, .obj or .glb)");
 }
 
 }  // namespace lodforge

@@ -102,7 +102,7 @@ TEST(CliSimplify, BadTargetsExitNonZeroWithAMessage) {
     };
     const CliRun stl = run("simplify " + q(bunny()) + " -o " + q(dir.file("x.stl")) + " --ratio 0.5");
     EXPECT_EQ(stl.exit_code, 1);
-    EXPECT_TRUE(contains(stl.out, "the output must be .ply or .obj")) << stl.out;
+    EXPECT_TRUE(contains(stl.out, "the output must be .ply, .obj or .glb")) << stl.out;
     for (const Case& c : cases) {
         const CliRun r = run("simplify " + in + c.args);
         EXPECT_NE(r.exit_code, 0) << c.args;

@@ -7,6 +7,7 @@
 #include "lodforge/progress.h"
 
 #include <string>
+#include <vector>
 
 namespace lodforge {
 
@@ -35,9 +36,13 @@ struct WriteOptions {
     bool write_colors = true;
     bool write_texcoords = true;
     bool copy_textures = true;  // OBJ: copy/extract referenced textures next to the output
+    // When set, receives what was left out without failing (.glb: a texture that could not be read is
+    // not embedded), each message starting with the output path.
+    std::vector<std::string>* warnings = nullptr;
 };
 
-// Writes PLY or OBJ (+MTL) chosen by extension. Throws Error naming the file on failure.
+// Writes PLY, OBJ (+MTL) or GLB (glTF 2.0 binary, one node; textures embedded) chosen by extension.
+// Throws Error naming the file on failure.
 void write_mesh(const Mesh& mesh, const std::string& path, const WriteOptions& options = {},
                 Progress* progress = nullptr);
 

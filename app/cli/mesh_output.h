@@ -1,0 +1,22 @@
+// Mesh outputs of the commands (simplify, convert, lod, the extract subcommands): which extensions are
+// written, checked before any long work, and the write itself with its warnings on stderr.
+#pragma once
+
+#include "lodforge/mesh.h"
+#include "lodforge/mesh_io.h"
+#include "lodforge/progress.h"
+
+#include <string>
+
+namespace lodforge::cli {
+
+// Throws Error(argument) "<command>: <path>: the output must be .ply, .obj or .glb" for anything else,
+// so a typo fails at once rather than after the work.
+void check_mesh_output(const std::string& command, const std::string& path);
+
+// write_mesh(), then "lodforge: warning: ..." on stderr for what the writer left out (a .glb's
+// unreadable texture).
+void write_mesh_output(const Mesh& mesh, const std::string& path, WriteOptions options = {},
+                       Progress* progress = nullptr);
+
+}  // namespace lodforge::cli
