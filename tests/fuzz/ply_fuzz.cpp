@@ -11,6 +11,8 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
+#include <filesystem>
 #include <string>
 #include <unistd.h>
 #include <vector>
@@ -36,7 +38,11 @@ void check_mesh(const lodforge::Mesh& m) {
 }
 
 const std::string& temp_path() {
-    static const std::string path = "/tmp/lodforge-ply-fuzz-" + std::to_string(::getpid()) + ".ply";
+    static const std::string path =
+        (std::filesystem::temp_directory_path() / ("lodforge-ply-fuzz-" + std::to_string(::getpid()) + ".ply")).string();
+    // libFuzzer ends a timed run through exit(): remove the file then, or every run leaves one behind.
+    static const bool registered = (std::atexit([] { std::remove(path.c_str()); }), true);
+    (void)registered;
     return path;
 }
 
