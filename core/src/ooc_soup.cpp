@@ -606,24 +606,22 @@ void drop_seam_borders(SoupResult& r, const float* vertices, std::size_t floats,
     remove_seams(r, uses);
 }
 
-// External path: one pass over the soup, touching only the (few) border edges; a bit filter over the
-// vertex ids skips the binary search for almost every other edge.
-void drop_seam_borders(SoupResult& r, std::size_t budget) {
-    if (r.border_edges.empty()) return;
-    std::vector<SeamUse> uses;
-    uses.reserve(r.border_edges.size());
-    const std::uint64_t filter_bits = std::bit_floor(std::clamp<std::uint64_t>(r.vertices, 64, std::uint64_t{budget} / 16 * 8));
-    std::vector<std::uint64_t> filter(static_cast<std::size_t>(filter_bits / 64), 0);
-    auto bit = [&](std::uint64_t v) { return v & (filter_bits - 1); };
-    for (std::uint64_t e : r.border_edges)
-        for (std::uint64_t v : {e >> 32, e & 0xffffffffu}) filter[bit(v) >> 6] |= std::uint64_t{1} << (bit(v) & 63);
-    auto marked = [&](std::uint32_t v) { return (filter[bit(v) >> 6] >> (bit(v) & 63)) & 1u; };
-    SoupReader reader(r.path);
-    const std::size_t corner = soup_corner_bytes(reader.layout());
-    std::vector<std::byte> block;
-    while (const std::size_t n = reader.read(1 << 14, block)) {
+// External path: the border edges' uses are found in the assembled triangles (a pass over the soup, or
+// the assembly pass itself when it splits the root), touching only the (few) border edges; a bit filter
+// over the vertex ids skips the binary search for almost every other edge.
+class SeamFinder {
+public:
+    SeamFinder(const std::vector<std::uint64_t>& border, std::uint64_t vertices, std::size_t budget)
+        : border_(border), bits_(std::bit_floor(std::clamp<std::uint64_t>(vertices, 64, std::uint64_t{budget} / 16 * 8))),
+          filter_(static_cast<std::size_t>(bits_ / 64), 0) {
+        for (std::uint64_t e : border_)
+            for (std::uint64_t v : {e >> 32, e & 0xffffffffu}) filter_[bit(v) >> 6] |= std::uint64_t{1} << (bit(v) & 63);
+    }
+    // Appends to `uses` the border-edge uses of n soup triangles of `corner` bytes per corner.
+    void add(const std::byte* tris, std::size_t n, std::size_t corner, std::vector<SeamUse>& uses) const {
+        if (border_.empty()) return;
         for (std::size_t t = 0; t < n; ++t) {
-            const std::byte* tri = block.data() + t * 3 * corner;
+            const std::byte* tri = tris + t * 3 * corner;
             for (int k = 0; k < 3; ++k) {
                 const std::byte* ca = tri + k * corner;
                 const std::byte* cb = tri + ((k + 1) % 3) * corner;
@@ -632,11 +630,29 @@ void drop_seam_borders(SoupResult& r, std::size_t budget) {
                 std::memcpy(&b, cb, 4);
                 if (a == b || !marked(a) || !marked(b)) continue;
                 const std::uint64_t edge = a < b ? (std::uint64_t{a} << 32 | b) : (std::uint64_t{b} << 32 | a);
-                if (!std::binary_search(r.border_edges.begin(), r.border_edges.end(), edge)) continue;
+                if (!std::binary_search(border_.begin(), border_.end(), edge)) continue;
                 uses.push_back(seam_use(reinterpret_cast<const float*>(ca + 4), reinterpret_cast<const float*>(cb + 4), edge));
             }
         }
     }
+
+private:
+    std::uint64_t bit(std::uint64_t v) const { return v & (bits_ - 1); }
+    bool marked(std::uint32_t v) const { return (filter_[bit(v) >> 6] >> (bit(v) & 63)) & 1u; }
+    const std::vector<std::uint64_t>& border_;
+    std::uint64_t bits_;
+    std::vector<std::uint64_t> filter_;
+};
+
+void drop_seam_borders(SoupResult& r, std::size_t budget) {
+    if (r.border_edges.empty()) return;
+    std::vector<SeamUse> uses;
+    uses.reserve(r.border_edges.size());
+    const SeamFinder finder(r.border_edges, r.vertices, budget);
+    SoupReader reader(r.path);
+    const std::size_t corner = soup_corner_bytes(reader.layout());
+    std::vector<std::byte> block;
+    while (const std::size_t n = reader.read(1 << 14, block)) finder.add(block.data(), n, corner, uses);
     remove_seams(r, uses);
 }
 
@@ -1065,21 +1081,30 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
             if (r.triangles == 0) throw_error(Error::Kind::invalid, ply_path, "no triangles");
             r.odd_non_manifold_edges = edges.odd_non_manifold(progress, 0.5, 0.55, r.border_edges);
 
-            // Pass 2.
-            const std::uint64_t chunk_corners =
-                std::max<std::uint64_t>(3, static_cast<std::uint64_t>(0.4 * budget) / workers / corner / 3 * 3);
+            // Pass 2. A placed corner is its slot inside its corner range (u32) and its soup corner.
+            const std::uint64_t chunk_corners = std::clamp<std::uint64_t>(
+                static_cast<std::uint64_t>(0.4 * budget) / workers / corner / 3 * 3, 3, 0xffffffffull / 3 * 3);
             const std::size_t chunks_out = static_cast<std::size_t>((tail + chunk_corners - 1) / chunk_corners);
-            const std::size_t placed_bytes = 8 + corner;
+            const std::size_t placed_bytes = 4 + corner;
             std::vector<std::unique_ptr<BucketSpill>> placed;
             for (int w = 0; w < workers; ++w)
                 placed.push_back(std::make_unique<BucketSpill>(w ? corners2_path : corners_path, chunks_out, placed_bytes,
                                                                buffer_for(chunks_out * workers)));
+            // The bounds of the used vertices (what the soup's header gets), for the root split; the
+            // dereference sees every corner.
+            const bool ask_split = static_cast<bool>(params.root_split);
+            struct Box {
+                float lo[3] = {INFINITY, INFINITY, INFINITY};
+                float hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+            };
+            std::array<Box, 2> boxes;
             std::atomic<bool> stop{false};
             ooc::run_workers(workers, stop, [&](int w) {
                 File vertices(vertex_path, O_RDONLY);
                 std::vector<float> resident;
                 std::vector<char> tmp;
                 std::vector<char> rec(placed_bytes);
+                Box& box = boxes[static_cast<std::size_t>(w)];
                 for (std::size_t b = static_cast<std::size_t>(w); b < ranges; b += workers) {
                     if (w == 0) check_progress(progress, 0.5 + 0.3 * static_cast<double>(b) / ranges, "soup: dereferencing");
                     else if (stop) return;
@@ -1093,16 +1118,24 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
                             std::uint64_t c;
                             std::memcpy(&id, data + o, 4);
                             std::memcpy(&c, data + o + 4, 8);
-                            std::memcpy(rec.data(), &c, 8);
-                            std::memcpy(rec.data() + 8, &id, 4);
-                            std::memcpy(rec.data() + 12, &resident[static_cast<std::size_t>(id - first) * floats], vrec);
+                            const std::uint64_t chunk = c / chunk_corners;
+                            const auto slot = static_cast<std::uint32_t>(c - chunk * chunk_corners);
+                            const float* v = &resident[static_cast<std::size_t>(id - first) * floats];
+                            std::memcpy(rec.data(), &slot, 4);
+                            std::memcpy(rec.data() + 4, &id, 4);
+                            std::memcpy(rec.data() + 8, v, vrec);
+                            if (ask_split)
+                                for (int a = 0; a < 3; ++a) {
+                                    box.lo[a] = std::min(box.lo[a], v[a]);
+                                    box.hi[a] = std::max(box.hi[a], v[a]);
+                                }
                             if (r.wedge_texcoords) {
                                 Vec2f uv;
                                 std::memcpy(&uv, data + o + 12, 8);
-                                float* record = reinterpret_cast<float*>(rec.data() + 12);
+                                float* record = reinterpret_cast<float*>(rec.data() + 8);
                                 set_wedge(record, uv);
                             }
-                            placed[static_cast<std::size_t>(w)]->add(static_cast<std::size_t>(c / chunk_corners), rec.data());
+                            placed[static_cast<std::size_t>(w)]->add(static_cast<std::size_t>(chunk), rec.data());
                         }
                     });
                 }
@@ -1117,13 +1150,38 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
                 std::error_code ignored;
                 fs::remove(vertex_path, ignored);
             }
+            SoupRootSplit root;
+            if (ask_split) {
+                Bounds bounds;
+                for (const Box& b : boxes)
+                    if (b.lo[0] <= b.hi[0]) {
+                        bounds.add({b.lo[0], b.lo[1], b.lo[2]});
+                        bounds.add({b.hi[0], b.hi[1], b.hi[2]});
+                    }
+                root = params.root_split(bounds, r.triangles, L);
+                if (root.split) r.bounds = bounds;
+            }
 
-            // Pass 3.
-            SoupWriter out(soup_path, L);
+            // Pass 3. Each thread assembles every second corner range. Without a root split they are
+            // written to the soup in order, the turn passing between the threads; with one, each thread
+            // writes the triangles of its ranges into eight octant files of its own (no turn), and
+            // octant o is the list of every range's run of it, in range order: the soup order.
+            const double mid[3] = {root.mid[0], root.mid[1], root.mid[2]};
+            std::optional<SoupWriter> out;
+            if (!root.split) out.emplace(soup_path, L);
             Turn turn;
+            const SeamFinder seams(r.border_edges, r.vertices, budget);
+            std::array<std::vector<SeamUse>, 2> seam_uses;
+            // Per range and octant, the run its thread wrote: (byte offset, triangles).
+            std::vector<std::array<std::pair<std::uint64_t, std::uint64_t>, 8>> runs(root.split ? chunks_out : 0);
+            std::array<std::array<std::string, 8>, 2> octant_paths;
+            std::array<std::uint64_t, 2> octant_bytes{};
+            const std::size_t octant_buffer = std::clamp<std::size_t>(budget / 32 / workers, 64 << 10, 8 << 20);
+            const std::size_t tri = 3 * corner;
             ooc::run_workers(workers, stop, [&](int w) {
                 std::vector<char> slots;
                 std::vector<char> tmp;
+                std::array<std::optional<SequentialWriter>, 8> files;
                 for (std::size_t s = static_cast<std::size_t>(w); s < chunks_out; s += workers) {
                     if (w == 0) check_progress(progress, 0.8 + 0.2 * static_cast<double>(s) / chunks_out, "soup: assembling");
                     else if (stop) return;
@@ -1133,23 +1191,71 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
                     for (const auto& p : placed)
                         p->for_each_block(s, tmp, [&](const char* data, std::size_t bytes) {
                             for (std::size_t o = 0; o < bytes; o += placed_bytes) {
-                                std::uint64_t c;
-                                std::memcpy(&c, data + o, 8);
-                                std::memcpy(&slots[static_cast<std::size_t>(c - first) * corner], data + o + 8, corner);
+                                std::uint32_t slot;
+                                std::memcpy(&slot, data + o, 4);
+                                std::memcpy(&slots[std::size_t{slot} * corner], data + o + 4, corner);
                             }
                         });
-                    if (!turn.wait(s, stop)) return;
-                    out.raw(slots.data(), slots.size());
-                    turn.done();
+                    if (!root.split) {
+                        if (!turn.wait(s, stop)) return;
+                        out->raw(slots.data(), slots.size());
+                        turn.done();
+                        continue;
+                    }
+                    const auto* tris = reinterpret_cast<const std::byte*>(slots.data());
+                    const std::size_t n = slots.size() / tri;
+                    seams.add(tris, n, corner, seam_uses[static_cast<std::size_t>(w)]);
+                    auto& run = runs[s];
+                    for (int o = 0; o < 8; ++o) run[o] = {files[o] ? files[o]->offset() : 0, 0};
+                    for (std::size_t t = 0; t < n; ++t) {
+                        const int o = ooc::centroid_octant(tris + t * tri, corner, mid);
+                        if (!files[o]) {
+                            octant_paths[w][o] = (dir / ("root-" + std::to_string(o) + (w ? "b" : ""))).string();
+                            files[o].emplace(octant_paths[w][o], octant_buffer);
+                        }
+                        files[o]->write(tris + t * tri, tri);
+                        ++run[o].second;
+                    }
                 }
+                for (auto& f : files)
+                    if (f) {
+                        octant_bytes[static_cast<std::size_t>(w)] += f->offset();
+                        f->close();
+                    }
             });
-            out.finish(r);
-            drop_seam_borders(r, budget);
-            r.temp_bytes_peak = std::max(r.temp_bytes_peak, refs.bytes() + placed_total + out.bytes());
+            if (!root.split) {
+                out->finish(r);
+                drop_seam_borders(r, budget);
+                r.temp_bytes_peak = std::max(r.temp_bytes_peak, refs.bytes() + placed_total + out->bytes());
+            } else {
+                r.root_split = true;
+                for (std::size_t s = 0; s < chunks_out; ++s)
+                    for (int o = 0; o < 8; ++o) {
+                        const auto [offset, count] = runs[s][o];
+                        if (!count) continue;
+                        const std::string& path = octant_paths[s % static_cast<std::size_t>(workers)][o];
+                        std::vector<SoupRegion>& list = r.octants[o];
+                        // One thread's consecutive runs of a file are one region.
+                        if (!list.empty() && list.back().path == path &&
+                            list.back().offset + list.back().count * tri == offset)
+                            list.back().count += count;
+                        else
+                            list.push_back({path, offset, count});
+                        r.octant_counts[o] += count;
+                    }
+                if (!r.border_edges.empty()) {
+                    std::vector<SeamUse>& uses = seam_uses[0];
+                    uses.insert(uses.end(), seam_uses[1].begin(), seam_uses[1].end());
+                    remove_seams(r, uses);
+                }
+                r.temp_bytes_peak = std::max(r.temp_bytes_peak, refs.bytes() + placed_total + octant_bytes[0] + octant_bytes[1]);
+            }
         }
     } catch (...) {
         std::error_code ignored;
         fs::remove(soup_path, ignored);
+        for (int w = 0; w < 2; ++w)
+            for (int o = 0; o < 8; ++o) fs::remove(dir / ("root-" + std::to_string(o) + (w ? "b" : "")), ignored);
         throw;
     }
     check_progress(progress, 1.0, "soup: assembling");
