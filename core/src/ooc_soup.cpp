@@ -257,20 +257,23 @@ private:
     // Radix sort. Digits of at most 11 bits: 2 048 counters and write streams stay in the L1 cache and
     // the store buffers, where 16-bit digits (65 536 scattered write streams) miss on nearly every store.
     // `bits`: the keys' width (2 × bit_width(V), known up front: no pass to find the largest key). More
-    // keys than the L2 cache holds are first split by their top 10 bits (one pass), and each part, a few
-    // thousand keys, is then sorted by the rest in the cache: one pass over memory instead of every
-    // digit's pass missing the cache.
+    // keys than the L2 cache holds are first split by their top bits (one pass, up to 10 bits), and each
+    // part, a few thousand keys, is then sorted by the rest in the cache: one pass over memory instead of
+    // every digit's pass missing the cache.
     static void radix_sort(std::vector<std::uint64_t>& a, std::vector<std::uint64_t>& tmp, int bits) {
         if (bits <= 0 || a.size() < 2) return;
         tmp.resize(a.size());
         constexpr std::size_t kInCache = std::size_t{1} << 15;  // keys (256 KB)
-        constexpr int kTop = 10;
-        if (a.size() <= kInCache || bits <= 2 * kTop) {
+        // Parts of about 4 096 keys: smaller ones would pay more for their digits' counters (up to
+        // 4 × 2 048, cleared and summed per part) than for their keys (the 16 MB budget's buckets of
+        // 150 K keys split 1 024 ways gave parts of 150 keys and spent most of the sort on counters).
+        const int top = std::clamp(static_cast<int>(std::bit_width(a.size())) - 12, 1, 10);
+        if (a.size() <= kInCache || bits <= 2 * top) {
             if (lsd_sort(a.data(), tmp.data(), a.size(), bits) != a.data()) a.swap(tmp);
             return;
         }
-        const int low = bits - kTop;
-        std::vector<std::size_t> start((std::size_t{1} << kTop) + 1, 0);
+        const int low = bits - top;
+        std::vector<std::size_t> start((std::size_t{1} << top) + 1, 0);
         for (std::uint64_t k : a) ++start[(k >> low) + 1];
         for (std::size_t d = 1; d < start.size(); ++d) start[d] += start[d - 1];
         {
@@ -477,6 +480,80 @@ private:
     std::size_t cap_;
     float lo_[3] = {INFINITY, INFINITY, INFINITY};
     float hi_[3] = {-INFINITY, -INFINITY, -INFINITY};
+};
+
+// The root's eight octant files (SoupParams::root_split): each triangle goes to the file of its
+// centroid's octant, in the order given; `suffix` tells apart the files of different threads.
+class OctantFiles {
+public:
+    OctantFiles(const fs::path& dir, const std::string& suffix, const SoupRootSplit& split, std::size_t corner, std::size_t buffer)
+        : dir_(dir), suffix_(suffix), mid_{split.mid[0], split.mid[1], split.mid[2]}, corner_(corner), buffer_(buffer) {}
+    // Appends n triangles; octants[t] (when given) receives each one's octant.
+    void add(const std::byte* tris, std::size_t n, std::uint8_t* octants = nullptr) {
+        const std::size_t tb = 3 * corner_;
+        for (std::size_t t = 0; t < n; ++t) {
+            const std::byte* tri = tris + t * tb;
+            const int o = ooc::centroid_octant(tri, corner_, mid_);
+            if (!files_[o]) files_[o].emplace(path(dir_, o, suffix_), buffer_);
+            files_[o]->write(tri, tb);
+            ++counts_[o];
+            if (octants) octants[t] = static_cast<std::uint8_t>(o);
+        }
+    }
+    std::uint64_t offset(int o) const { return files_[o] ? files_[o]->offset() : 0; }
+    std::uint64_t count(int o) const { return counts_[o]; }
+    std::uint64_t bytes() const {
+        std::uint64_t b = 0;
+        for (int o = 0; o < 8; ++o) b += offset(o);
+        return b;
+    }
+    void close() {
+        for (auto& f : files_)
+            if (f) f->close();
+    }
+    static std::string path(const fs::path& dir, int o, const std::string& suffix) {
+        return (dir / ("root-" + std::to_string(o) + suffix)).string();
+    }
+    // Removes every file this class may have written in `dir` (threads' suffixes "" and "b").
+    static void remove_all(const fs::path& dir) {
+        std::error_code ignored;
+        for (const char* suffix : {"", "b"})
+            for (int o = 0; o < 8; ++o) fs::remove(path(dir, o, suffix), ignored);
+    }
+
+private:
+    fs::path dir_;
+    std::string suffix_;
+    double mid_[3];
+    std::size_t corner_, buffer_;
+    std::array<std::optional<SequentialWriter>, 8> files_;
+    std::array<std::uint64_t, 8> counts_{};
+};
+
+// Used-vertex bounds as the soup header has them (SoupWriter's min/max of the corners' positions).
+struct Box {
+    float lo[3] = {INFINITY, INFINITY, INFINITY};
+    float hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    void add(const float* p) {
+        for (int a = 0; a < 3; ++a) {
+            lo[a] = std::min(lo[a], p[a]);
+            hi[a] = std::max(hi[a], p[a]);
+        }
+    }
+    void add(const Box& b) {
+        for (int a = 0; a < 3; ++a) {
+            lo[a] = std::min(lo[a], b.lo[a]);
+            hi[a] = std::max(hi[a], b.hi[a]);
+        }
+    }
+    Bounds bounds() const {
+        Bounds r;
+        if (lo[0] <= hi[0]) {
+            r.add({lo[0], lo[1], lo[2]});
+            r.add({hi[0], hi[1], hi[2]});
+        }
+        return r;
+    }
 };
 
 std::size_t element_index(const PlyHeader& h, bool faces) {
@@ -899,12 +976,36 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
         std::size_t cap = room > 0 ? std::min<std::size_t>(params.memory_soup_bytes, static_cast<std::size_t>(room)) : 0;
         const std::uint64_t expected_bytes = expected_edges * corner;  // expected_edges = 3 × faces
         if (expected_bytes > cap) cap = 0;
-        SoupWriter out(soup_path, L, cap);
-        out.reserve(expected_bytes);
+        // A root split (SoupParams::root_split) needs the bounds of the used vertices before the faces
+        // stream by: it is made with the bounds of all the vertices and the header's face count, each
+        // triangle's octant noted, and kept when the used bounds and the final count give the same answer
+        // (nearly always: every vertex is used); otherwise the octant files are merged back into the soup
+        // in triangle order, by the notes.
+        const fs::path dir = fs::path(soup_path).parent_path();
+        std::uint64_t loaded = 0;  // vertices read
+        std::optional<SoupWriter> soup_file;
+        std::optional<OctantFiles> octant_files;
+        SoupRootSplit guess;
+        Box all, used;
+        std::vector<std::uint8_t> octant_of;  // per triangle, while the split may still be undone
+        std::vector<std::byte> tris;          // one face chunk's triangle records
+        auto start_soup = [&] {
+            if (octant_files || soup_file) return;
+            if (params.root_split && cap == 0) {
+                for (std::uint64_t i = 0; i < loaded; ++i) all.add(&vertices[static_cast<std::size_t>(i) * floats]);
+                guess = params.root_split(all.bounds(), header.elements[face_element].count, L);
+            }
+            if (guess.split) {
+                octant_files.emplace(dir, "", guess, corner, std::clamp<std::size_t>(budget / 32, 64 << 10, 8 << 20));
+                octant_of.reserve(static_cast<std::size_t>(header.elements[face_element].count));
+            } else {
+                soup_file.emplace(soup_path, L, cap);
+                soup_file->reserve(expected_bytes);
+            }
+        };
         auto edges = std::make_unique<EdgeCounter>(edges_path, r.vertices, expected_edges, budget, params.count_edges);
         EdgeWorker edge_worker(*edges, params.count_edges);
         std::vector<std::uint64_t> degenerate_uses;  // edges of triangles with a repeated vertex
-        std::uint64_t loaded = 0;
         auto take_faces = [&](const PlyFaceChunk& fc) {
             r.skipped_faces += fc.skipped_faces;
             edge_worker.push(fc.indices);
@@ -916,15 +1017,30 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
                     if (a != b) degenerate_uses.push_back(a < b ? (std::uint64_t{a} << 32 | b) : (std::uint64_t{b} << 32 | a));
                 }
             }
-            if (r.wedge_texcoords) {
+            start_soup();
+            if (octant_files) {
+                const std::size_t n = fc.triangle_count();
+                tris.resize(n * 3 * corner);
+                for (std::size_t c = 0; c < 3 * n; ++c) {
+                    const std::uint32_t id = fc.indices[c];
+                    std::byte* at = tris.data() + c * corner;
+                    std::memcpy(at, &id, 4);
+                    std::memcpy(at + 4, &vertices[static_cast<std::size_t>(id) * floats], vrec);
+                    if (r.wedge_texcoords) set_wedge(reinterpret_cast<float*>(at + 4), fc.corner_texcoords[c]);
+                    used.add(reinterpret_cast<const float*>(at + 4));
+                }
+                const std::size_t at = octant_of.size();
+                octant_of.resize(at + n);
+                octant_files->add(tris.data(), n, octant_of.data() + at);
+            } else if (r.wedge_texcoords) {
                 for (std::size_t c = 0; c < fc.indices.size(); ++c) {
                     const std::uint32_t id = fc.indices[c];
                     std::memcpy(wedge.data(), &vertices[static_cast<std::size_t>(id) * floats], vrec);
                     set_wedge(wedge.data(), fc.corner_texcoords[c]);
-                    out.corner(id, wedge.data());
+                    soup_file->corner(id, wedge.data());
                 }
             } else {
-                for (std::uint32_t id : fc.indices) out.corner(id, &vertices[static_cast<std::size_t>(id) * floats]);
+                for (std::uint32_t id : fc.indices) soup_file->corner(id, &vertices[static_cast<std::size_t>(id) * floats]);
             }
             r.triangles += fc.triangle_count();
         };
@@ -981,9 +1097,54 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
             }
             check_triangle_count(ply_path, r.triangles);
             if (r.triangles == 0) throw_error(Error::Kind::invalid, ply_path, "no triangles");
-            out.finish(r);
+            if (octant_files) {
+                octant_files->close();
+                const Bounds bounds = used.bounds(), guessed = all.bounds();
+                const SoupRootSplit now = params.root_split(bounds, r.triangles, L);
+                r.temp_bytes_peak = octant_files->bytes();
+                if (now.split && now.mid == guess.mid && bounds.min == guessed.min && bounds.max == guessed.max) {
+                    r.root_split = true;
+                    r.bounds = bounds;
+                    for (int o = 0; o < 8; ++o)
+                        if (octant_files->count(o)) {
+                            r.octants[o].push_back({OctantFiles::path(dir, o, ""), 0, octant_files->count(o)});
+                            r.octant_counts[o] = octant_files->count(o);
+                        }
+                } else {
+                    // Undo the split: the soup in triangle order, each record taken from its octant's file.
+                    check_progress(progress, 1.0, "soup: reading");
+                    SoupWriter merged(soup_path, L);
+                    const std::size_t tb = 3 * corner, block = 4096;
+                    struct Source {
+                        std::optional<File> file;
+                        std::vector<char> data;
+                        std::uint64_t read = 0;  // triangles read from the file
+                        std::size_t at = 0;      // next triangle in data
+                    };
+                    std::array<Source, 8> in;
+                    for (std::uint8_t o : octant_of) {
+                        Source& src = in[o];
+                        if (src.at * tb == src.data.size()) {
+                            if (!src.file) src.file.emplace(OctantFiles::path(dir, o, ""), O_RDONLY);
+                            const std::uint64_t n = std::min<std::uint64_t>(block, octant_files->count(o) - src.read);
+                            src.data.resize(static_cast<std::size_t>(n) * tb);
+                            src.file->read_at(src.data.data(), src.data.size(), src.read * tb);
+                            src.read += n;
+                            src.at = 0;
+                        }
+                        merged.raw(src.data.data() + src.at * tb, tb);
+                        ++src.at;
+                    }
+                    merged.finish(r);
+                    OctantFiles::remove_all(dir);
+                }
+                octant_files.reset();
+                std::vector<std::uint8_t>().swap(octant_of);
+            } else {
+                soup_file->finish(r);
+                r.temp_bytes_peak = soup_file->bytes();
+            }
             edge_worker.finish();
-            r.temp_bytes_peak = out.bytes();
             if (params.background_edges && params.count_edges) {
                 // The counter, the vertex table and the degenerate uses move to the job, which frees them.
                 auto job = std::make_shared<SoupEdgeJob>();
@@ -1010,6 +1171,7 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
         } catch (...) {
             std::error_code ignored;
             fs::remove(soup_path, ignored);
+            OctantFiles::remove_all(dir);
             throw;
         }
         check_progress(progress, 1.0, "soup: reading");
@@ -1093,10 +1255,6 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
             // The bounds of the used vertices (what the soup's header gets), for the root split; the
             // dereference sees every corner.
             const bool ask_split = static_cast<bool>(params.root_split);
-            struct Box {
-                float lo[3] = {INFINITY, INFINITY, INFINITY};
-                float hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-            };
             std::array<Box, 2> boxes;
             std::atomic<bool> stop{false};
             ooc::run_workers(workers, stop, [&](int w) {
@@ -1124,11 +1282,7 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
                             std::memcpy(rec.data(), &slot, 4);
                             std::memcpy(rec.data() + 4, &id, 4);
                             std::memcpy(rec.data() + 8, v, vrec);
-                            if (ask_split)
-                                for (int a = 0; a < 3; ++a) {
-                                    box.lo[a] = std::min(box.lo[a], v[a]);
-                                    box.hi[a] = std::max(box.hi[a], v[a]);
-                                }
+                            if (ask_split) box.add(v);
                             if (r.wedge_texcoords) {
                                 Vec2f uv;
                                 std::memcpy(&uv, data + o + 12, 8);
@@ -1152,12 +1306,8 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
             }
             SoupRootSplit root;
             if (ask_split) {
-                Bounds bounds;
-                for (const Box& b : boxes)
-                    if (b.lo[0] <= b.hi[0]) {
-                        bounds.add({b.lo[0], b.lo[1], b.lo[2]});
-                        bounds.add({b.hi[0], b.hi[1], b.hi[2]});
-                    }
+                boxes[0].add(boxes[1]);
+                const Bounds bounds = boxes[0].bounds();
                 root = params.root_split(bounds, r.triangles, L);
                 if (root.split) r.bounds = bounds;
             }
@@ -1166,7 +1316,6 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
             // written to the soup in order, the turn passing between the threads; with one, each thread
             // writes the triangles of its ranges into eight octant files of its own (no turn), and
             // octant o is the list of every range's run of it, in range order: the soup order.
-            const double mid[3] = {root.mid[0], root.mid[1], root.mid[2]};
             std::optional<SoupWriter> out;
             if (!root.split) out.emplace(soup_path, L);
             Turn turn;
@@ -1174,14 +1323,13 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
             std::array<std::vector<SeamUse>, 2> seam_uses;
             // Per range and octant, the run its thread wrote: (byte offset, triangles).
             std::vector<std::array<std::pair<std::uint64_t, std::uint64_t>, 8>> runs(root.split ? chunks_out : 0);
-            std::array<std::array<std::string, 8>, 2> octant_paths;
             std::array<std::uint64_t, 2> octant_bytes{};
             const std::size_t octant_buffer = std::clamp<std::size_t>(budget / 32 / workers, 64 << 10, 8 << 20);
             const std::size_t tri = 3 * corner;
             ooc::run_workers(workers, stop, [&](int w) {
                 std::vector<char> slots;
                 std::vector<char> tmp;
-                std::array<std::optional<SequentialWriter>, 8> files;
+                OctantFiles files(dir, w ? "b" : "", root, corner, octant_buffer);
                 for (std::size_t s = static_cast<std::size_t>(w); s < chunks_out; s += workers) {
                     if (w == 0) check_progress(progress, 0.8 + 0.2 * static_cast<double>(s) / chunks_out, "soup: assembling");
                     else if (stop) return;
@@ -1206,22 +1354,12 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
                     const std::size_t n = slots.size() / tri;
                     seams.add(tris, n, corner, seam_uses[static_cast<std::size_t>(w)]);
                     auto& run = runs[s];
-                    for (int o = 0; o < 8; ++o) run[o] = {files[o] ? files[o]->offset() : 0, 0};
-                    for (std::size_t t = 0; t < n; ++t) {
-                        const int o = ooc::centroid_octant(tris + t * tri, corner, mid);
-                        if (!files[o]) {
-                            octant_paths[w][o] = (dir / ("root-" + std::to_string(o) + (w ? "b" : ""))).string();
-                            files[o].emplace(octant_paths[w][o], octant_buffer);
-                        }
-                        files[o]->write(tris + t * tri, tri);
-                        ++run[o].second;
-                    }
+                    for (int o = 0; o < 8; ++o) run[o] = {files.offset(o), files.count(o)};
+                    files.add(tris, n);
+                    for (int o = 0; o < 8; ++o) run[o].second = files.count(o) - run[o].second;
                 }
-                for (auto& f : files)
-                    if (f) {
-                        octant_bytes[static_cast<std::size_t>(w)] += f->offset();
-                        f->close();
-                    }
+                octant_bytes[static_cast<std::size_t>(w)] = files.bytes();
+                files.close();
             });
             if (!root.split) {
                 out->finish(r);
@@ -1233,7 +1371,7 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
                     for (int o = 0; o < 8; ++o) {
                         const auto [offset, count] = runs[s][o];
                         if (!count) continue;
-                        const std::string& path = octant_paths[s % static_cast<std::size_t>(workers)][o];
+                        const std::string path = OctantFiles::path(dir, o, s % static_cast<std::size_t>(workers) ? "b" : "");
                         std::vector<SoupRegion>& list = r.octants[o];
                         // One thread's consecutive runs of a file are one region.
                         if (!list.empty() && list.back().path == path &&
@@ -1254,8 +1392,7 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
     } catch (...) {
         std::error_code ignored;
         fs::remove(soup_path, ignored);
-        for (int w = 0; w < 2; ++w)
-            for (int o = 0; o < 8; ++o) fs::remove(dir / ("root-" + std::to_string(o) + (w ? "b" : "")), ignored);
+        OctantFiles::remove_all(dir);
         throw;
     }
     check_progress(progress, 1.0, "soup: assembling");
