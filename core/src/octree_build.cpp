@@ -287,21 +287,31 @@ private:
 
     NodeResult process_file(std::uint32_t id, const TriangleFile& in, int depth) {
         if (is_leaf(in.count, depth) || in.count <= in_memory_limit_) {
-            std::vector<std::byte> data(static_cast<std::size_t>(in.count) * tri_bytes_);
+            // One buffer for every subtree loaded (the subtree is finished before the next is read), grown
+            // to the largest, never zero-filled: fresh pages for each would cost a fault and a clear each.
+            const std::size_t bytes = static_cast<std::size_t>(in.count) * tri_bytes_;
+            if (bytes > load_bytes_) {
+                load_buffer_.reset();
+                load_buffer_.reset(new std::byte[bytes]);
+                load_bytes_ = bytes;
+            }
             std::size_t at = 0;
             for (const TriangleRegion& r : in.regions) {
                 ooc::File f(r.path, O_RDONLY);
-                f.read_at(data.data() + at, static_cast<std::size_t>(r.count) * tri_bytes_, r.offset);
+                f.read_at(load_buffer_.get() + at, static_cast<std::size_t>(r.count) * tri_bytes_, r.offset);
                 at += static_cast<std::size_t>(r.count) * tri_bytes_;
             }
             remove_owned(in);
-            return process_loaded(id, data.data(), static_cast<std::size_t>(in.count), depth);
+            return process_loaded(id, load_buffer_.get(), static_cast<std::size_t>(in.count), depth);
         }
         // Split by streaming: one read of the node's triangles, eight buffered child files per thread.
         // With two threads, each takes one half of the node's triangles (in file order) and writes its
         // own eight files; child o is then the first thread's file o followed by the second's, which
         // is the order one thread writes, so the tree and the asset do not depend on the thread count.
         ++split_passes_;
+        // The split's buffers take the loaded subtrees' share of the budget.
+        load_buffer_.reset();
+        load_bytes_ = 0;
         double mid[3];
         cell_mid(id, mid);
         const int workers = p_.threads >= 2 && in.count >= kTwoThreadSplit ? 2 : 1;
@@ -728,6 +738,8 @@ private:
     bool wedge_ = false;
     std::size_t uv_at_ = 0;
     std::uint64_t in_memory_limit_ = 0;
+    std::unique_ptr<std::byte[]> load_buffer_;  // the subtree held in memory (process_file)
+    std::size_t load_bytes_ = 0;
     std::vector<OctreeNode> nodes_;
     std::uint64_t offset_ = 0;
     std::uint64_t done_triangles_ = 0;

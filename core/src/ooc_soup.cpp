@@ -1327,7 +1327,8 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
             const std::size_t octant_buffer = std::clamp<std::size_t>(budget / 32 / workers, 64 << 10, 8 << 20);
             const std::size_t tri = 3 * corner;
             ooc::run_workers(workers, stop, [&](int w) {
-                std::vector<char> slots;
+                // Every corner of a range is placed exactly once, so the slots need no zero fill.
+                const std::unique_ptr<char[]> slot_memory(new char[static_cast<std::size_t>(std::min<std::uint64_t>(chunk_corners, tail)) * corner]);
                 std::vector<char> tmp;
                 OctantFiles files(dir, w ? "b" : "", root, corner, octant_buffer);
                 for (std::size_t s = static_cast<std::size_t>(w); s < chunks_out; s += workers) {
@@ -1335,7 +1336,7 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
                     else if (stop) return;
                     const std::uint64_t first = s * chunk_corners;
                     const std::uint64_t count = std::min<std::uint64_t>(chunk_corners, tail - first);
-                    slots.assign(static_cast<std::size_t>(count) * corner, 0);
+                    const std::span<char> slots(slot_memory.get(), static_cast<std::size_t>(count) * corner);
                     for (const auto& p : placed)
                         p->for_each_block(s, tmp, [&](const char* data, std::size_t bytes) {
                             for (std::size_t o = 0; o < bytes; o += placed_bytes) {
