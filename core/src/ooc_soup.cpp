@@ -76,11 +76,14 @@ public:
         std::error_code ignored;
         fs::remove(file_.path(), ignored);
     }
+    // Bytes: the record size when known at compile time (a copy of a known size is a move or two, not
+    // a call: the edge keys and corner references go through here tens of millions of times).
+    template <std::size_t Bytes = 0>
     void add(std::size_t bucket, const void* record) {
         std::vector<char>& b = buffers_[bucket];
         if (b.empty()) b.resize(capacity_);
         std::size_t& used = used_[bucket];
-        std::memcpy(b.data() + used, record, record_);
+        std::memcpy(b.data() + used, record, Bytes ? Bytes : record_);
         used += record_;
         if (used >= capacity_) spill(bucket);
     }
@@ -201,7 +204,9 @@ public:
             // Packed to 2 × bit_width(V) bits so the radix sort needs as few passes as possible.
             const std::uint64_t key = a < b ? (std::uint64_t{a} << shift_ | b) : (std::uint64_t{b} << shift_ | a);
             if (in_memory_) resident_[static_cast<std::size_t>(key >> (2 * shift_ - top_bits_))].push_back(key);
-            else spill_->add(ooc::mix64(key) % buckets_, &key);
+            // Bucket by the hash's top 32 bits scaled to the bucket count (a multiply, not a division);
+            // which bucket a key lands in does not change the sorted result.
+            else spill_->add<8>(static_cast<std::size_t>((ooc::mix64(key) >> 32) * buckets_ >> 32), &key);
         }
     }
     // The odd non-manifold edges; `border` receives the edges used exactly once. Both sorted.
@@ -1232,7 +1237,8 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
                         std::memcpy(rec, &id, 4);
                         std::memcpy(rec + 4, &tail, 8);
                         if (r.wedge_texcoords) std::memcpy(rec + 12, &faces.corner_texcoords[c], 8);
-                        refs.add(id / range, rec);
+                        if (r.wedge_texcoords) refs.add<20>(id / range, rec);
+                        else refs.add<12>(id / range, rec);
                         ++tail;
                     }
                 } else {
