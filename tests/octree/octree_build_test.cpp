@@ -536,6 +536,33 @@ TEST(OctreeBuild, RootSplitInTheSoupPassGivesTheAssetOfAStreamedSplit) {
         EXPECT_EQ(std::distance(fs::directory_iterator(dir.path()), fs::directory_iterator()),
                   guessed_right ? 5 : 8);  // inputs and assets only: no temporary file left
     }
+    // A bad vertex index three quarters into the faces, while the guessed split is writing octant files:
+    // the error names the input and the face, and neither the asset nor any temporary file is left.
+    {
+        std::string bytes = [&] {
+            std::ifstream f(dir.file("dragon.ply"), std::ios::binary);
+            return std::string(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
+        }();
+        const std::size_t data = bytes.find("end_header\n") + 11;
+        ASSERT_EQ(bytes.size(), data + mesh.positions.size() * 12 + mesh.triangle_count() * 13);  // float xyz, uchar 3 + 3 int
+        const std::size_t face = mesh.triangle_count() * 3 / 4;
+        const std::uint32_t bad = 0x7fffffff;
+        std::memcpy(bytes.data() + data + mesh.positions.size() * 12 + face * 13 + 1, &bad, 4);
+        ScratchDir cut_dir("octree-root-split-cut");
+        const std::string cut = cut_dir.file("cut.ply");
+        std::ofstream(cut, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+        OctreeBuildParams p;
+        p.max_triangles = 2000;
+        p.memory_bytes = 4u << 20;
+        try {
+            build_octree(cut, cut_dir.file("cut.lfo"), p);
+            ADD_FAILURE() << "a truncated input was accepted";
+        } catch (const Error& e) {
+            EXPECT_NE(std::string(e.what()).find("cut.ply"), std::string::npos) << e.what();
+            EXPECT_NE(std::string(e.what()).find("face " + std::to_string(face)), std::string::npos) << e.what();
+        }
+        EXPECT_EQ(std::distance(fs::directory_iterator(cut_dir.path()), fs::directory_iterator()), 1);  // the input
+    }
     // The unused vertex counts in the header, not in the bounds.
     OctreeStore a(dir.file("dragon-256-2.lfo")), c(dir.file("outlier-256-2.lfo"));
     EXPECT_EQ(c.header().input_vertices, a.header().input_vertices + 1);
