@@ -73,42 +73,50 @@ struct TriangleFile {
 // the half it saves).
 constexpr std::uint64_t kTwoThreadSplit = 16384;
 
+// Root cube: centred on the bounding box, side = longest extent, grown by a relative margin so that
+// float rounding can never put a vertex (hence a centroid) outside it.
+void root_cube(const Bounds& b, float root_min[3], float& root_size) {
+    const Vec3f c = b.center();
+    const Vec3f s = b.size();
+    double side = std::max({s.x, s.y, s.z});
+    const double mag = std::max({std::fabs(b.min.x), std::fabs(b.min.y), std::fabs(b.min.z), std::fabs(b.max.x),
+                                 std::fabs(b.max.y), std::fabs(b.max.z), 1e-30f});
+    side = side * (1 + 1e-4) + mag * 1e-5;
+    if (!(side > 0)) side = 1;
+    const double cc[3] = {c.x, c.y, c.z};
+    for (int a = 0; a < 3; ++a) root_min[a] = static_cast<float>(cc[a] - side / 2);
+    root_size = static_cast<float>(side);
+    // Enlarge until the float cube really encloses the float bounds.
+    const float lo[3] = {b.min.x, b.min.y, b.min.z}, hi[3] = {b.max.x, b.max.y, b.max.z};
+    for (int iter = 0; iter < 64; ++iter) {
+        bool ok = true;
+        for (int a = 0; a < 3; ++a) {
+            if (root_min[a] > lo[a]) root_min[a] = std::nextafter(lo[a], -INFINITY), ok = false;
+            if (root_min[a] + root_size <= hi[a]) root_size = std::nextafter(root_size * 1.0001f, INFINITY), ok = false;
+        }
+        if (ok) break;
+    }
+}
+
+// Triangles a subtree may hold to be finished in memory: 40 % of the budget at record + 16 bytes each.
+std::uint64_t in_memory_limit(std::size_t memory_bytes, const VertexLayout& layout) {
+    return static_cast<std::uint64_t>(0.4 * static_cast<double>(memory_bytes)) / (soup_triangle_bytes(layout) + 16);
+}
+
 class Builder {
 public:
     Builder(const OctreeBuildParams& p, SoupResult& soup, const std::string& scratch, AtomicFile& asset,
             Progress* progress)
         : p_(p), soup_(soup), scratch_(scratch), asset_(asset), progress_(progress), layout_(soup.layout),
           corner_(soup_corner_bytes(layout_)), tri_bytes_(soup_triangle_bytes(layout_)) {
-        // Root cube: centred on the bounding box, side = longest extent, grown by a relative margin so
-        // that float rounding can never put a vertex (hence a centroid) outside it.
-        const Bounds& b = soup.bounds;
-        const Vec3f c = b.center();
-        const Vec3f s = b.size();
-        double side = std::max({s.x, s.y, s.z});
-        const double mag = std::max({std::fabs(b.min.x), std::fabs(b.min.y), std::fabs(b.min.z), std::fabs(b.max.x),
-                                     std::fabs(b.max.y), std::fabs(b.max.z), 1e-30f});
-        side = side * (1 + 1e-4) + mag * 1e-5;
-        if (!(side > 0)) side = 1;
-        const double cc[3] = {c.x, c.y, c.z};
-        for (int a = 0; a < 3; ++a) root_min_[a] = static_cast<float>(cc[a] - side / 2);
-        root_size_ = static_cast<float>(side);
-        // Enlarge until the float cube really encloses the float bounds.
-        const float lo[3] = {b.min.x, b.min.y, b.min.z}, hi[3] = {b.max.x, b.max.y, b.max.z};
-        for (int iter = 0; iter < 64; ++iter) {
-            bool ok = true;
-            for (int a = 0; a < 3; ++a) {
-                if (root_min_[a] > lo[a]) root_min_[a] = std::nextafter(lo[a], -INFINITY), ok = false;
-                if (root_min_[a] + root_size_ <= hi[a]) root_size_ = std::nextafter(root_size_ * 1.0001f, INFINITY), ok = false;
-            }
-            if (ok) break;
-        }
+        root_cube(soup.bounds, root_min_, root_size_);
         frame_.origin = {root_min_[0], root_min_[1], root_min_[2]};
         frame_.scale = root_size_;
         frame_.layout = layout_;
         frame_.weights = p.weights;
         wedge_ = soup.wedge_texcoords;
         uv_at_ = layout_.texcoord_offset();
-        in_memory_limit_ = static_cast<std::uint64_t>(0.4 * static_cast<double>(p.memory_bytes)) / (tri_bytes_ + 16);
+        in_memory_limit_ = in_memory_limit(p.memory_bytes, layout_);
     }
 
     void run(OctreeBuildResult& result) {
@@ -123,6 +131,16 @@ public:
             // The soup was kept in memory (it fits the in-memory share of the budget): no file to read.
             const std::size_t count = soup_.memory.size() / tri_bytes_;
             process_loaded(0, soup_.memory.data(), count, 0);
+        } else if (soup_.root_split) {
+            // The soup pass already wrote the root's octant files (SoupParams::root_split): the split
+            // this builder would stream next, so the tree is the same.
+            ++split_passes_;
+            std::array<TriangleFile, 8> octants;
+            for (int o = 0; o < 8; ++o) {
+                octants[o].count = soup_.octant_counts[o];
+                for (const SoupRegion& r : soup_.octants[o]) octants[o].regions.push_back({r.path, r.offset, r.count, true});
+            }
+            process_children(0, octants, 0);
         } else {
             process_file(0, {{{soup_.path, 64, soup_.triangles, true}}, soup_.triangles}, 0);
         }
@@ -180,16 +198,7 @@ private:
     const float* position(const std::byte* tri, int k) const {
         return reinterpret_cast<const float*>(tri + static_cast<std::size_t>(k) * corner_ + 4);
     }
-    int octant(const std::byte* tri, const double mid[3]) const {
-        float p[3][3];
-        for (int k = 0; k < 3; ++k) std::memcpy(p[k], position(tri, k), sizeof p[k]);
-        int o = 0;
-        for (int a = 0; a < 3; ++a) {
-            const double c = (static_cast<double>(p[0][a]) + p[1][a] + p[2][a]) / 3.0;
-            if (c >= mid[a]) o |= 1 << a;
-        }
-        return o;
-    }
+    int octant(const std::byte* tri, const double mid[3]) const { return ooc::centroid_octant(tri, corner_, mid); }
     void cell_mid(std::uint32_t id, double mid[3]) const {
         const OctreeNode& d = nodes_[id];
         for (int a = 0; a < 3; ++a) mid[a] = static_cast<double>(d.cell_min[a]) + 0.5 * d.cell_size;
@@ -278,21 +287,31 @@ private:
 
     NodeResult process_file(std::uint32_t id, const TriangleFile& in, int depth) {
         if (is_leaf(in.count, depth) || in.count <= in_memory_limit_) {
-            std::vector<std::byte> data(static_cast<std::size_t>(in.count) * tri_bytes_);
+            // One buffer for every subtree loaded (the subtree is finished before the next is read), grown
+            // to the largest, never zero-filled: fresh pages for each would cost a fault and a clear each.
+            const std::size_t bytes = static_cast<std::size_t>(in.count) * tri_bytes_;
+            if (bytes > load_bytes_) {
+                load_buffer_.reset();
+                load_buffer_.reset(new std::byte[bytes]);
+                load_bytes_ = bytes;
+            }
             std::size_t at = 0;
             for (const TriangleRegion& r : in.regions) {
                 ooc::File f(r.path, O_RDONLY);
-                f.read_at(data.data() + at, static_cast<std::size_t>(r.count) * tri_bytes_, r.offset);
+                f.read_at(load_buffer_.get() + at, static_cast<std::size_t>(r.count) * tri_bytes_, r.offset);
                 at += static_cast<std::size_t>(r.count) * tri_bytes_;
             }
             remove_owned(in);
-            return process_loaded(id, data.data(), static_cast<std::size_t>(in.count), depth);
+            return process_loaded(id, load_buffer_.get(), static_cast<std::size_t>(in.count), depth);
         }
         // Split by streaming: one read of the node's triangles, eight buffered child files per thread.
         // With two threads, each takes one half of the node's triangles (in file order) and writes its
         // own eight files; child o is then the first thread's file o followed by the second's, which
         // is the order one thread writes, so the tree and the asset do not depend on the thread count.
         ++split_passes_;
+        // The split's buffers take the loaded subtrees' share of the budget.
+        load_buffer_.reset();
+        load_bytes_ = 0;
         double mid[3];
         cell_mid(id, mid);
         const int workers = p_.threads >= 2 && in.count >= kTwoThreadSplit ? 2 : 1;
@@ -345,18 +364,23 @@ private:
         const std::uint64_t half = workers == 2 ? in.count / 2 : in.count;
         ooc::run_workers(workers, stop, [&](int w) { split_part(w, w ? half : 0, w ? in.count : half); });
         remove_owned(in);
+        std::array<TriangleFile, 8> octants;
+        for (int o = 0; o < 8; ++o)
+            for (const Part& part : parts)
+                if (part.counts[o]) {
+                    octants[o].regions.push_back({part.paths[o], 0, part.counts[o], true});
+                    octants[o].count += part.counts[o];
+                }
+        return process_children(id, octants, depth);
+    }
+    // Node `id` split into its octants' triangle files: its children's subtrees, then itself.
+    NodeResult process_children(std::uint32_t id, const std::array<TriangleFile, 8>& octants, int depth) {
         std::array<std::uint64_t, 8> counts{};
-        for (int o = 0; o < 8; ++o) counts[o] = parts[0].counts[o] + parts[1].counts[o];
+        for (int o = 0; o < 8; ++o) counts[o] = octants[o].count;
         const std::array<std::uint32_t, 8> ids = add_children(id, counts);
         std::vector<NodeResult> children;
-        for (int o = 0; o < 8; ++o) {
-            if (!counts[o]) continue;
-            TriangleFile child;
-            child.count = counts[o];
-            for (const Part& part : parts)
-                if (part.counts[o]) child.regions.push_back({part.paths[o], 0, part.counts[o], true});
-            children.push_back(process_file(ids[o], child, depth + 1));
-        }
+        for (int o = 0; o < 8; ++o)
+            if (counts[o]) children.push_back(process_file(ids[o], octants[o], depth + 1));
         return finish_inner(id, children);
     }
     static void remove_owned(const TriangleFile& in) {
@@ -714,6 +738,8 @@ private:
     bool wedge_ = false;
     std::size_t uv_at_ = 0;
     std::uint64_t in_memory_limit_ = 0;
+    std::unique_ptr<std::byte[]> load_buffer_;  // the subtree held in memory (process_file)
+    std::size_t load_bytes_ = 0;
     std::vector<OctreeNode> nodes_;
     std::uint64_t offset_ = 0;
     std::uint64_t done_triangles_ = 0;
@@ -744,6 +770,19 @@ OctreeBuildResult build_octree(const std::string& input_ply, const std::string& 
         // 30 % of the budget in records is within the builder's in-memory share, 40 % of the budget
         // at record + 16 bytes per triangle, for every record size (≥ 48 bytes).
         sp.memory_soup_bytes = static_cast<std::size_t>(0.3 * static_cast<double>(params.memory_bytes));
+        // An external soup whose root the builder would split by streaming is written straight into the
+        // root's octant files (one write and two reads of the whole soup fewer).
+        sp.root_split = [&params](const Bounds& bounds, std::uint64_t triangles, const VertexLayout& layout) {
+            SoupRootSplit split;
+            if (triangles <= params.max_triangles || params.max_depth <= 0 ||
+                triangles <= in_memory_limit(params.memory_bytes, layout))
+                return split;
+            float min[3], size;
+            root_cube(bounds, min, size);
+            split.split = true;
+            for (int a = 0; a < 3; ++a) split.mid[a] = static_cast<double>(min[a]) + 0.5 * size;
+            return split;
+        };
         result.soup = convert_to_soup(input_ply, scratch.file("soup"), sp, progress);
         // A background edge sort ends before the temporary directory goes, whatever happens.
         struct EndEdgeJob {

@@ -76,11 +76,14 @@ public:
         std::error_code ignored;
         fs::remove(file_.path(), ignored);
     }
+    // Bytes: the record size when known at compile time (a copy of a known size is a move or two, not
+    // a call: the edge keys and corner references go through here tens of millions of times).
+    template <std::size_t Bytes = 0>
     void add(std::size_t bucket, const void* record) {
         std::vector<char>& b = buffers_[bucket];
         if (b.empty()) b.resize(capacity_);
         std::size_t& used = used_[bucket];
-        std::memcpy(b.data() + used, record, record_);
+        std::memcpy(b.data() + used, record, Bytes ? Bytes : record_);
         used += record_;
         if (used >= capacity_) spill(bucket);
     }
@@ -201,7 +204,9 @@ public:
             // Packed to 2 × bit_width(V) bits so the radix sort needs as few passes as possible.
             const std::uint64_t key = a < b ? (std::uint64_t{a} << shift_ | b) : (std::uint64_t{b} << shift_ | a);
             if (in_memory_) resident_[static_cast<std::size_t>(key >> (2 * shift_ - top_bits_))].push_back(key);
-            else spill_->add(ooc::mix64(key) % buckets_, &key);
+            // Bucket by the hash's top 32 bits scaled to the bucket count (a multiply, not a division);
+            // which bucket a key lands in does not change the sorted result.
+            else spill_->add<8>(static_cast<std::size_t>((ooc::mix64(key) >> 32) * buckets_ >> 32), &key);
         }
     }
     // The odd non-manifold edges; `border` receives the edges used exactly once. Both sorted.
@@ -257,20 +262,23 @@ private:
     // Radix sort. Digits of at most 11 bits: 2 048 counters and write streams stay in the L1 cache and
     // the store buffers, where 16-bit digits (65 536 scattered write streams) miss on nearly every store.
     // `bits`: the keys' width (2 × bit_width(V), known up front: no pass to find the largest key). More
-    // keys than the L2 cache holds are first split by their top 10 bits (one pass), and each part, a few
-    // thousand keys, is then sorted by the rest in the cache: one pass over memory instead of every
-    // digit's pass missing the cache.
+    // keys than the L2 cache holds are first split by their top bits (one pass, up to 10 bits), and each
+    // part, a few thousand keys, is then sorted by the rest in the cache: one pass over memory instead of
+    // every digit's pass missing the cache.
     static void radix_sort(std::vector<std::uint64_t>& a, std::vector<std::uint64_t>& tmp, int bits) {
         if (bits <= 0 || a.size() < 2) return;
         tmp.resize(a.size());
         constexpr std::size_t kInCache = std::size_t{1} << 15;  // keys (256 KB)
-        constexpr int kTop = 10;
-        if (a.size() <= kInCache || bits <= 2 * kTop) {
+        // Parts of about 4 096 keys: smaller ones would pay more for their digits' counters (up to
+        // 4 × 2 048, cleared and summed per part) than for their keys (the 16 MB budget's buckets of
+        // 150 K keys split 1 024 ways gave parts of 150 keys and spent most of the sort on counters).
+        const int top = std::clamp(static_cast<int>(std::bit_width(a.size())) - 12, 1, 10);
+        if (a.size() <= kInCache || bits <= 2 * top) {
             if (lsd_sort(a.data(), tmp.data(), a.size(), bits) != a.data()) a.swap(tmp);
             return;
         }
-        const int low = bits - kTop;
-        std::vector<std::size_t> start((std::size_t{1} << kTop) + 1, 0);
+        const int low = bits - top;
+        std::vector<std::size_t> start((std::size_t{1} << top) + 1, 0);
         for (std::uint64_t k : a) ++start[(k >> low) + 1];
         for (std::size_t d = 1; d < start.size(); ++d) start[d] += start[d - 1];
         {
@@ -479,6 +487,80 @@ private:
     float hi_[3] = {-INFINITY, -INFINITY, -INFINITY};
 };
 
+// The root's eight octant files (SoupParams::root_split): each triangle goes to the file of its
+// centroid's octant, in the order given; `suffix` tells apart the files of different threads.
+class OctantFiles {
+public:
+    OctantFiles(const fs::path& dir, const std::string& suffix, const SoupRootSplit& split, std::size_t corner, std::size_t buffer)
+        : dir_(dir), suffix_(suffix), mid_{split.mid[0], split.mid[1], split.mid[2]}, corner_(corner), buffer_(buffer) {}
+    // Appends n triangles; octants[t] (when given) receives each one's octant.
+    void add(const std::byte* tris, std::size_t n, std::uint8_t* octants = nullptr) {
+        const std::size_t tb = 3 * corner_;
+        for (std::size_t t = 0; t < n; ++t) {
+            const std::byte* tri = tris + t * tb;
+            const int o = ooc::centroid_octant(tri, corner_, mid_);
+            if (!files_[o]) files_[o].emplace(path(dir_, o, suffix_), buffer_);
+            files_[o]->write(tri, tb);
+            ++counts_[o];
+            if (octants) octants[t] = static_cast<std::uint8_t>(o);
+        }
+    }
+    std::uint64_t offset(int o) const { return files_[o] ? files_[o]->offset() : 0; }
+    std::uint64_t count(int o) const { return counts_[o]; }
+    std::uint64_t bytes() const {
+        std::uint64_t b = 0;
+        for (int o = 0; o < 8; ++o) b += offset(o);
+        return b;
+    }
+    void close() {
+        for (auto& f : files_)
+            if (f) f->close();
+    }
+    static std::string path(const fs::path& dir, int o, const std::string& suffix) {
+        return (dir / ("root-" + std::to_string(o) + suffix)).string();
+    }
+    // Removes every file this class may have written in `dir` (threads' suffixes "" and "b").
+    static void remove_all(const fs::path& dir) {
+        std::error_code ignored;
+        for (const char* suffix : {"", "b"})
+            for (int o = 0; o < 8; ++o) fs::remove(path(dir, o, suffix), ignored);
+    }
+
+private:
+    fs::path dir_;
+    std::string suffix_;
+    double mid_[3];
+    std::size_t corner_, buffer_;
+    std::array<std::optional<SequentialWriter>, 8> files_;
+    std::array<std::uint64_t, 8> counts_{};
+};
+
+// Used-vertex bounds as the soup header has them (SoupWriter's min/max of the corners' positions).
+struct Box {
+    float lo[3] = {INFINITY, INFINITY, INFINITY};
+    float hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    void add(const float* p) {
+        for (int a = 0; a < 3; ++a) {
+            lo[a] = std::min(lo[a], p[a]);
+            hi[a] = std::max(hi[a], p[a]);
+        }
+    }
+    void add(const Box& b) {
+        for (int a = 0; a < 3; ++a) {
+            lo[a] = std::min(lo[a], b.lo[a]);
+            hi[a] = std::max(hi[a], b.hi[a]);
+        }
+    }
+    Bounds bounds() const {
+        Bounds r;
+        if (lo[0] <= hi[0]) {
+            r.add({lo[0], lo[1], lo[2]});
+            r.add({hi[0], hi[1], hi[2]});
+        }
+        return r;
+    }
+};
+
 std::size_t element_index(const PlyHeader& h, bool faces) {
     for (std::size_t i = 0; i < h.elements.size(); ++i) {
         const std::string& n = h.elements[i].name;
@@ -606,24 +688,22 @@ void drop_seam_borders(SoupResult& r, const float* vertices, std::size_t floats,
     remove_seams(r, uses);
 }
 
-// External path: one pass over the soup, touching only the (few) border edges; a bit filter over the
-// vertex ids skips the binary search for almost every other edge.
-void drop_seam_borders(SoupResult& r, std::size_t budget) {
-    if (r.border_edges.empty()) return;
-    std::vector<SeamUse> uses;
-    uses.reserve(r.border_edges.size());
-    const std::uint64_t filter_bits = std::bit_floor(std::clamp<std::uint64_t>(r.vertices, 64, std::uint64_t{budget} / 16 * 8));
-    std::vector<std::uint64_t> filter(static_cast<std::size_t>(filter_bits / 64), 0);
-    auto bit = [&](std::uint64_t v) { return v & (filter_bits - 1); };
-    for (std::uint64_t e : r.border_edges)
-        for (std::uint64_t v : {e >> 32, e & 0xffffffffu}) filter[bit(v) >> 6] |= std::uint64_t{1} << (bit(v) & 63);
-    auto marked = [&](std::uint32_t v) { return (filter[bit(v) >> 6] >> (bit(v) & 63)) & 1u; };
-    SoupReader reader(r.path);
-    const std::size_t corner = soup_corner_bytes(reader.layout());
-    std::vector<std::byte> block;
-    while (const std::size_t n = reader.read(1 << 14, block)) {
+// External path: the border edges' uses are found in the assembled triangles (a pass over the soup, or
+// the assembly pass itself when it splits the root), touching only the (few) border edges; a bit filter
+// over the vertex ids skips the binary search for almost every other edge.
+class SeamFinder {
+public:
+    SeamFinder(const std::vector<std::uint64_t>& border, std::uint64_t vertices, std::size_t budget)
+        : border_(border), bits_(std::bit_floor(std::clamp<std::uint64_t>(vertices, 64, std::uint64_t{budget} / 16 * 8))),
+          filter_(static_cast<std::size_t>(bits_ / 64), 0) {
+        for (std::uint64_t e : border_)
+            for (std::uint64_t v : {e >> 32, e & 0xffffffffu}) filter_[bit(v) >> 6] |= std::uint64_t{1} << (bit(v) & 63);
+    }
+    // Appends to `uses` the border-edge uses of n soup triangles of `corner` bytes per corner.
+    void add(const std::byte* tris, std::size_t n, std::size_t corner, std::vector<SeamUse>& uses) const {
+        if (border_.empty()) return;
         for (std::size_t t = 0; t < n; ++t) {
-            const std::byte* tri = block.data() + t * 3 * corner;
+            const std::byte* tri = tris + t * 3 * corner;
             for (int k = 0; k < 3; ++k) {
                 const std::byte* ca = tri + k * corner;
                 const std::byte* cb = tri + ((k + 1) % 3) * corner;
@@ -632,11 +712,29 @@ void drop_seam_borders(SoupResult& r, std::size_t budget) {
                 std::memcpy(&b, cb, 4);
                 if (a == b || !marked(a) || !marked(b)) continue;
                 const std::uint64_t edge = a < b ? (std::uint64_t{a} << 32 | b) : (std::uint64_t{b} << 32 | a);
-                if (!std::binary_search(r.border_edges.begin(), r.border_edges.end(), edge)) continue;
+                if (!std::binary_search(border_.begin(), border_.end(), edge)) continue;
                 uses.push_back(seam_use(reinterpret_cast<const float*>(ca + 4), reinterpret_cast<const float*>(cb + 4), edge));
             }
         }
     }
+
+private:
+    std::uint64_t bit(std::uint64_t v) const { return v & (bits_ - 1); }
+    bool marked(std::uint32_t v) const { return (filter_[bit(v) >> 6] >> (bit(v) & 63)) & 1u; }
+    const std::vector<std::uint64_t>& border_;
+    std::uint64_t bits_;
+    std::vector<std::uint64_t> filter_;
+};
+
+void drop_seam_borders(SoupResult& r, std::size_t budget) {
+    if (r.border_edges.empty()) return;
+    std::vector<SeamUse> uses;
+    uses.reserve(r.border_edges.size());
+    const SeamFinder finder(r.border_edges, r.vertices, budget);
+    SoupReader reader(r.path);
+    const std::size_t corner = soup_corner_bytes(reader.layout());
+    std::vector<std::byte> block;
+    while (const std::size_t n = reader.read(1 << 14, block)) finder.add(block.data(), n, corner, uses);
     remove_seams(r, uses);
 }
 
@@ -883,12 +981,36 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
         std::size_t cap = room > 0 ? std::min<std::size_t>(params.memory_soup_bytes, static_cast<std::size_t>(room)) : 0;
         const std::uint64_t expected_bytes = expected_edges * corner;  // expected_edges = 3 × faces
         if (expected_bytes > cap) cap = 0;
-        SoupWriter out(soup_path, L, cap);
-        out.reserve(expected_bytes);
+        // A root split (SoupParams::root_split) needs the bounds of the used vertices before the faces
+        // stream by: it is made with the bounds of all the vertices and the header's face count, each
+        // triangle's octant noted, and kept when the used bounds and the final count give the same answer
+        // (nearly always: every vertex is used); otherwise the octant files are merged back into the soup
+        // in triangle order, by the notes.
+        const fs::path dir = fs::path(soup_path).parent_path();
+        std::uint64_t loaded = 0;  // vertices read
+        std::optional<SoupWriter> soup_file;
+        std::optional<OctantFiles> octant_files;
+        SoupRootSplit guess;
+        Box all, used;
+        std::vector<std::uint8_t> octant_of;  // per triangle, while the split may still be undone
+        std::vector<std::byte> tris;          // one face chunk's triangle records
+        auto start_soup = [&] {
+            if (octant_files || soup_file) return;
+            if (params.root_split && cap == 0) {
+                for (std::uint64_t i = 0; i < loaded; ++i) all.add(&vertices[static_cast<std::size_t>(i) * floats]);
+                guess = params.root_split(all.bounds(), header.elements[face_element].count, L);
+            }
+            if (guess.split) {
+                octant_files.emplace(dir, "", guess, corner, std::clamp<std::size_t>(budget / 32, 64 << 10, 8 << 20));
+                octant_of.reserve(static_cast<std::size_t>(header.elements[face_element].count));
+            } else {
+                soup_file.emplace(soup_path, L, cap);
+                soup_file->reserve(expected_bytes);
+            }
+        };
         auto edges = std::make_unique<EdgeCounter>(edges_path, r.vertices, expected_edges, budget, params.count_edges);
         EdgeWorker edge_worker(*edges, params.count_edges);
         std::vector<std::uint64_t> degenerate_uses;  // edges of triangles with a repeated vertex
-        std::uint64_t loaded = 0;
         auto take_faces = [&](const PlyFaceChunk& fc) {
             r.skipped_faces += fc.skipped_faces;
             edge_worker.push(fc.indices);
@@ -900,15 +1022,30 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
                     if (a != b) degenerate_uses.push_back(a < b ? (std::uint64_t{a} << 32 | b) : (std::uint64_t{b} << 32 | a));
                 }
             }
-            if (r.wedge_texcoords) {
+            start_soup();
+            if (octant_files) {
+                const std::size_t n = fc.triangle_count();
+                tris.resize(n * 3 * corner);
+                for (std::size_t c = 0; c < 3 * n; ++c) {
+                    const std::uint32_t id = fc.indices[c];
+                    std::byte* at = tris.data() + c * corner;
+                    std::memcpy(at, &id, 4);
+                    std::memcpy(at + 4, &vertices[static_cast<std::size_t>(id) * floats], vrec);
+                    if (r.wedge_texcoords) set_wedge(reinterpret_cast<float*>(at + 4), fc.corner_texcoords[c]);
+                    used.add(reinterpret_cast<const float*>(at + 4));
+                }
+                const std::size_t at = octant_of.size();
+                octant_of.resize(at + n);
+                octant_files->add(tris.data(), n, octant_of.data() + at);
+            } else if (r.wedge_texcoords) {
                 for (std::size_t c = 0; c < fc.indices.size(); ++c) {
                     const std::uint32_t id = fc.indices[c];
                     std::memcpy(wedge.data(), &vertices[static_cast<std::size_t>(id) * floats], vrec);
                     set_wedge(wedge.data(), fc.corner_texcoords[c]);
-                    out.corner(id, wedge.data());
+                    soup_file->corner(id, wedge.data());
                 }
             } else {
-                for (std::uint32_t id : fc.indices) out.corner(id, &vertices[static_cast<std::size_t>(id) * floats]);
+                for (std::uint32_t id : fc.indices) soup_file->corner(id, &vertices[static_cast<std::size_t>(id) * floats]);
             }
             r.triangles += fc.triangle_count();
         };
@@ -965,9 +1102,54 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
             }
             check_triangle_count(ply_path, r.triangles);
             if (r.triangles == 0) throw_error(Error::Kind::invalid, ply_path, "no triangles");
-            out.finish(r);
+            if (octant_files) {
+                octant_files->close();
+                const Bounds bounds = used.bounds(), guessed = all.bounds();
+                const SoupRootSplit now = params.root_split(bounds, r.triangles, L);
+                r.temp_bytes_peak = octant_files->bytes();
+                if (now.split && now.mid == guess.mid && bounds.min == guessed.min && bounds.max == guessed.max) {
+                    r.root_split = true;
+                    r.bounds = bounds;
+                    for (int o = 0; o < 8; ++o)
+                        if (octant_files->count(o)) {
+                            r.octants[o].push_back({OctantFiles::path(dir, o, ""), 0, octant_files->count(o)});
+                            r.octant_counts[o] = octant_files->count(o);
+                        }
+                } else {
+                    // Undo the split: the soup in triangle order, each record taken from its octant's file.
+                    check_progress(progress, 1.0, "soup: reading");
+                    SoupWriter merged(soup_path, L);
+                    const std::size_t tb = 3 * corner, block = 4096;
+                    struct Source {
+                        std::optional<File> file;
+                        std::vector<char> data;
+                        std::uint64_t read = 0;  // triangles read from the file
+                        std::size_t at = 0;      // next triangle in data
+                    };
+                    std::array<Source, 8> in;
+                    for (std::uint8_t o : octant_of) {
+                        Source& src = in[o];
+                        if (src.at * tb == src.data.size()) {
+                            if (!src.file) src.file.emplace(OctantFiles::path(dir, o, ""), O_RDONLY);
+                            const std::uint64_t n = std::min<std::uint64_t>(block, octant_files->count(o) - src.read);
+                            src.data.resize(static_cast<std::size_t>(n) * tb);
+                            src.file->read_at(src.data.data(), src.data.size(), src.read * tb);
+                            src.read += n;
+                            src.at = 0;
+                        }
+                        merged.raw(src.data.data() + src.at * tb, tb);
+                        ++src.at;
+                    }
+                    merged.finish(r);
+                    OctantFiles::remove_all(dir);
+                }
+                octant_files.reset();
+                std::vector<std::uint8_t>().swap(octant_of);
+            } else {
+                soup_file->finish(r);
+                r.temp_bytes_peak = soup_file->bytes();
+            }
             edge_worker.finish();
-            r.temp_bytes_peak = out.bytes();
             if (params.background_edges && params.count_edges) {
                 // The counter, the vertex table and the degenerate uses move to the job, which frees them.
                 auto job = std::make_shared<SoupEdgeJob>();
@@ -994,6 +1176,7 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
         } catch (...) {
             std::error_code ignored;
             fs::remove(soup_path, ignored);
+            OctantFiles::remove_all(dir);
             throw;
         }
         check_progress(progress, 1.0, "soup: reading");
@@ -1020,7 +1203,11 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
         }
     } cleanup{{vertex_path, refs_path, corners_path, corners2_path, edges_path}};
     try {
-        const std::uint64_t range = std::max<std::uint64_t>(1024, static_cast<std::uint64_t>(0.4 * budget) / workers / vrec);
+        // Vertex ranges of at most 40 % of the budget per thread, as many per thread (the threads take
+        // alternate ranges: 7 ranges at 64 MB on the 13.9M input left one thread idle a quarter of pass 2).
+        const std::uint64_t widest = std::max<std::uint64_t>(1024, static_cast<std::uint64_t>(0.4 * budget) / workers / vrec);
+        const std::uint64_t rounds = (r.vertices + widest * workers - 1) / (widest * workers);
+        const std::uint64_t range = std::max<std::uint64_t>(1, (r.vertices + rounds * workers - 1) / (rounds * workers));
         const std::size_t ranges = static_cast<std::size_t>((r.vertices + range - 1) / range);
         const std::size_t ref_bytes = r.wedge_texcoords ? 20 : 12;  // vertex, corner[, wedge u v]
         auto buffer_for = [&](std::size_t buckets) {
@@ -1050,7 +1237,8 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
                         std::memcpy(rec, &id, 4);
                         std::memcpy(rec + 4, &tail, 8);
                         if (r.wedge_texcoords) std::memcpy(rec + 12, &faces.corner_texcoords[c], 8);
-                        refs.add(id / range, rec);
+                        if (r.wedge_texcoords) refs.add<20>(id / range, rec);
+                        else refs.add<12>(id / range, rec);
                         ++tail;
                     }
                 } else {
@@ -1065,21 +1253,26 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
             if (r.triangles == 0) throw_error(Error::Kind::invalid, ply_path, "no triangles");
             r.odd_non_manifold_edges = edges.odd_non_manifold(progress, 0.5, 0.55, r.border_edges);
 
-            // Pass 2.
-            const std::uint64_t chunk_corners =
-                std::max<std::uint64_t>(3, static_cast<std::uint64_t>(0.4 * budget) / workers / corner / 3 * 3);
+            // Pass 2. A placed corner is its slot inside its corner range (u32) and its soup corner.
+            const std::uint64_t chunk_corners = std::clamp<std::uint64_t>(
+                static_cast<std::uint64_t>(0.4 * budget) / workers / corner / 3 * 3, 3, 0xffffffffull / 3 * 3);
             const std::size_t chunks_out = static_cast<std::size_t>((tail + chunk_corners - 1) / chunk_corners);
-            const std::size_t placed_bytes = 8 + corner;
+            const std::size_t placed_bytes = 4 + corner;
             std::vector<std::unique_ptr<BucketSpill>> placed;
             for (int w = 0; w < workers; ++w)
                 placed.push_back(std::make_unique<BucketSpill>(w ? corners2_path : corners_path, chunks_out, placed_bytes,
                                                                buffer_for(chunks_out * workers)));
+            // The bounds of the used vertices (what the soup's header gets), for the root split; the
+            // dereference sees every corner.
+            const bool ask_split = static_cast<bool>(params.root_split);
+            std::array<Box, 2> boxes;
             std::atomic<bool> stop{false};
             ooc::run_workers(workers, stop, [&](int w) {
                 File vertices(vertex_path, O_RDONLY);
                 std::vector<float> resident;
                 std::vector<char> tmp;
                 std::vector<char> rec(placed_bytes);
+                Box& box = boxes[static_cast<std::size_t>(w)];
                 for (std::size_t b = static_cast<std::size_t>(w); b < ranges; b += workers) {
                     if (w == 0) check_progress(progress, 0.5 + 0.3 * static_cast<double>(b) / ranges, "soup: dereferencing");
                     else if (stop) return;
@@ -1093,16 +1286,20 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
                             std::uint64_t c;
                             std::memcpy(&id, data + o, 4);
                             std::memcpy(&c, data + o + 4, 8);
-                            std::memcpy(rec.data(), &c, 8);
-                            std::memcpy(rec.data() + 8, &id, 4);
-                            std::memcpy(rec.data() + 12, &resident[static_cast<std::size_t>(id - first) * floats], vrec);
+                            const std::uint64_t chunk = c / chunk_corners;
+                            const auto slot = static_cast<std::uint32_t>(c - chunk * chunk_corners);
+                            const float* v = &resident[static_cast<std::size_t>(id - first) * floats];
+                            std::memcpy(rec.data(), &slot, 4);
+                            std::memcpy(rec.data() + 4, &id, 4);
+                            std::memcpy(rec.data() + 8, v, vrec);
+                            if (ask_split) box.add(v);
                             if (r.wedge_texcoords) {
                                 Vec2f uv;
                                 std::memcpy(&uv, data + o + 12, 8);
-                                float* record = reinterpret_cast<float*>(rec.data() + 12);
+                                float* record = reinterpret_cast<float*>(rec.data() + 8);
                                 set_wedge(record, uv);
                             }
-                            placed[static_cast<std::size_t>(w)]->add(static_cast<std::size_t>(c / chunk_corners), rec.data());
+                            placed[static_cast<std::size_t>(w)]->add(static_cast<std::size_t>(chunk), rec.data());
                         }
                     });
                 }
@@ -1117,39 +1314,96 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
                 std::error_code ignored;
                 fs::remove(vertex_path, ignored);
             }
+            SoupRootSplit root;
+            if (ask_split) {
+                boxes[0].add(boxes[1]);
+                const Bounds bounds = boxes[0].bounds();
+                root = params.root_split(bounds, r.triangles, L);
+                if (root.split) r.bounds = bounds;
+            }
 
-            // Pass 3.
-            SoupWriter out(soup_path, L);
+            // Pass 3. Each thread assembles every second corner range. Without a root split they are
+            // written to the soup in order, the turn passing between the threads; with one, each thread
+            // writes the triangles of its ranges into eight octant files of its own (no turn), and
+            // octant o is the list of every range's run of it, in range order: the soup order.
+            std::optional<SoupWriter> out;
+            if (!root.split) out.emplace(soup_path, L);
             Turn turn;
+            const SeamFinder seams(r.border_edges, r.vertices, budget);
+            std::array<std::vector<SeamUse>, 2> seam_uses;
+            // Per range and octant, the run its thread wrote: (byte offset, triangles).
+            std::vector<std::array<std::pair<std::uint64_t, std::uint64_t>, 8>> runs(root.split ? chunks_out : 0);
+            std::array<std::uint64_t, 2> octant_bytes{};
+            const std::size_t octant_buffer = std::clamp<std::size_t>(budget / 32 / workers, 64 << 10, 8 << 20);
+            const std::size_t tri = 3 * corner;
             ooc::run_workers(workers, stop, [&](int w) {
-                std::vector<char> slots;
+                // Every corner of a range is placed exactly once, so the slots need no zero fill.
+                const std::unique_ptr<char[]> slot_memory(new char[static_cast<std::size_t>(std::min<std::uint64_t>(chunk_corners, tail)) * corner]);
                 std::vector<char> tmp;
+                OctantFiles files(dir, w ? "b" : "", root, corner, octant_buffer);
                 for (std::size_t s = static_cast<std::size_t>(w); s < chunks_out; s += workers) {
                     if (w == 0) check_progress(progress, 0.8 + 0.2 * static_cast<double>(s) / chunks_out, "soup: assembling");
                     else if (stop) return;
                     const std::uint64_t first = s * chunk_corners;
                     const std::uint64_t count = std::min<std::uint64_t>(chunk_corners, tail - first);
-                    slots.assign(static_cast<std::size_t>(count) * corner, 0);
+                    const std::span<char> slots(slot_memory.get(), static_cast<std::size_t>(count) * corner);
                     for (const auto& p : placed)
                         p->for_each_block(s, tmp, [&](const char* data, std::size_t bytes) {
                             for (std::size_t o = 0; o < bytes; o += placed_bytes) {
-                                std::uint64_t c;
-                                std::memcpy(&c, data + o, 8);
-                                std::memcpy(&slots[static_cast<std::size_t>(c - first) * corner], data + o + 8, corner);
+                                std::uint32_t slot;
+                                std::memcpy(&slot, data + o, 4);
+                                std::memcpy(&slots[std::size_t{slot} * corner], data + o + 4, corner);
                             }
                         });
-                    if (!turn.wait(s, stop)) return;
-                    out.raw(slots.data(), slots.size());
-                    turn.done();
+                    if (!root.split) {
+                        if (!turn.wait(s, stop)) return;
+                        out->raw(slots.data(), slots.size());
+                        turn.done();
+                        continue;
+                    }
+                    const auto* tris = reinterpret_cast<const std::byte*>(slots.data());
+                    const std::size_t n = slots.size() / tri;
+                    seams.add(tris, n, corner, seam_uses[static_cast<std::size_t>(w)]);
+                    auto& run = runs[s];
+                    for (int o = 0; o < 8; ++o) run[o] = {files.offset(o), files.count(o)};
+                    files.add(tris, n);
+                    for (int o = 0; o < 8; ++o) run[o].second = files.count(o) - run[o].second;
                 }
+                octant_bytes[static_cast<std::size_t>(w)] = files.bytes();
+                files.close();
             });
-            out.finish(r);
-            drop_seam_borders(r, budget);
-            r.temp_bytes_peak = std::max(r.temp_bytes_peak, refs.bytes() + placed_total + out.bytes());
+            if (!root.split) {
+                out->finish(r);
+                drop_seam_borders(r, budget);
+                r.temp_bytes_peak = std::max(r.temp_bytes_peak, refs.bytes() + placed_total + out->bytes());
+            } else {
+                r.root_split = true;
+                for (std::size_t s = 0; s < chunks_out; ++s)
+                    for (int o = 0; o < 8; ++o) {
+                        const auto [offset, count] = runs[s][o];
+                        if (!count) continue;
+                        const std::string path = OctantFiles::path(dir, o, s % static_cast<std::size_t>(workers) ? "b" : "");
+                        std::vector<SoupRegion>& list = r.octants[o];
+                        // One thread's consecutive runs of a file are one region.
+                        if (!list.empty() && list.back().path == path &&
+                            list.back().offset + list.back().count * tri == offset)
+                            list.back().count += count;
+                        else
+                            list.push_back({path, offset, count});
+                        r.octant_counts[o] += count;
+                    }
+                if (!r.border_edges.empty()) {
+                    std::vector<SeamUse>& uses = seam_uses[0];
+                    uses.insert(uses.end(), seam_uses[1].begin(), seam_uses[1].end());
+                    remove_seams(r, uses);
+                }
+                r.temp_bytes_peak = std::max(r.temp_bytes_peak, refs.bytes() + placed_total + octant_bytes[0] + octant_bytes[1]);
+            }
         }
     } catch (...) {
         std::error_code ignored;
         fs::remove(soup_path, ignored);
+        OctantFiles::remove_all(dir);
         throw;
     }
     check_progress(progress, 1.0, "soup: assembling");

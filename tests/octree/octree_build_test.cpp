@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <array>
 #include <filesystem>
 #include <fstream>
@@ -494,6 +495,80 @@ TEST(OctreeBuild, StreamingSplitsOnTwoThreadsGiveTheAssetOfOne) {
     }
     ASSERT_FALSE(bytes[0].empty());
     EXPECT_TRUE(bytes[0] == bytes[1]);
+}
+
+TEST(OctreeBuild, RootSplitInTheSoupPassGivesTheAssetOfAStreamedSplit) {
+    // At 4 MB the 202K dragon's vertex table fits (in-memory soup) but its root does not: the soup pass
+    // writes the root's octant files itself, guessing the root cube from all the vertices. The asset
+    // must be the one built without a root split (256 MB: everything in memory), on one thread and two.
+    // A copy with one unused vertex far away makes the guess wrong: the split is undone (the octant
+    // files merged back into the soup) and the asset is again that of the 256 MB build.
+    const Mesh mesh = read_mesh(shared_data("scan-dragon/dragon_vrip_res2.ply"));
+    ScratchDir dir("octree-root-split");
+    Mesh outlier = mesh;
+    const Bounds b = mesh.bounds();
+    outlier.positions.push_back(b.max + (b.max - b.min) * 3.f);
+    write_mesh(mesh, dir.file("dragon.ply"));
+    write_mesh(outlier, dir.file("outlier.ply"));
+    auto build = [&](const std::string& name, std::size_t mb, int threads, bool* root_split) {
+        OctreeBuildParams p;
+        p.max_triangles = 2000;
+        p.max_depth = 10;
+        p.memory_bytes = mb << 20;
+        p.threads = threads;
+        const std::string asset = dir.file(name + "-" + std::to_string(mb) + "-" + std::to_string(threads) + ".lfo");
+        const OctreeBuildResult r = build_octree(dir.file(name + ".ply"), asset, p);
+        EXPECT_FALSE(r.soup.external);
+        if (root_split) *root_split = r.soup.root_split;
+        std::ifstream f(asset, std::ios::binary);
+        return std::string(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
+    };
+    for (const char* name : {"dragon", "outlier"}) {
+        SCOPED_TRACE(name);
+        const bool guessed_right = std::string(name) == "dragon";
+        const std::string whole = build(name, 256, 2, nullptr);
+        ASSERT_GT(whole.size(), 1000u);
+        for (int threads : {1, 2}) {
+            bool root_split = !guessed_right;
+            EXPECT_TRUE(build(name, 4, threads, &root_split) == whole) << threads;
+            EXPECT_EQ(root_split, guessed_right) << threads;
+        }
+        EXPECT_EQ(std::distance(fs::directory_iterator(dir.path()), fs::directory_iterator()),
+                  guessed_right ? 5 : 8);  // inputs and assets only: no temporary file left
+    }
+    // A bad vertex index three quarters into the faces, while the guessed split is writing octant files:
+    // the error names the input and the face, and neither the asset nor any temporary file is left.
+    {
+        std::string bytes = [&] {
+            std::ifstream f(dir.file("dragon.ply"), std::ios::binary);
+            return std::string(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
+        }();
+        const std::size_t data = bytes.find("end_header\n") + 11;
+        ASSERT_EQ(bytes.size(), data + mesh.positions.size() * 12 + mesh.triangle_count() * 13);  // float xyz, uchar 3 + 3 int
+        const std::size_t face = mesh.triangle_count() * 3 / 4;
+        const std::uint32_t bad = 0x7fffffff;
+        std::memcpy(bytes.data() + data + mesh.positions.size() * 12 + face * 13 + 1, &bad, 4);
+        ScratchDir cut_dir("octree-root-split-cut");
+        const std::string cut = cut_dir.file("cut.ply");
+        std::ofstream(cut, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+        OctreeBuildParams p;
+        p.max_triangles = 2000;
+        p.memory_bytes = 4u << 20;
+        try {
+            build_octree(cut, cut_dir.file("cut.lfo"), p);
+            ADD_FAILURE() << "a truncated input was accepted";
+        } catch (const Error& e) {
+            EXPECT_NE(std::string(e.what()).find("cut.ply"), std::string::npos) << e.what();
+            EXPECT_NE(std::string(e.what()).find("face " + std::to_string(face)), std::string::npos) << e.what();
+        }
+        EXPECT_EQ(std::distance(fs::directory_iterator(cut_dir.path()), fs::directory_iterator()), 1);  // the input
+    }
+    // The unused vertex counts in the header, not in the bounds.
+    OctreeStore a(dir.file("dragon-256-2.lfo")), c(dir.file("outlier-256-2.lfo"));
+    EXPECT_EQ(c.header().input_vertices, a.header().input_vertices + 1);
+    EXPECT_EQ(c.header().bounds.min, a.header().bounds.min);
+    EXPECT_EQ(c.header().bounds.max, a.header().bounds.max);
+    EXPECT_EQ(c.header().root_size, a.header().root_size);
 }
 
 TEST(OctreeBuild, CancelDuringATwoThreadSplitLeavesNoFiles) {

@@ -169,6 +169,82 @@ TEST(OocSoup, ExternalPassesOnTwoThreadsGiveTheSoupOfOne) {
     }
 }
 
+TEST(OocSoup, ExternalAssemblyWritesTheRootSplitOfTheSoup) {
+    // SoupParams::root_split: instead of the soup file, the assembly pass writes each triangle into the
+    // file of its centroid's octant. Octant o, read region after region, must be exactly the soup's
+    // triangles of octant o in soup order (what the octree's streaming split of the soup writes), on one
+    // thread and on two, and the bounds and edge lists must be those of the soup.
+    const std::string ply = shared_data("color-open3d-frag115/frag_115.ply");
+    ScratchDir dir("soup-root-split");
+    SoupParams plain;
+    plain.memory_bytes = 4u << 20;
+    const SoupResult soup = convert_to_soup(ply, dir.file("soup"), plain);
+    ASSERT_TRUE(soup.external);
+    const std::size_t tb = soup_triangle_bytes(soup.layout), cb = soup_corner_bytes(soup.layout);
+    const std::string text = file_text(soup.path);
+    ASSERT_EQ(text.size(), 64 + soup.triangles * tb);
+    double mid[3];
+    for (int a = 0; a < 3; ++a) mid[a] = 0.5 * (static_cast<double>(soup.bounds.min[a]) + soup.bounds.max[a]);
+    std::array<std::string, 8> expected;
+    for (std::uint64_t t = 0; t < soup.triangles; ++t) {
+        const char* tri = text.data() + 64 + t * tb;
+        int o = 0;
+        for (int a = 0; a < 3; ++a) {
+            float p[3];
+            for (int k = 0; k < 3; ++k) std::memcpy(&p[k], tri + k * cb + 4 + 4 * a, 4);
+            if ((static_cast<double>(p[0]) + p[1] + p[2]) / 3.0 >= mid[a]) o |= 1 << a;
+        }
+        expected[o].append(tri, tb);
+    }
+    for (int threads : {1, 2}) {
+        SCOPED_TRACE(threads);
+        SoupParams p = plain;
+        p.threads = threads;
+        Bounds asked;
+        p.root_split = [&](const Bounds& b, std::uint64_t triangles, const VertexLayout& layout) {
+            asked = b;
+            EXPECT_EQ(triangles, soup.triangles);
+            EXPECT_EQ(layout, soup.layout);
+            return SoupRootSplit{true, {mid[0], mid[1], mid[2]}};
+        };
+        ScratchDir split_dir("soup-root-split-" + std::to_string(threads));
+        const SoupResult r = convert_to_soup(ply, split_dir.file("soup"), p);
+        ASSERT_TRUE(r.root_split);
+        EXPECT_FALSE(fs::exists(r.path));
+        EXPECT_EQ(asked.min, soup.bounds.min);
+        EXPECT_EQ(asked.max, soup.bounds.max);
+        EXPECT_EQ(r.bounds.min, soup.bounds.min);
+        EXPECT_EQ(r.bounds.max, soup.bounds.max);
+        EXPECT_EQ(r.triangles, soup.triangles);
+        EXPECT_EQ(r.border_edges, soup.border_edges);
+        EXPECT_EQ(r.odd_non_manifold_edges, soup.odd_non_manifold_edges);
+        std::size_t nonempty = 0, regions = 0;
+        for (int o = 0; o < 8; ++o) {
+            std::string got;
+            for (const SoupRegion& region : r.octants[o]) {
+                const std::string f = file_text(region.path);
+                ASSERT_LE(region.offset + region.count * tb, f.size());
+                got.append(f, region.offset, region.count * tb);
+            }
+            EXPECT_EQ(r.octant_counts[o] * tb, got.size()) << o;
+            EXPECT_TRUE(got == expected[o]) << "octant " << o;
+            nonempty += !got.empty();
+            regions += r.octants[o].size();
+        }
+        EXPECT_GE(nonempty, 4u);
+        // One thread's runs of a file coalesce into one region per octant; two threads alternate ranges.
+        if (threads == 1) EXPECT_EQ(regions, nonempty);
+        else EXPECT_GT(regions, nonempty);
+    }
+    // Cancelled while assembling into octant files: an error, and no file is left.
+    ScratchDir cancel_dir("soup-root-split-cancel");
+    SoupParams p = plain;
+    p.root_split = [&](const Bounds&, std::uint64_t, const VertexLayout&) { return SoupRootSplit{true, {mid[0], mid[1], mid[2]}}; };
+    CancelInStage cancel("soup: assembling", 3);
+    EXPECT_THROW(convert_to_soup(ply, cancel_dir.file("soup"), p, &cancel), Error);
+    EXPECT_EQ(std::distance(fs::directory_iterator(cancel_dir.path()), fs::directory_iterator()), 0);
+}
+
 TEST(OocSoup, WedgeTexcoordsTravelWithTheirCornerOnBothPaths) {
     ScratchDir dir("soup-wedge");
     const std::string ply = shared_data("tex-ply-wedge-uv/laurana500.ply");

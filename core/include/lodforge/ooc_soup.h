@@ -15,8 +15,10 @@
 #include "lodforge/progress.h"
 #include "lodforge/types.h"
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <span>
 #include <string>
@@ -62,6 +64,19 @@ private:
     std::string path_;
 };
 
+// A run of `count` triangle records in a temporary file, from byte `offset` on.
+struct SoupRegion {
+    std::string path;
+    std::uint64_t offset = 0;
+    std::uint64_t count = 0;
+};
+
+// What SoupParams::root_split answers: split the root about `mid` (its cell's midpoint), or not.
+struct SoupRootSplit {
+    bool split = false;
+    std::array<double, 3> mid{};
+};
+
 struct SoupParams {
     std::size_t memory_bytes = std::size_t{256} << 20;  // working memory for the conversion
     // Find the odd non-manifold edges (SoupResult::odd_non_manifold_edges), which the octree needs
@@ -79,6 +94,12 @@ struct SoupParams {
     // the two edge lists are read and before the temporary directory is removed. The sort reports no
     // progress and is not cancelled (it takes a fraction of the conversion).
     bool background_edges = false;
+    // External path: asked once the soup's bounds, triangle count and layout are known (after the
+    // dereference pass). When it answers split, the assembly pass writes every triangle straight into the
+    // file of its octant about `mid` (the octant of its centroid, in double, ties to the upper half: the
+    // octree's streaming split) instead of writing the soup file: SoupResult::octants, and `path` names no
+    // file. The octree builder asks for this to save a write and two reads of the whole soup.
+    std::function<SoupRootSplit(const Bounds& bounds, std::uint64_t triangles, const VertexLayout& layout)> root_split;
 };
 
 struct SoupEdgeJob;  // edge keys being sorted in the background (SoupParams::background_edges)
@@ -106,6 +127,11 @@ struct SoupResult {
     // (SoupParams::memory_soup_bytes); `path` then names no file.
     std::vector<std::byte> memory;
     bool kept_in_memory = false;  // stays true after the builder has consumed (and freed) `memory`
+    // SoupParams::root_split was answered with a split: octant o's triangles, in soup order, are the
+    // concatenation of octants[o] (octant_counts[o] in all); the files are in the temporary directory.
+    bool root_split = false;
+    std::array<std::vector<SoupRegion>, 8> octants;
+    std::array<std::uint64_t, 8> octant_counts{};
     // Set while the edge lists are still being sorted (SoupParams::background_edges).
     std::shared_ptr<SoupEdgeJob> edge_job;
     // Waits for a background sort and fills the two edge lists (rethrows its error); no-op otherwise.
