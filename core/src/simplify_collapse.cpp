@@ -26,6 +26,7 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <functional>
 #include <numeric>
 #include <span>
 #include <string>
@@ -401,6 +402,13 @@ private:
         prefetch(&pts_[p]);
     }
     double evaluate(std::uint32_t u, std::uint32_t v, Plan& plan, bool full);
+    // evaluate()'s checks and cost on a plan whose classes and targets are filled in.
+    double plan_cost(std::uint32_t u, std::uint32_t v, Plan& plan);
+    // evaluate(p, n, plan, false) for every neighbour n of p, in neighbours() order, from one walk over
+    // p's faces (evaluate() walks them once per neighbour): calls f(n, cost). False (nothing called) when
+    // p has more classes or neighbours than the walk keeps on its stack; the caller then evaluates one by one.
+    template <class F>
+    bool for_each_cost(std::uint32_t p, F&& f);
     // Extra frames (SimplifyParams::extra_frames): per-frame quadrics and positions, [point * frames + f].
     void setup_frames();
     void add_frame_border_planes(std::uint32_t p, std::uint32_t q, std::uint32_t face);
@@ -471,7 +479,8 @@ private:
     std::vector<std::uint8_t> point_alive_;
     AttributeQuadrics aq_;
     std::size_t dims_ = 0;
-    bool plain_ = false;  // no attribute cost, no materials, no extra frames, half-edge placement
+    bool one_material_ = true;  // no face materials, or the same on every face
+    bool plain_ = false;  // no attribute cost, one material, no extra frames, half-edge placement
     std::vector<double> attrs_;               // per wedge, weighted attribute vector
     PointHeap heap_;
     std::size_t alive_faces_ = 0;
@@ -590,7 +599,11 @@ void Simplifier::setup() {
         }
     }
     point_alive_.assign(points_, 1);
-    plain_ = dims_ == 0 && mesh_.face_materials.empty() && params_.extra_frames.empty() &&
+    // One material on every face (glTF meshes carry face_materials even with a single material) makes
+    // (wedge, material) classes the wedges alone, as without materials.
+    one_material_ = std::adjacent_find(mesh_.face_materials.begin(), mesh_.face_materials.end(),
+                                       std::not_equal_to<>()) == mesh_.face_materials.end();
+    plain_ = dims_ == 0 && one_material_ && params_.extra_frames.empty() &&
              params_.placement == Placement::half_edge;
     heap_.reset(points_);
     if (!params_.extra_frames.empty()) setup_frames();
@@ -829,7 +842,7 @@ double Simplifier::evaluate(std::uint32_t u, std::uint32_t v, Plan& plan, bool f
     if (pts_[u].kind == Kind::complex && pts_[v].kind != Kind::complex && pts_[v].kind != Kind::locked) return inf;
     plan.count = 0;
     plan.edge_faces = 0;
-    if (!full && pts_[u].kind == Kind::interior && mesh_.face_materials.empty() && pts_[u].one_wedge &&
+    if (!full && pts_[u].kind == Kind::interior && one_material_ && pts_[u].one_wedge &&
         pts_[v].one_wedge) {
         plan.count = 1;
         plan.material[0] = 0;
@@ -863,6 +876,11 @@ double Simplifier::evaluate(std::uint32_t u, std::uint32_t v, Plan& plan, bool f
         if (plan.target[i] == kNone) plan.target[i] = wv;
         else if (plan.target[i] != wv) return inf;  // the class would have to split
     }
+    return plan_cost(u, v, plan);
+}
+
+double Simplifier::plan_cost(std::uint32_t u, std::uint32_t v, Plan& plan) {
+    constexpr double inf = std::numeric_limits<double>::infinity();
     if (plan.edge_faces == 0) return inf;
     if (pts_[u].kind == Kind::border && plan.edge_faces != 1) return inf;  // border points slide along the border
     // Every class must be carried by a collapsing face: otherwise a seam (or material border) through u
@@ -914,6 +932,88 @@ double Simplifier::evaluate(std::uint32_t u, std::uint32_t v, Plan& plan, bool f
     const double weight = q.weight;
     if (frames_ > 0) return frames_cost(u, v, geometric, cost, weight);
     return weight > 0 ? cost / weight : cost * 1e12;
+}
+
+// Neighbours and classes kept on the stack by for_each_cost() (a point with more: evaluated one by one).
+constexpr int kBatchNeighbours = 32;
+
+template <class F>
+bool Simplifier::for_each_cost(std::uint32_t p, F&& f) {
+    constexpr double inf = std::numeric_limits<double>::infinity();
+    const PointRec& rp = pts_[p];
+    // The classes of p in evaluate()'s order (first appearance over p's live faces) and, per neighbour
+    // (first appearance, as neighbours() lists them), the wedge each class maps to, the faces along the
+    // edge and whether a class would split.
+    std::uint32_t cls_wedge[kMaxClasses], cls_material[kMaxClasses];
+    int classes = 0;
+    std::uint32_t cand[kBatchNeighbours];
+    std::uint32_t target[kBatchNeighbours][kMaxClasses];
+    int edges[kBatchNeighbours];
+    bool split[kBatchNeighbours];
+    int count = 0;
+    for (std::uint32_t face : faces_of(p)) {
+        const std::uint32_t* c = &corners_[3 * face];
+        const std::uint32_t* fp = &fpt_[3 * face];
+        if (killed(fp)) continue;
+        const int k = fp[0] == p ? 0 : fp[1] == p ? 1 : 2;
+        const std::uint32_t wu = c[k], mat = material(face);
+        int i = 0;
+        while (i < classes && !(cls_wedge[i] == wu && cls_material[i] == mat)) ++i;
+        if (i == classes) {
+            if (classes == kMaxClasses) return false;
+            cls_wedge[i] = wu;
+            cls_material[i] = mat;
+            ++classes;
+        }
+        for (int m = 0; m < 3; ++m) {
+            if (m == k) continue;
+            const std::uint32_t q = fp[m];
+            int j = 0;
+            while (j < count && cand[j] != q) ++j;
+            if (j == count) {
+                if (count == kBatchNeighbours) return false;
+                cand[j] = q;
+                for (int t = 0; t < kMaxClasses; ++t) target[j][t] = kNone;
+                edges[j] = 0;
+                split[j] = false;
+                ++count;
+            }
+            ++edges[j];
+            if (target[j][i] == kNone) target[j][i] = c[m];
+            else if (target[j][i] != c[m]) split[j] = true;
+        }
+    }
+    Plan plan;
+    for (int j = 0; j < count; ++j) {
+        const std::uint32_t v = cand[j];
+        // evaluate()'s checks before its face walk, then its plan.
+        if (rp.kind == Kind::locked ||
+            (rp.kind == Kind::complex && pts_[v].kind != Kind::complex && pts_[v].kind != Kind::locked)) {
+            f(v, inf);
+            continue;
+        }
+        if (rp.kind == Kind::interior && one_material_ && rp.one_wedge && pts_[v].one_wedge) {
+            plan.count = 1;
+            plan.material[0] = 0;
+            plan.wedge[0] = dims_ > 0 ? wedge_list_[wedge_begin_[p]] : 0;
+            plan.target[0] = dims_ > 0 ? wedge_list_[wedge_begin_[v]] : 0;
+            plan.edge_faces = -1;
+        } else {
+            if (split[j]) {
+                f(v, inf);
+                continue;
+            }
+            plan.count = classes;
+            for (int i = 0; i < classes; ++i) {
+                plan.wedge[i] = cls_wedge[i];
+                plan.material[i] = cls_material[i];
+                plan.target[i] = target[j][i];
+            }
+            plan.edge_faces = edges[j];
+        }
+        f(v, plan_cost(p, v, plan));
+    }
+    return true;
 }
 
 bool Simplifier::valid(std::uint32_t u, std::uint32_t v, const Plan& plan) {
@@ -1115,8 +1215,7 @@ std::uint32_t Simplifier::cheapest(std::uint32_t p, double& best) {
     std::uint32_t to = kNone;
     if (plain_ && pts_[p].kind == Kind::interior && pts_[p].one_wedge) {
         // Geometry only, half-edge, one wedge: the cost is Q_p at the neighbour over p's area (what
-        // evaluate() computes without a face walk). The neighbours are read straight off the faces,
-        // twice each rather than deduplicated.
+        // evaluate() computes without a face walk). The neighbours are read straight off the faces.
         // The one-wedge neighbours are compared by Q_p alone and only the least is divided by the
         // area (a division per neighbour was a fifth of re-costing): the same cost, and the same
         // target unless two errors round to one cost.
@@ -1129,10 +1228,15 @@ std::uint32_t Simplifier::cheapest(std::uint32_t p, double& best) {
         double least = std::numeric_limits<double>::infinity();
         std::uint32_t least_to = kNone;
         std::size_t least_at = 0, best_at = 0, at = 0;
+        // A neighbour's second appearance (each interior edge has two faces) would give the same cost,
+        // which loses every comparison: it is skipped (same result, half the quadric evaluations).
+        const std::uint32_t stamp = next_seen();
+        pts_[p].seen = stamp;
         for (std::uint32_t f : faces)
             for (int k = 0; k < 3; ++k, ++at) {
                 const std::uint32_t n = fpt_[3 * f + k];
-                if (n == p) continue;
+                if (pts_[n].seen == stamp) continue;
+                pts_[n].seen = stamp;
                 if (pts_[n].one_wedge) {
                     const double e = q.evaluate(pts_[n].pos);
                     if (e < least) {
@@ -1160,16 +1264,18 @@ std::uint32_t Simplifier::cheapest(std::uint32_t p, double& best) {
     }
     if (plain_ && pts_[p].kind == Kind::border && pts_[p].one_wedge && faces_of(p).size() <= kPlainBorderFaces)
         return cheapest_plain_border(p, best);
-    Plan plan;
-    neighbours(p, scratch_n_);
-    for (std::uint32_t n : scratch_n_) prefetch_point(n);
-    for (std::uint32_t n : scratch_n_) {
-        const double c = evaluate(p, n, plan, false);
+    auto consider = [&](std::uint32_t n, double c) {
         if (c < best) {
             best = c;
             to = n;
         }
-    }
+    };
+    // (The greedy schedule reads v's neighbours from scratch_n_ after update_best(v): it keeps the list.)
+    if (!greedy_ && for_each_cost(p, consider)) return to;
+    Plan plan;
+    neighbours(p, scratch_n_);
+    for (std::uint32_t n : scratch_n_) prefetch_point(n);
+    for (std::uint32_t n : scratch_n_) consider(n, evaluate(p, n, plan, false));
     return to;
 }
 
@@ -1212,12 +1318,13 @@ std::uint32_t Simplifier::cheapest_plain_border(std::uint32_t p, double& best) {
 // The cheapest collapse of p that is allowed now (other than onto `rejected`), or kNone.
 std::uint32_t Simplifier::cheapest_valid(std::uint32_t u, std::uint32_t rejected, double& cost) {
     Plan plan;
-    neighbours(u, scratch_n_);
     options_.clear();
-    for (std::uint32_t n : scratch_n_) {
-        if (n == rejected) continue;
-        const double c = evaluate(u, n, plan, false);
-        if (std::isfinite(c)) options_.emplace_back(c, n);
+    auto option = [&](std::uint32_t n, double c) {
+        if (n != rejected && std::isfinite(c)) options_.emplace_back(c, n);
+    };
+    if (greedy_ || !for_each_cost(u, option)) {
+        neighbours(u, scratch_n_);
+        for (std::uint32_t n : scratch_n_) option(n, evaluate(u, n, plan, false));
     }
     std::sort(options_.begin(), options_.end());
     for (const auto& [estimate, n] : options_) {
