@@ -425,7 +425,20 @@ private:
     }
     std::uint32_t cheapest_plain_border(std::uint32_t p, double& best);
     double plain_plan(std::uint32_t u, std::uint32_t v, Plan& plan) const;
+    // evaluate(full) for a fused_pair(): the trivial mapping, attribute costs included (the edge count is
+    // left to plain_valid<true>(), as for plain pairs).
+    double fused_plan(std::uint32_t u, std::uint32_t v, Plan& plan);
+    // kFaceOrder: the flip test computes the normals as valid() does (edges from the face's first
+    // corner), so it decides exactly as valid(); without, from u (the fused geometry path's arithmetic).
+    template <bool kFaceOrder = false>
     bool plain_valid(std::uint32_t u, std::uint32_t v, const Plan& plan);
+    // Attribute runs (one material, half-edge, no extra frames): a one-wedge interior or border point
+    // onto a one-wedge point is checked by plain_valid<true>() (valid() in one face walk); the cost
+    // still comes from evaluate().
+    bool fused_pair(std::uint32_t u, std::uint32_t v) const {
+        return fusable_ && (pts_[u].kind == Kind::interior || pts_[u].kind == Kind::border) && pts_[u].one_wedge &&
+               pts_[v].one_wedge;
+    }
     void collapse(std::uint32_t u, std::uint32_t v, const Plan& plan);
     std::uint32_t cheapest(std::uint32_t p, double& cost);
     std::uint32_t cheapest_valid(std::uint32_t p, std::uint32_t rejected, double& cost);
@@ -480,7 +493,8 @@ private:
     AttributeQuadrics aq_;
     std::size_t dims_ = 0;
     bool one_material_ = true;  // no face materials, or the same on every face
-    bool plain_ = false;  // no attribute cost, one material, no extra frames, half-edge placement
+    bool fusable_ = false;  // one material, no extra frames, half-edge placement
+    bool plain_ = false;    // fusable_ and no attribute cost
     std::vector<double> attrs_;               // per wedge, weighted attribute vector
     PointHeap heap_;
     std::size_t alive_faces_ = 0;
@@ -603,8 +617,8 @@ void Simplifier::setup() {
     // (wedge, material) classes the wedges alone, as without materials.
     one_material_ = std::adjacent_find(mesh_.face_materials.begin(), mesh_.face_materials.end(),
                                        std::not_equal_to<>()) == mesh_.face_materials.end();
-    plain_ = dims_ == 0 && one_material_ && params_.extra_frames.empty() &&
-             params_.placement == Placement::half_edge;
+    fusable_ = one_material_ && params_.extra_frames.empty() && params_.placement == Placement::half_edge;
+    plain_ = dims_ == 0 && fusable_;
     heap_.reset(points_);
     if (!params_.extra_frames.empty()) setup_frames();
 }
@@ -1088,9 +1102,19 @@ double Simplifier::plain_plan(std::uint32_t u, std::uint32_t v, Plan& plan) cons
     return q.weight > 0 ? e / q.weight : e * 1e12;
 }
 
+double Simplifier::fused_plan(std::uint32_t u, std::uint32_t v, Plan& plan) {
+    plan.count = 1;
+    plan.material[0] = 0;
+    plan.wedge[0] = wedge_list_[wedge_begin_[u]];
+    plan.target[0] = wedge_list_[wedge_begin_[v]];
+    plan.edge_faces = 1;  // plain_valid() counts them
+    return plan_cost(u, v, plan);
+}
+
 // valid() for a plain pair: v's ring is marked first, so u's neighbours, the common count, the faces
 // along uv, the flip and needle checks and the twin-face check all come from one walk over u's faces.
 // Leaves u's ring in scratch_a_ as valid() does.
+template <bool kFaceOrder>
 bool Simplifier::plain_valid(std::uint32_t u, std::uint32_t v, const Plan& plan) {
     const std::uint32_t ring = next_ring();
     for (std::uint32_t g : faces_of(v)) {
@@ -1126,8 +1150,19 @@ bool Simplifier::plain_valid(std::uint32_t u, std::uint32_t v, const Plan& plan)
         const int k = c[0] == u ? 0 : c[1] == u ? 1 : 2;
         const std::uint32_t o1 = c[(k + 1) % 3], o2 = c[(k + 2) % 3];
         const Vec3d p1 = pts_[o1].pos, p2 = pts_[o2].pos;
-        const Vec3d n0 = crossd(sub(p1, pu), sub(p2, pu));
-        const Vec3d n1 = crossd(sub(p1, pv), sub(p2, pv));
+        Vec3d n0, n1;
+        if constexpr (kFaceOrder) {
+            Vec3d a[3], b[3];
+            for (int j = 0; j < 3; ++j) {
+                a[j] = c[j] == u ? pu : pts_[c[j]].pos;
+                b[j] = c[j] == u ? pv : a[j];
+            }
+            n0 = crossd(sub(a[1], a[0]), sub(a[2], a[0]));
+            n1 = crossd(sub(b[1], b[0]), sub(b[2], b[0]));
+        } else {
+            n0 = crossd(sub(p1, pu), sub(p2, pu));
+            n1 = crossd(sub(p1, pv), sub(p2, pv));
+        }
         const double l0 = dotd(n0, n0), l1 = dotd(n1, n1);
         if (l0 > 0) {
             const Vec3d e0 = sub(p1, pv), e1 = sub(p2, p1), e2 = sub(pv, p2);
@@ -1566,12 +1601,12 @@ void Simplifier::run_passes(std::size_t target, double limit, double& max_cost) 
             if (pts_[u].cost > threshold && applied > 0) break;  // a pass never ends empty-handed
             const std::uint32_t v = pts_[u].best_to;
             if (pts_[u].lock == pass || pts_[v].lock == pass) continue;  // the next pass sees it again
-            bool plain = plain_pair(u, v);
-            double c = plain ? plain_plan(u, v, plan) : evaluate(u, v, plan, true);
-            if (plain && c > limit && pts_[u].kind == Kind::border) {
-                // plain_plan() does not see a border point's edge count: evaluate() tells a forbidden
-                // collapse (infinite) from one over the limit, as for any other pair.
-                plain = false;
+            bool plain = plain_pair(u, v), fused = !plain && fused_pair(u, v);
+            double c = plain ? plain_plan(u, v, plan) : fused ? fused_plan(u, v, plan) : evaluate(u, v, plan, true);
+            if ((plain || fused) && c > limit && pts_[u].kind == Kind::border) {
+                // plain_plan() and fused_plan() do not see a border point's edge count: evaluate() tells
+                // a forbidden collapse (infinite) from one over the limit, as for any other pair.
+                plain = fused = false;
                 c = evaluate(u, v, plan, true);
             }
             if (!std::isfinite(c)) {  // the seam mapping forbids it
@@ -1584,7 +1619,8 @@ void Simplifier::run_passes(std::size_t target, double limit, double& max_cost) 
                 limited = true;
                 continue;
             }
-            if (!(plain ? plain_valid(u, v, plan) : valid(u, v, plan))) {
+            const bool ok = plain ? plain_valid(u, v, plan) : fused ? plain_valid<true>(u, v, plan) : valid(u, v, plan);
+            if (!ok) {
                 pts_[u].constrained = pts_[u].dirty = 1;
                 changed = true;
                 continue;
