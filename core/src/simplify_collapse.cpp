@@ -1299,6 +1299,40 @@ std::uint32_t Simplifier::cheapest(std::uint32_t p, double& best) {
     }
     if (plain_ && pts_[p].kind == Kind::border && pts_[p].one_wedge && faces_of(p).size() <= kPlainBorderFaces)
         return cheapest_plain_border(p, best);
+    if (fusable_ && !greedy_ && pts_[p].kind == Kind::interior && pts_[p].one_wedge) {
+        // Attribute run, one-wedge interior point: what for_each_cost() gives (the same neighbours in the
+        // same order, the same plans), without its per-neighbour class table: a one-wedge neighbour
+        // has the trivial mapping, a seam neighbour's is evaluate()'s.
+        Plan plan;
+        const std::uint32_t wedge = wedge_list_[wedge_begin_[p]];
+        const std::uint32_t stamp = next_seen();
+        pts_[p].seen = stamp;
+        for (std::uint32_t f : faces_of(p)) {
+            const std::uint32_t* fp = &fpt_[3 * f];
+            if (killed(fp)) continue;
+            for (int k = 0; k < 3; ++k) {
+                const std::uint32_t n = fp[k];
+                if (pts_[n].seen == stamp) continue;
+                pts_[n].seen = stamp;
+                double c;
+                if (pts_[n].one_wedge) {
+                    plan.count = 1;
+                    plan.material[0] = 0;
+                    plan.wedge[0] = wedge;
+                    plan.target[0] = wedge_list_[wedge_begin_[n]];
+                    plan.edge_faces = -1;
+                    c = plan_cost(p, n, plan);
+                } else {
+                    c = evaluate(p, n, plan, false);
+                }
+                if (c < best) {
+                    best = c;
+                    to = n;
+                }
+            }
+        }
+        return to;
+    }
     auto consider = [&](std::uint32_t n, double c) {
         if (c < best) {
             best = c;
