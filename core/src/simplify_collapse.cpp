@@ -614,12 +614,14 @@ void Simplifier::setup() {
     }
     point_alive_.assign(points_, 1);
     // One material on every face (glTF meshes carry face_materials even with a single material) makes
-    // (wedge, material) classes the wedges alone, as without materials.
-    one_material_ = std::adjacent_find(mesh_.face_materials.begin(), mesh_.face_materials.end(),
-                                       std::not_equal_to<>()) == mesh_.face_materials.end();
+    // (wedge, material) classes the wedges alone, as without materials. Not for the greedy schedule,
+    // which is kept as it was (its after_collapse() reads a ring the fused paths do not leave behind).
+    one_material_ = greedy_ ? mesh_.face_materials.empty()
+                            : std::adjacent_find(mesh_.face_materials.begin(), mesh_.face_materials.end(),
+                                                 std::not_equal_to<>()) == mesh_.face_materials.end();
     fusable_ = one_material_ && params_.extra_frames.empty() && params_.placement == Placement::half_edge;
     plain_ = dims_ == 0 && fusable_;
-    heap_.reset(points_);
+    if (greedy_) heap_.reset(points_);  // the pass schedule has no heap (28 bytes a point, set or reserved)
     if (!params_.extra_frames.empty()) setup_frames();
 }
 
