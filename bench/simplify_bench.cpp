@@ -9,13 +9,15 @@
 //
 //   lodforge_bench_simplify [--quick] [--models dragon,bunny,frag,duck,bottle] [--ratios 0.5,0.1,0.01]
 //                           [--reps N] [--samples N] [--no-vtk] [--no-openmesh] [--openmesh-dragon-all]
-//                           [--greedy] [--no-attributes]
+//                           [--greedy] [--no-attributes] [--digest]
 //
 // --quick: dragon and bunny at 10 % only, without OpenMesh. OpenMesh runs on the full dragon at 10 % only
 // (it takes ~20 s per level) unless --openmesh-dragon-all. With --reps N > 1 the time is the median of N
 // runs of each method (errors are measured on the last run). --greedy adds lodforge's heap schedule
 // (SimplifyParams::Schedule::greedy, the engine before the round schedule) as a method. --no-attributes
-// leaves out the attribute-aware run (geometry-only profiles).
+// leaves out the attribute-aware run (geometry-only profiles). --digest adds, for lodforge's runs, a 64-bit
+// FNV-1a hash of the result (output indices, positions, vertex map, collapse sequence, error bits): two
+// builds that print the same digests produced the same simplifications (for checking exact changes).
 
 #include "bench_util.h"
 #include "lodforge/error.h"
@@ -76,7 +78,27 @@ struct Model {
 struct Outcome {
     Mesh mesh;          // the simplified mesh, with the attributes the method carries
     double seconds = 0;
+    std::uint64_t digest = 0;  // lodforge only: hash of the whole result (--digest)
 };
+
+// FNV-1a over the bytes of everything simplify() returns that a change could alter.
+std::uint64_t digest_of(const SimplifyResult& r) {
+    std::uint64_t h = 0xcbf29ce484222325ull;
+    auto bytes = [&](const void* data, std::size_t n) {
+        const auto* b = static_cast<const unsigned char*>(data);
+        for (std::size_t i = 0; i < n; ++i) h = (h ^ b[i]) * 0x100000001b3ull;
+    };
+    auto vec = [&](const auto& v) { bytes(v.data(), v.size() * sizeof(v[0])); };
+    vec(r.mesh.indices);
+    vec(r.mesh.positions);
+    vec(r.vertex_map);
+    vec(r.collapses);
+    vec(r.moves);
+    bytes(&r.error, sizeof r.error);
+    const int reason = static_cast<int>(r.reason);
+    bytes(&reason, sizeof reason);
+    return h;
+}
 
 using lodforge::bench::split;
 
@@ -105,6 +127,7 @@ Outcome run_lodforge(const Mesh& in, float ratio, bool attributes,
     SimplifyResult r = simplify(in, p);
     Outcome o;
     o.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+    o.digest = digest_of(r);
     o.mesh = std::move(r.mesh);
     return o;
 }
@@ -242,7 +265,7 @@ int main(int argc, char** argv) {
     std::vector<float> ratios = {0.5f, 0.1f, 0.01f};
     int reps = 1;
     std::size_t samples = 0;
-    bool vtk = true, openmesh = true, openmesh_dragon_all = false, greedy = false, attributes = true;
+    bool vtk = true, openmesh = true, openmesh_dragon_all = false, greedy = false, attributes = true, digest = false;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         auto next = [&]() -> std::string {
@@ -273,13 +296,15 @@ int main(int argc, char** argv) {
             greedy = true;
         } else if (a == "--no-attributes") {
             attributes = false;
+        } else if (a == "--digest") {
+            digest = true;
         } else if (a == "--openmesh-dragon-all") {
             openmesh_dragon_all = true;
         } else {
             std::fprintf(stderr,
                          "usage: %s [--quick] [--models dragon,bunny,frag,duck,bottle] [--ratios 0.5,0.1,0.01] "
                          "[--reps N] [--samples N] [--no-vtk] [--no-openmesh] [--openmesh-dragon-all] [--greedy] "
-                         "[--no-attributes]\n",
+                         "[--no-attributes] [--digest]\n",
                          argv[0]);
             return 2;
         }
@@ -341,9 +366,11 @@ int main(int argc, char** argv) {
                 const DistanceResult d = compare(in, o.mesh, dp);
                 char colour[16] = "-";
                 if (d.has_color_error) std::snprintf(colour, sizeof colour, "%.2f", d.color_rms);
-                std::printf("%-24s %5.0f%% %-30s %9.3f %7.2fx %9.2f %8zu %9.2e %9.2e %7s\n", it->label.c_str(),
+                std::printf("%-24s %5.0f%% %-30s %9.4f %7.2fx %9.2f %8zu %9.2e %9.2e %7s", it->label.c_str(),
                             double(r) * 100, m.name.c_str(), t, t / base, double(in.triangle_count()) / t * 1e-6,
                             o.mesh.triangle_count(), d.hausdorff_relative, d.mean_relative, colour);
+                if (digest && o.digest != 0) std::printf(" %016llx", static_cast<unsigned long long>(o.digest));
+                std::printf("\n");
                 std::fflush(stdout);
             }
         }

@@ -26,6 +26,7 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <functional>
 #include <numeric>
 #include <span>
 #include <string>
@@ -401,6 +402,13 @@ private:
         prefetch(&pts_[p]);
     }
     double evaluate(std::uint32_t u, std::uint32_t v, Plan& plan, bool full);
+    // evaluate()'s checks and cost on a plan whose classes and targets are filled in.
+    double plan_cost(std::uint32_t u, std::uint32_t v, Plan& plan);
+    // evaluate(p, n, plan, false) for every neighbour n of p, in neighbours() order, from one walk over
+    // p's faces (evaluate() walks them once per neighbour): calls f(n, cost). False (nothing called) when
+    // p has more classes or neighbours than the walk keeps on its stack; the caller then evaluates one by one.
+    template <class F>
+    bool for_each_cost(std::uint32_t p, F&& f);
     // Extra frames (SimplifyParams::extra_frames): per-frame quadrics and positions, [point * frames + f].
     void setup_frames();
     void add_frame_border_planes(std::uint32_t p, std::uint32_t q, std::uint32_t face);
@@ -417,7 +425,20 @@ private:
     }
     std::uint32_t cheapest_plain_border(std::uint32_t p, double& best);
     double plain_plan(std::uint32_t u, std::uint32_t v, Plan& plan) const;
+    // evaluate(full) for a fused_pair(): the trivial mapping, attribute costs included (the edge count is
+    // left to plain_valid<true>(), as for plain pairs).
+    double fused_plan(std::uint32_t u, std::uint32_t v, Plan& plan);
+    // kFaceOrder: the flip test computes the normals as valid() does (edges from the face's first
+    // corner), so it decides exactly as valid(); without, from u (the fused geometry path's arithmetic).
+    template <bool kFaceOrder = false>
     bool plain_valid(std::uint32_t u, std::uint32_t v, const Plan& plan);
+    // Attribute runs (one material, half-edge, no extra frames): a one-wedge interior or border point
+    // onto a one-wedge point is checked by plain_valid<true>() (valid() in one face walk); the cost
+    // still comes from evaluate().
+    bool fused_pair(std::uint32_t u, std::uint32_t v) const {
+        return fusable_ && (pts_[u].kind == Kind::interior || pts_[u].kind == Kind::border) && pts_[u].one_wedge &&
+               pts_[v].one_wedge;
+    }
     void collapse(std::uint32_t u, std::uint32_t v, const Plan& plan);
     std::uint32_t cheapest(std::uint32_t p, double& cost);
     std::uint32_t cheapest_valid(std::uint32_t p, std::uint32_t rejected, double& cost);
@@ -471,7 +492,9 @@ private:
     std::vector<std::uint8_t> point_alive_;
     AttributeQuadrics aq_;
     std::size_t dims_ = 0;
-    bool plain_ = false;  // no attribute cost, no materials, no extra frames, half-edge placement
+    bool one_material_ = true;  // no face materials, or the same on every face
+    bool fusable_ = false;  // one material, no extra frames, half-edge placement
+    bool plain_ = false;    // fusable_ and no attribute cost
     std::vector<double> attrs_;               // per wedge, weighted attribute vector
     PointHeap heap_;
     std::size_t alive_faces_ = 0;
@@ -590,9 +613,15 @@ void Simplifier::setup() {
         }
     }
     point_alive_.assign(points_, 1);
-    plain_ = dims_ == 0 && mesh_.face_materials.empty() && params_.extra_frames.empty() &&
-             params_.placement == Placement::half_edge;
-    heap_.reset(points_);
+    // One material on every face (glTF meshes carry face_materials even with a single material) makes
+    // (wedge, material) classes the wedges alone, as without materials. Not for the greedy schedule,
+    // which is kept as it was (its after_collapse() reads a ring the fused paths do not leave behind).
+    one_material_ = greedy_ ? mesh_.face_materials.empty()
+                            : std::adjacent_find(mesh_.face_materials.begin(), mesh_.face_materials.end(),
+                                                 std::not_equal_to<>()) == mesh_.face_materials.end();
+    fusable_ = one_material_ && params_.extra_frames.empty() && params_.placement == Placement::half_edge;
+    plain_ = dims_ == 0 && fusable_;
+    if (greedy_) heap_.reset(points_);  // the pass schedule has no heap (28 bytes a point, set or reserved)
     if (!params_.extra_frames.empty()) setup_frames();
 }
 
@@ -833,7 +862,7 @@ double Simplifier::evaluate(std::uint32_t u, std::uint32_t v, Plan& plan, bool f
     if (pts_[u].kind == Kind::complex && pts_[v].kind != Kind::complex && pts_[v].kind != Kind::locked) return inf;
     plan.count = 0;
     plan.edge_faces = 0;
-    if (!full && pts_[u].kind == Kind::interior && mesh_.face_materials.empty() && pts_[u].one_wedge &&
+    if (!full && pts_[u].kind == Kind::interior && one_material_ && pts_[u].one_wedge &&
         pts_[v].one_wedge) {
         plan.count = 1;
         plan.material[0] = 0;
@@ -867,6 +896,11 @@ double Simplifier::evaluate(std::uint32_t u, std::uint32_t v, Plan& plan, bool f
         if (plan.target[i] == kNone) plan.target[i] = wv;
         else if (plan.target[i] != wv) return inf;  // the class would have to split
     }
+    return plan_cost(u, v, plan);
+}
+
+double Simplifier::plan_cost(std::uint32_t u, std::uint32_t v, Plan& plan) {
+    constexpr double inf = std::numeric_limits<double>::infinity();
     if (plan.edge_faces == 0) return inf;
     if (pts_[u].kind == Kind::border && plan.edge_faces != 1) return inf;  // border points slide along the border
     // Every class must be carried by a collapsing face: otherwise a seam (or material border) through u
@@ -918,6 +952,88 @@ double Simplifier::evaluate(std::uint32_t u, std::uint32_t v, Plan& plan, bool f
     const double weight = q.weight;
     if (frames_ > 0) return frames_cost(u, v, geometric, cost, weight);
     return weight > 0 ? cost / weight : cost * 1e12;
+}
+
+// Neighbours and classes kept on the stack by for_each_cost() (a point with more: evaluated one by one).
+constexpr int kBatchNeighbours = 32;
+
+template <class F>
+bool Simplifier::for_each_cost(std::uint32_t p, F&& f) {
+    constexpr double inf = std::numeric_limits<double>::infinity();
+    const PointRec& rp = pts_[p];
+    // The classes of p in evaluate()'s order (first appearance over p's live faces) and, per neighbour
+    // (first appearance, as neighbours() lists them), the wedge each class maps to, the faces along the
+    // edge and whether a class would split.
+    std::uint32_t cls_wedge[kMaxClasses], cls_material[kMaxClasses];
+    int classes = 0;
+    std::uint32_t cand[kBatchNeighbours];
+    std::uint32_t target[kBatchNeighbours][kMaxClasses];
+    int edges[kBatchNeighbours];
+    bool split[kBatchNeighbours];
+    int count = 0;
+    for (std::uint32_t face : faces_of(p)) {
+        const std::uint32_t* c = &corners_[3 * face];
+        const std::uint32_t* fp = &fpt_[3 * face];
+        if (killed(fp)) continue;
+        const int k = fp[0] == p ? 0 : fp[1] == p ? 1 : 2;
+        const std::uint32_t wu = c[k], mat = material(face);
+        int i = 0;
+        while (i < classes && !(cls_wedge[i] == wu && cls_material[i] == mat)) ++i;
+        if (i == classes) {
+            if (classes == kMaxClasses) return false;
+            cls_wedge[i] = wu;
+            cls_material[i] = mat;
+            ++classes;
+        }
+        for (int m = 0; m < 3; ++m) {
+            if (m == k) continue;
+            const std::uint32_t q = fp[m];
+            int j = 0;
+            while (j < count && cand[j] != q) ++j;
+            if (j == count) {
+                if (count == kBatchNeighbours) return false;
+                cand[j] = q;
+                for (int t = 0; t < kMaxClasses; ++t) target[j][t] = kNone;
+                edges[j] = 0;
+                split[j] = false;
+                ++count;
+            }
+            ++edges[j];
+            if (target[j][i] == kNone) target[j][i] = c[m];
+            else if (target[j][i] != c[m]) split[j] = true;
+        }
+    }
+    Plan plan;
+    for (int j = 0; j < count; ++j) {
+        const std::uint32_t v = cand[j];
+        // evaluate()'s checks before its face walk, then its plan.
+        if (rp.kind == Kind::locked ||
+            (rp.kind == Kind::complex && pts_[v].kind != Kind::complex && pts_[v].kind != Kind::locked)) {
+            f(v, inf);
+            continue;
+        }
+        if (rp.kind == Kind::interior && one_material_ && rp.one_wedge && pts_[v].one_wedge) {
+            plan.count = 1;
+            plan.material[0] = 0;
+            plan.wedge[0] = dims_ > 0 ? wedge_list_[wedge_begin_[p]] : 0;
+            plan.target[0] = dims_ > 0 ? wedge_list_[wedge_begin_[v]] : 0;
+            plan.edge_faces = -1;
+        } else {
+            if (split[j]) {
+                f(v, inf);
+                continue;
+            }
+            plan.count = classes;
+            for (int i = 0; i < classes; ++i) {
+                plan.wedge[i] = cls_wedge[i];
+                plan.material[i] = cls_material[i];
+                plan.target[i] = target[j][i];
+            }
+            plan.edge_faces = edges[j];
+        }
+        f(v, plan_cost(p, v, plan));
+    }
+    return true;
 }
 
 bool Simplifier::valid(std::uint32_t u, std::uint32_t v, const Plan& plan) {
@@ -992,9 +1108,19 @@ double Simplifier::plain_plan(std::uint32_t u, std::uint32_t v, Plan& plan) cons
     return q.weight > 0 ? e / q.weight : e * 1e12;
 }
 
+double Simplifier::fused_plan(std::uint32_t u, std::uint32_t v, Plan& plan) {
+    plan.count = 1;
+    plan.material[0] = 0;
+    plan.wedge[0] = wedge_list_[wedge_begin_[u]];
+    plan.target[0] = wedge_list_[wedge_begin_[v]];
+    plan.edge_faces = 1;  // plain_valid() counts them
+    return plan_cost(u, v, plan);
+}
+
 // valid() for a plain pair: v's ring is marked first, so u's neighbours, the common count, the faces
 // along uv, the flip and needle checks and the twin-face check all come from one walk over u's faces.
 // Leaves u's ring in scratch_a_ as valid() does.
+template <bool kFaceOrder>
 bool Simplifier::plain_valid(std::uint32_t u, std::uint32_t v, const Plan& plan) {
     const std::uint32_t ring = next_ring();
     for (std::uint32_t g : faces_of(v)) {
@@ -1030,8 +1156,19 @@ bool Simplifier::plain_valid(std::uint32_t u, std::uint32_t v, const Plan& plan)
         const int k = c[0] == u ? 0 : c[1] == u ? 1 : 2;
         const std::uint32_t o1 = c[(k + 1) % 3], o2 = c[(k + 2) % 3];
         const Vec3d p1 = pts_[o1].pos, p2 = pts_[o2].pos;
-        const Vec3d n0 = crossd(sub(p1, pu), sub(p2, pu));
-        const Vec3d n1 = crossd(sub(p1, pv), sub(p2, pv));
+        Vec3d n0, n1;
+        if constexpr (kFaceOrder) {
+            Vec3d a[3], b[3];
+            for (int j = 0; j < 3; ++j) {
+                a[j] = c[j] == u ? pu : pts_[c[j]].pos;
+                b[j] = c[j] == u ? pv : a[j];
+            }
+            n0 = crossd(sub(a[1], a[0]), sub(a[2], a[0]));
+            n1 = crossd(sub(b[1], b[0]), sub(b[2], b[0]));
+        } else {
+            n0 = crossd(sub(p1, pu), sub(p2, pu));
+            n1 = crossd(sub(p1, pv), sub(p2, pv));
+        }
         const double l0 = dotd(n0, n0), l1 = dotd(n1, n1);
         if (l0 > 0) {
             const Vec3d e0 = sub(p1, pv), e1 = sub(p2, p1), e2 = sub(pv, p2);
@@ -1119,8 +1256,7 @@ std::uint32_t Simplifier::cheapest(std::uint32_t p, double& best) {
     std::uint32_t to = kNone;
     if (plain_ && pts_[p].kind == Kind::interior && pts_[p].one_wedge) {
         // Geometry only, half-edge, one wedge: the cost is Q_p at the neighbour over p's area (what
-        // evaluate() computes without a face walk). The neighbours are read straight off the faces,
-        // twice each rather than deduplicated.
+        // evaluate() computes without a face walk). The neighbours are read straight off the faces.
         // The one-wedge neighbours are compared by Q_p alone and only the least is divided by the
         // area (a division per neighbour was a fifth of re-costing): the same cost, and the same
         // target unless two errors round to one cost.
@@ -1133,10 +1269,15 @@ std::uint32_t Simplifier::cheapest(std::uint32_t p, double& best) {
         double least = std::numeric_limits<double>::infinity();
         std::uint32_t least_to = kNone;
         std::size_t least_at = 0, best_at = 0, at = 0;
+        // A neighbour's second appearance (each interior edge has two faces) would give the same cost,
+        // which loses every comparison: it is skipped (same result, half the quadric evaluations).
+        const std::uint32_t stamp = next_seen();
+        pts_[p].seen = stamp;
         for (std::uint32_t f : faces)
             for (int k = 0; k < 3; ++k, ++at) {
                 const std::uint32_t n = fpt_[3 * f + k];
-                if (n == p) continue;
+                if (pts_[n].seen == stamp) continue;
+                pts_[n].seen = stamp;
                 if (pts_[n].one_wedge) {
                     const double e = q.evaluate(pts_[n].pos);
                     if (e < least) {
@@ -1164,16 +1305,52 @@ std::uint32_t Simplifier::cheapest(std::uint32_t p, double& best) {
     }
     if (plain_ && pts_[p].kind == Kind::border && pts_[p].one_wedge && faces_of(p).size() <= kPlainBorderFaces)
         return cheapest_plain_border(p, best);
-    Plan plan;
-    neighbours(p, scratch_n_);
-    for (std::uint32_t n : scratch_n_) prefetch_point(n);
-    for (std::uint32_t n : scratch_n_) {
-        const double c = evaluate(p, n, plan, false);
+    if (fusable_ && !greedy_ && pts_[p].kind == Kind::interior && pts_[p].one_wedge) {
+        // Attribute run, one-wedge interior point: what for_each_cost() gives (the same neighbours in the
+        // same order, the same plans), without its per-neighbour class table: a one-wedge neighbour
+        // has the trivial mapping, a seam neighbour's is evaluate()'s.
+        Plan plan;
+        const std::uint32_t wedge = wedge_list_[wedge_begin_[p]];
+        const std::uint32_t stamp = next_seen();
+        pts_[p].seen = stamp;
+        for (std::uint32_t f : faces_of(p)) {
+            const std::uint32_t* fp = &fpt_[3 * f];
+            if (killed(fp)) continue;
+            for (int k = 0; k < 3; ++k) {
+                const std::uint32_t n = fp[k];
+                if (pts_[n].seen == stamp) continue;
+                pts_[n].seen = stamp;
+                double c;
+                if (pts_[n].one_wedge) {
+                    plan.count = 1;
+                    plan.material[0] = 0;
+                    plan.wedge[0] = wedge;
+                    plan.target[0] = wedge_list_[wedge_begin_[n]];
+                    plan.edge_faces = -1;
+                    c = plan_cost(p, n, plan);
+                } else {
+                    c = evaluate(p, n, plan, false);
+                }
+                if (c < best) {
+                    best = c;
+                    to = n;
+                }
+            }
+        }
+        return to;
+    }
+    auto consider = [&](std::uint32_t n, double c) {
         if (c < best) {
             best = c;
             to = n;
         }
-    }
+    };
+    // (The greedy schedule reads v's neighbours from scratch_n_ after update_best(v): it keeps the list.)
+    if (!greedy_ && for_each_cost(p, consider)) return to;
+    Plan plan;
+    neighbours(p, scratch_n_);
+    for (std::uint32_t n : scratch_n_) prefetch_point(n);
+    for (std::uint32_t n : scratch_n_) consider(n, evaluate(p, n, plan, false));
     return to;
 }
 
@@ -1216,12 +1393,13 @@ std::uint32_t Simplifier::cheapest_plain_border(std::uint32_t p, double& best) {
 // The cheapest collapse of p that is allowed now (other than onto `rejected`), or kNone.
 std::uint32_t Simplifier::cheapest_valid(std::uint32_t u, std::uint32_t rejected, double& cost) {
     Plan plan;
-    neighbours(u, scratch_n_);
     options_.clear();
-    for (std::uint32_t n : scratch_n_) {
-        if (n == rejected) continue;
-        const double c = evaluate(u, n, plan, false);
-        if (std::isfinite(c)) options_.emplace_back(c, n);
+    auto option = [&](std::uint32_t n, double c) {
+        if (n != rejected && std::isfinite(c)) options_.emplace_back(c, n);
+    };
+    if (greedy_ || !for_each_cost(u, option)) {
+        neighbours(u, scratch_n_);
+        for (std::uint32_t n : scratch_n_) option(n, evaluate(u, n, plan, false));
     }
     std::sort(options_.begin(), options_.end());
     for (const auto& [estimate, n] : options_) {
@@ -1465,12 +1643,12 @@ void Simplifier::run_passes(std::size_t target, double limit, double& max_cost) 
             if (pts_[u].cost > threshold && applied > 0) break;  // a pass never ends empty-handed
             const std::uint32_t v = pts_[u].best_to;
             if (pts_[u].lock == pass || pts_[v].lock == pass) continue;  // the next pass sees it again
-            bool plain = plain_pair(u, v);
-            double c = plain ? plain_plan(u, v, plan) : evaluate(u, v, plan, true);
-            if (plain && c > limit && pts_[u].kind == Kind::border) {
-                // plain_plan() does not see a border point's edge count: evaluate() tells a forbidden
-                // collapse (infinite) from one over the limit, as for any other pair.
-                plain = false;
+            bool plain = plain_pair(u, v), fused = !plain && fused_pair(u, v);
+            double c = plain ? plain_plan(u, v, plan) : fused ? fused_plan(u, v, plan) : evaluate(u, v, plan, true);
+            if ((plain || fused) && c > limit && pts_[u].kind == Kind::border) {
+                // plain_plan() and fused_plan() do not see a border point's edge count: evaluate() tells
+                // a forbidden collapse (infinite) from one over the limit, as for any other pair.
+                plain = fused = false;
                 c = evaluate(u, v, plan, true);
             }
             if (!std::isfinite(c)) {  // the seam mapping forbids it
@@ -1483,7 +1661,8 @@ void Simplifier::run_passes(std::size_t target, double limit, double& max_cost) 
                 limited = true;
                 continue;
             }
-            if (!(plain ? plain_valid(u, v, plan) : valid(u, v, plan))) {
+            const bool ok = plain ? plain_valid(u, v, plan) : fused ? plain_valid<true>(u, v, plan) : valid(u, v, plan);
+            if (!ok) {
                 pts_[u].constrained = pts_[u].dirty = 1;
                 changed = true;
                 continue;

@@ -68,8 +68,23 @@ public:
     void accumulate(std::size_t dst, std::size_t src);
     // quadric[dst] += other's quadric[src] (same dimension; for sums kept in separate sets)
     void add(std::size_t dst, const AttributeQuadrics& other, std::size_t src);
-    // Error of placing the vertex at p with attribute vector s.
-    double evaluate(std::size_t index, Vec3d p, const double* s) const;
+    // Error of placing the vertex at p with attribute vector s. Inline: attribute-aware costing calls it
+    // once per neighbour of every re-costed point.
+    double evaluate(std::size_t index, Vec3d p, const double* s) const {
+        if (m_ == 0) return 0;
+        const double* q = &data_[index * stride()];
+        const double x = p.x, y = p.y, z = p.z;
+        double r = q[0] * x * x + q[3] * y * y + q[5] * z * z + 2 * (q[1] * x * y + q[2] * x * z + q[4] * y * z) +
+                   2 * (q[6] * x + q[7] * y + q[8] * z) + q[9];
+        const double area = q[10];
+        const double* G = q + 11;
+        const double* D = q + 11 + 3 * m_;
+        for (std::size_t j = 0; j < m_; ++j) {
+            const double lin = G[3 * j] * x + G[3 * j + 1] * y + G[3 * j + 2] * z + D[j];
+            r += area * s[j] * s[j] - 2 * s[j] * lin;
+        }
+        return r > 0 ? r : 0;
+    }
     // The attribute vector minimising the error at p (s_j = (G_j·p + D_j) / area); false when empty.
     bool optimal_attributes(std::size_t index, Vec3d p, double* s) const;
     double weight(std::size_t index) const { return m_ ? data_[index * stride() + 10] : 0.0; }
