@@ -69,64 +69,72 @@ struct LowestNearest {
     float worstDist() const { return std::min(bound, best * (1 + 1e-5f) + 1e-30f); }
 };
 
-PointCloud points_of(const Mesh& mesh, std::size_t& skipped) {
+PointCloud points_of(const Mesh& mesh, std::size_t& skipped, unsigned threads) {
     if (mesh.positions.empty()) throw_error(Error::Kind::invalid, input_name, "no points");
     for (std::size_t i = 0; i < mesh.positions.size(); ++i)
         if (!is_finite(mesh.positions[i]))
             throw_error(Error::Kind::invalid, input_name, "point " + std::to_string(i) + " is not finite");
     PointCloud pc;
-    std::vector<Vec3f> normals = mesh.normals;
-    if (normals.size() != mesh.positions.size()) {
-        if (mesh.indices.empty())
-            throw_error(Error::Kind::invalid, input_name,
-                        "the points have no normals and there are no faces to compute them from");
-        normals.assign(mesh.positions.size(), Vec3f{});
-        for (std::size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
-            const std::uint32_t a = mesh.indices[t], b = mesh.indices[t + 1], c = mesh.indices[t + 2];
-            if (a >= normals.size() || b >= normals.size() || c >= normals.size())
-                throw_error(Error::Kind::invalid, input_name, "face " + std::to_string(t / 3) + " has an index out of range");
-            // cross product length = twice the area: area-weighted average of the adjacent face normals
-            const Vec3f n = cross(mesh.positions[b] - mesh.positions[a], mesh.positions[c] - mesh.positions[a]);
-            normals[a] = normals[a] + n, normals[b] = normals[b] + n, normals[c] = normals[c] + n;
+    std::vector<Vec3f> normals;
+    auto normals_of = [&] {
+        normals = mesh.normals;
+        if (normals.size() != mesh.positions.size()) {
+            if (mesh.indices.empty())
+                throw_error(Error::Kind::invalid, input_name,
+                            "the points have no normals and there are no faces to compute them from");
+            normals.assign(mesh.positions.size(), Vec3f{});
+            for (std::size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
+                const std::uint32_t a = mesh.indices[t], b = mesh.indices[t + 1], c = mesh.indices[t + 2];
+                if (a >= normals.size() || b >= normals.size() || c >= normals.size())
+                    throw_error(Error::Kind::invalid, input_name, "face " + std::to_string(t / 3) + " has an index out of range");
+                // cross product length = twice the area: area-weighted average of the adjacent face normals
+                const Vec3f n = cross(mesh.positions[b] - mesh.positions[a], mesh.positions[c] - mesh.positions[a]);
+                normals[a] = normals[a] + n, normals[b] = normals[b] + n, normals[c] = normals[c] + n;
+            }
         }
-    }
-    const bool colors = mesh.colors.size() == mesh.positions.size();
-    for (std::size_t i = 0; i < mesh.positions.size(); ++i)
-        if (!is_finite(normals[i]))
-            throw_error(Error::Kind::invalid, input_name, "normal of point " + std::to_string(i) + " is not finite");
+        for (std::size_t i = 0; i < mesh.positions.size(); ++i)
+            if (!is_finite(normals[i]))
+                throw_error(Error::Kind::invalid, input_name, "normal of point " + std::to_string(i) + " is not finite");
+    };
     // Points at exactly the same position are one surface point (D1): the first keeps the sum of their
     // normals (for normals from faces, the normal of the welded vertex), the others are dropped. When the
-    // sum vanishes (opposite normals) the first point's own normal stays.
-    std::vector<std::uint8_t> merged(mesh.positions.size(), 0);
-    {
+    // sum vanishes (opposite normals) the first point's own normal stays. Finding the copies needs the
+    // positions only, so it runs on a second thread while this one makes the normals.
+    const bool colors = mesh.colors.size() == mesh.positions.size();
+    std::vector<std::uint8_t> merged(mesh.positions.size(), 0);  // 1: a later copy, 2: the first of copies
+    mc::KeyMap first;
+    std::vector<std::uint32_t> firsts;  // the first point of each group of copies, in order of discovery
+    auto key_of = [](const Vec3f& p) {
         auto bits = [](float f) { return std::bit_cast<std::uint32_t>(f == 0 ? 0.f : f); };  // -0 == +0
-        mc::KeyMap first(mesh.positions.size());
-        std::vector<std::pair<std::uint32_t, Vec3f>> sums;  // first index, sum of the group's normals
+        const std::uint64_t key = (std::uint64_t(bits(p.x)) * 0x9E3779B97F4A7C15ULL) ^
+                                  (std::uint64_t(bits(p.y)) * 0xC2B2AE3D27D4EB4FULL) ^ (std::uint64_t(bits(p.z)) << 7);
+        return key & ~(std::uint64_t(1) << 63);  // never the map's empty key
+    };
+    auto find_copies = [&] {
+        first = mc::KeyMap(mesh.positions.size());
         for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
             const Vec3f p = mesh.positions[i];
-            std::uint64_t key = (std::uint64_t(bits(p.x)) * 0x9E3779B97F4A7C15ULL) ^
-                                (std::uint64_t(bits(p.y)) * 0xC2B2AE3D27D4EB4FULL) ^ (std::uint64_t(bits(p.z)) << 7);
-            key &= ~(std::uint64_t(1) << 63);  // never the map's empty key
-            const std::uint32_t at = first.insert(key, static_cast<std::uint32_t>(i));
+            const std::uint32_t at = first.insert(key_of(p), static_cast<std::uint32_t>(i));
             if (at == i || !(mesh.positions[at] == p)) continue;  // new, or another position with this hash
             merged[i] = 1;
-            if (merged[at] < 2) merged[at] = 2, sums.emplace_back(at, normals[at]);
+            if (merged[at] < 2) merged[at] = 2, firsts.push_back(at);
         }
-        if (!sums.empty()) {
-            std::vector<std::uint32_t> group(mesh.positions.size(), none);
-            for (std::size_t g = 0; g < sums.size(); ++g) group[sums[g].first] = static_cast<std::uint32_t>(g);
-            for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
-                if (merged[i] != 1) continue;
-                const Vec3f p = mesh.positions[i];
-                std::uint64_t key = (std::uint64_t(bits(p.x)) * 0x9E3779B97F4A7C15ULL) ^
-                                    (std::uint64_t(bits(p.y)) * 0xC2B2AE3D27D4EB4FULL) ^ (std::uint64_t(bits(p.z)) << 7);
-                key &= ~(std::uint64_t(1) << 63);
-                Vec3f& sum = sums[group[first.find(key)]].second;
-                sum = sum + normals[i];
-            }
-            for (const auto& [i, sum] : sums)
-                if (length(sum) > 0) normals[i] = sum;
+    };
+    detail::run_beside(threads, normals_of, find_copies);
+    if (!firsts.empty()) {
+        std::vector<std::uint32_t> group(mesh.positions.size(), none);
+        std::vector<Vec3f> sums;  // per group: the sum of its normals, in point order
+        for (std::size_t g = 0; g < firsts.size(); ++g) {
+            group[firsts[g]] = static_cast<std::uint32_t>(g);
+            sums.push_back(normals[firsts[g]]);
         }
+        for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+            if (merged[i] != 1) continue;
+            Vec3f& sum = sums[group[first.find(key_of(mesh.positions[i]))]];
+            sum = sum + normals[i];
+        }
+        for (std::size_t g = 0; g < firsts.size(); ++g)
+            if (length(sums[g]) > 0) normals[firsts[g]] = sums[g];
     }
     for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
         if (merged[i] == 1) continue;
@@ -494,7 +502,8 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
     if (params.cube_size == 0 && params.resolution == 0)
         throw_error(Error::Kind::argument, input_name, "resolution must be at least 1");
     std::size_t skipped = 0;
-    const PointCloud pc = points_of(input, skipped);
+    const unsigned threads = thread_count(params.threads);
+    const PointCloud pc = points_of(input, skipped, threads);
     Bounds bounds;
     for (const Vec3f& p : pc.points) bounds.add(p);
     const Vec3f ext = bounds.size();
@@ -525,50 +534,42 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
     tree.input_points = pc.points.size();
     tree.origin = bounds.min - Vec3f{1, 1, 1} * static_cast<float>(pad * h);
 
-    const unsigned threads = thread_count(params.threads);
     // Built once, below (nanoflann's constructor builds the index too unless told not to: main built it twice).
     KdTree kd(3, pc, nanoflann::KDTreeSingleIndexAdaptorParams(16, nanoflann::KDTreeSingleIndexAdaptorFlags::SkipInitialBuildIndex));
     Field field(pc, kd, tree.origin, static_cast<float>(h), grid, threads);
     const float cap = params.band > 0 ? static_cast<float>(params.band * h) : INFINITY;
 
-    // Leaf cubes: flood along the surface from the cubes holding points, across every face the surface
-    // crosses, so no crossing face of a kept cube leads to an unexamined one (that would be a hole).
-    CubeSet visited(pc.points.size() * 2);
-    std::vector<std::uint64_t> frontier;
-    for (const Vec3f& p : pc.points) {
-        const Vec3f r = (p - tree.origin) * static_cast<float>(1.0 / h);
-        const auto cx = static_cast<std::uint32_t>(std::clamp(r.x, 0.f, float(grid - 1)));
-        const auto cy = static_cast<std::uint32_t>(std::clamp(r.y, 0.f, float(grid - 1)));
-        const auto cz = static_cast<std::uint32_t>(std::clamp(r.z, 0.f, float(grid - 1)));
-        const std::uint64_t k = pack(cx, cy, cz);
-        if (visited.insert(k)) frontier.push_back(k);
-    }
-    std::sort(frontier.begin(), frontier.end());  // lattice order: the queries' hints are near
-
-    // The field near the points by scattering (D1), while the kd-tree for the other values is built on a
-    // second thread. Scattering costs per point and per lattice point within the radius, a query per
-    // lattice point: within 2 cube sizes (nearly every value the flood asks for) where there are at most 2
-    // points per cube holding points, within 1 (about 60 % of them, in the kd-tree's build time) up to 8.
-    const double per_cube = double(pc.points.size()) / double(frontier.size());
+    // The kd-tree is built on a second thread while this one finds the seed cubes and scatters the field
+    // near the points (D1); an exception there (bad_alloc) is rethrown here once both have ended.
     auto build_kd = [&] {
         kd.buildIndex();
         result.point_spacing = median_spacing(pc, kd);
     };
-    float radius = per_cube <= 2 ? 2.f : per_cube <= 8 ? 1.f : 0.f;
-    if (params.field != McFieldMethod::automatic) radius = params.field == McFieldMethod::scatter ? 2.f : 0.f;
-    const bool scattering = radius > 0;
-    if (scattering) {
-        if (threads > 1) {
-            std::thread kd_thread(build_kd);
-            field.scatter(radius);
-            kd_thread.join();
-        } else {
-            build_kd();
-            field.scatter(radius);
+    // Leaf cubes: flood along the surface from the cubes holding points, across every face the surface
+    // crosses, so no crossing face of a kept cube leads to an unexamined one (that would be a hole).
+    CubeSet visited(pc.points.size() * 2);
+    std::vector<std::uint64_t> frontier;
+    bool scattering = false;
+    auto seeds_and_scatter = [&] {
+        for (const Vec3f& p : pc.points) {
+            const Vec3f r = (p - tree.origin) * static_cast<float>(1.0 / h);
+            const auto cx = static_cast<std::uint32_t>(std::clamp(r.x, 0.f, float(grid - 1)));
+            const auto cy = static_cast<std::uint32_t>(std::clamp(r.y, 0.f, float(grid - 1)));
+            const auto cz = static_cast<std::uint32_t>(std::clamp(r.z, 0.f, float(grid - 1)));
+            const std::uint64_t k = pack(cx, cy, cz);
+            if (visited.insert(k)) frontier.push_back(k);
         }
-    } else {
-        build_kd();
-    }
+        std::sort(frontier.begin(), frontier.end());  // lattice order: the queries' hints are near
+        // Scattering costs per point and per lattice point within the radius, a query per lattice point:
+        // within 2 cube sizes (nearly every value the flood asks for) where there are at most 2 points per
+        // cube holding points, within 1 (about 60 % of them, in the kd-tree's build time) up to 8.
+        const double per_cube = double(pc.points.size()) / double(frontier.size());
+        float radius = per_cube <= 2 ? 2.f : per_cube <= 8 ? 1.f : 0.f;
+        if (params.field != McFieldMethod::automatic) radius = params.field == McFieldMethod::scatter ? 2.f : 0.f;
+        scattering = radius > 0;
+        if (scattering) field.scatter(radius);
+    };
+    detail::run_beside(threads, seeds_and_scatter, build_kd);
     check_progress(progress, 0.05, "mcoctree: distance field");
     const bool density_warned = result.point_spacing > h;
     if (density_warned) {
@@ -725,6 +726,41 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
     std::vector<KeyMap> maps;
     const bool colors = !pc.colors.empty();
     std::vector<std::uint64_t> vertex_edge;  // leaf edge of each vertex: lattice key | axis << 51
+    // Same-level neighbours (faces and edges) for the seams: they depend on the octree only, and are
+    // made on a second thread while this one makes the vertices.
+    auto build_neighbours = [&] {
+        tree.neighbours.assign(node_count * mc::neighbour_slots, none);
+        // Top-down, from the parents' neighbours: the cube next to a child across a face or edge is a sibling
+        // or a child of the parent's neighbour in the directions that leave the parent (a face or an edge
+        // slot too), so no look-up in the level maps is needed. Nodes are stored parents first.
+        int slot_of[27];
+        for (int& v : slot_of) v = -1;
+        for (int sl = 0; sl < mc::neighbour_slots; ++sl) {
+            const auto o = mc::neighbour_offset(sl);
+            slot_of[(o[0] + 1) + 3 * (o[1] + 1) + 9 * (o[2] + 1)] = sl;
+        }
+        auto child_at = [&](std::uint32_t parent, int octant) -> std::uint32_t {
+            const McNode& pn = tree.nodes[parent];
+            if (!(pn.child_mask & (1u << octant))) return none;
+            return pn.first_child + static_cast<std::uint32_t>(std::popcount(unsigned(pn.child_mask) & ((1u << octant) - 1)));
+        };
+        for (std::size_t ni = 1; ni < node_count; ++ni) {  // every node below the root, parents first
+            const McNode& n = tree.nodes[ni];
+            const std::uint32_t* parent_nb = &tree.neighbours[std::size_t(n.parent) * mc::neighbour_slots];
+            const std::int64_t size = std::int64_t(grid >> n.level);
+            for (int sl = 0; sl < mc::neighbour_slots; ++sl) {
+                const auto o = mc::neighbour_offset(sl);
+                const std::int64_t t[3] = {std::int64_t(n.x) + o[0], std::int64_t(n.y) + o[1], std::int64_t(n.z) + o[2]};
+                if (t[0] < 0 || t[1] < 0 || t[2] < 0 || t[0] >= size || t[1] >= size || t[2] >= size) continue;
+                const int octant = int(t[0] & 1) | int(t[1] & 1) << 1 | int(t[2] & 1) << 2;
+                const int po[3] = {int((t[0] >> 1) - std::int64_t(n.x >> 1)), int((t[1] >> 1) - std::int64_t(n.y >> 1)),
+                                   int((t[2] >> 1) - std::int64_t(n.z >> 1))};
+                std::uint32_t up = n.parent;
+                if (po[0] || po[1] || po[2]) up = parent_nb[slot_of[(po[0] + 1) + 3 * (po[1] + 1) + 9 * (po[2] + 1)]];
+                if (up != none) tree.neighbours[ni * mc::neighbour_slots + std::size_t(sl)] = child_at(up, octant);
+            }
+        }
+    };
     for (int pass = 0;; ++pass) {
         tree.nodes.clear();
         tree.vertex_ids.clear();
@@ -841,86 +877,87 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
         // Vertices: the crossing of an edge at any level is the crossing of the one leaf edge the recursive
         // edge-ratio extension lands on, so all levels share vertices by index.
         clock.mark("octree, samples");
-        check_progress(progress, 0.65, "mcoctree: vertices");
-        KeyMap edge_vertex(offset[0] * 4);  // coarse edges; leaf edges are memoised in the field's blocks
-        field.clear_leaf_edge_vertices();
-        auto leaf_vertex = [&](std::uint64_t a_key, int axis) -> std::uint32_t {
-            const std::uint64_t ekey = a_key | (std::uint64_t(axis) << 51);
-            std::uint32_t v = field.leaf_edge_vertex(a_key, axis);
-            if (v != none) return v;
-            const std::uint64_t b_key = a_key + (std::uint64_t(1) << (17 * axis));
-            const std::uint32_t ia = field.index(a_key), ib = field.index(b_key);
-            const float da = std::fabs(field.dist(ia)), db = std::fabs(field.dist(ib));
-            const float t = da + db > 0 ? da / (da + db) : 0.5f;
-            Vec3f p = field.world(a_key);
-            if (axis == 0) p.x += t * float(h);
-            else if (axis == 1) p.y += t * float(h);
-            else p.z += t * float(h);
-            const std::uint32_t pa = field.nearest(ia), pb = field.nearest(ib);
-            Vec3f nrm = pc.normals[pa] * (1 - t) + pc.normals[pb] * t;
-            const float len = length(nrm);
-            if (len > 1e-12f) {
-                nrm = nrm * (1.f / len);
-            } else {  // opposite normals (a thin sheet): point from the inside corner to the outside one
-                nrm = Vec3f{};
-                const float dir = field.dist(ia) < 0 ? 1.f : -1.f;
-                if (axis == 0) nrm.x = dir;
-                else if (axis == 1) nrm.y = dir;
-                else nrm.z = dir;
-            }
-            v = static_cast<std::uint32_t>(tree.positions.size());
-            tree.positions.push_back(p);
-            vertex_edge.push_back(ekey);
-            tree.normals.push_back(nrm);
-            if (colors) {
-                const Vec4f ca = pc.colors[pa], cb = pc.colors[pb];
-                tree.colors.push_back({ca.x + (cb.x - ca.x) * t, ca.y + (cb.y - ca.y) * t, ca.z + (cb.z - ca.z) * t,
-                                       ca.w + (cb.w - ca.w) * t});
-            }
-            field.set_leaf_edge_vertex(a_key, axis, v);
-            return v;
-        };
-        auto edge_vertex_of = [&](std::uint64_t a_key, int axis, std::uint32_t level) -> std::uint32_t {
-            const std::uint64_t top = a_key | (std::uint64_t(axis) << 51) | (std::uint64_t(level) << 53);
-            if (level > 0) {
-                const std::uint32_t known = edge_vertex.find(top);
-                if (known != none) return known;
-            }
-            std::uint64_t a = a_key;
-            const bool a_inside = field.inside(a);
-            for (std::uint32_t l = level; l > 0; --l) {
-                const std::uint64_t mid = a + (std::uint64_t(1u << (l - 1)) << (17 * axis));
-                if (field.inside(mid) == a_inside) a = mid;  // the crossing is in the upper half
-                if (l > 1) {
-                    const std::uint32_t known = edge_vertex.find(a | (std::uint64_t(axis) << 51) | (std::uint64_t(l - 1) << 53));
-                    if (known != none) {
-                        edge_vertex.insert(top, known);
-                        return known;
+        detail::run_beside(threads, [&] {
+            check_progress(progress, 0.65, "mcoctree: vertices");
+            KeyMap edge_vertex(offset[0] * 4);  // coarse edges; leaf edges are memoised in the field's blocks
+            field.clear_leaf_edge_vertices();
+            auto leaf_vertex = [&](std::uint64_t a_key, int axis) -> std::uint32_t {
+                const std::uint64_t ekey = a_key | (std::uint64_t(axis) << 51);
+                std::uint32_t v = field.leaf_edge_vertex(a_key, axis);
+                if (v != none) return v;
+                const std::uint64_t b_key = a_key + (std::uint64_t(1) << (17 * axis));
+                const std::uint32_t ia = field.index(a_key), ib = field.index(b_key);
+                const float da = std::fabs(field.dist(ia)), db = std::fabs(field.dist(ib));
+                const float t = da + db > 0 ? da / (da + db) : 0.5f;
+                Vec3f p = field.world(a_key);
+                if (axis == 0) p.x += t * float(h);
+                else if (axis == 1) p.y += t * float(h);
+                else p.z += t * float(h);
+                const std::uint32_t pa = field.nearest(ia), pb = field.nearest(ib);
+                Vec3f nrm = pc.normals[pa] * (1 - t) + pc.normals[pb] * t;
+                const float len = length(nrm);
+                if (len > 1e-12f) {
+                    nrm = nrm * (1.f / len);
+                } else {  // opposite normals (a thin sheet): point from the inside corner to the outside one
+                    nrm = Vec3f{};
+                    const float dir = field.dist(ia) < 0 ? 1.f : -1.f;
+                    if (axis == 0) nrm.x = dir;
+                    else if (axis == 1) nrm.y = dir;
+                    else nrm.z = dir;
+                }
+                v = static_cast<std::uint32_t>(tree.positions.size());
+                tree.positions.push_back(p);
+                vertex_edge.push_back(ekey);
+                tree.normals.push_back(nrm);
+                if (colors) {
+                    const Vec4f ca = pc.colors[pa], cb = pc.colors[pb];
+                    tree.colors.push_back({ca.x + (cb.x - ca.x) * t, ca.y + (cb.y - ca.y) * t, ca.z + (cb.z - ca.z) * t,
+                                           ca.w + (cb.w - ca.w) * t});
+                }
+                field.set_leaf_edge_vertex(a_key, axis, v);
+                return v;
+            };
+            auto edge_vertex_of = [&](std::uint64_t a_key, int axis, std::uint32_t level) -> std::uint32_t {
+                const std::uint64_t top = a_key | (std::uint64_t(axis) << 51) | (std::uint64_t(level) << 53);
+                if (level > 0) {
+                    const std::uint32_t known = edge_vertex.find(top);
+                    if (known != none) return known;
+                }
+                std::uint64_t a = a_key;
+                const bool a_inside = field.inside(a);
+                for (std::uint32_t l = level; l > 0; --l) {
+                    const std::uint64_t mid = a + (std::uint64_t(1u << (l - 1)) << (17 * axis));
+                    if (field.inside(mid) == a_inside) a = mid;  // the crossing is in the upper half
+                    if (l > 1) {
+                        const std::uint32_t known = edge_vertex.find(a | (std::uint64_t(axis) << 51) | (std::uint64_t(l - 1) << 53));
+                        if (known != none) {
+                            edge_vertex.insert(top, known);
+                            return known;
+                        }
                     }
                 }
+                const std::uint32_t v = leaf_vertex(a, axis);
+                if (level > 0) edge_vertex.insert(top, v);
+                return v;
+            };
+            const auto& subs = mc::sub_edges();
+            // Leaves first: a coarser edge then descends onto edges whose vertex is already known.
+            for (std::size_t ni = node_count; ni-- > 0;) {
+                if ((ni & 0xffff) == 0)
+                    check_progress(progress, 0.65 + 0.15 * double(node_count - ni) / double(node_count), "mcoctree: vertices");
+                McNode& n = tree.nodes[ni];
+                n.first_vertex = static_cast<std::uint32_t>(tree.vertex_ids.size());
+                const int count = n.level == 0 ? mc::full_edges : mc::sub_edge_count;
+                for (int e = 0; e < count; ++e) {
+                    const mc::SubEdge& se = subs[e];
+                    if (((n.inside >> se.a) & 1u) == ((n.inside >> se.b) & 1u)) continue;
+                    n.crossings |= std::uint64_t(1) << e;
+                    const std::uint32_t lev = n.level == 0 ? 0 : (se.length == 2 ? n.level : n.level - 1u);
+                    tree.vertex_ids.push_back(edge_vertex_of(sample_key(n, se.a), se.axis, lev));
+                }
             }
-            const std::uint32_t v = leaf_vertex(a, axis);
-            if (level > 0) edge_vertex.insert(top, v);
-            return v;
-        };
-        const auto& subs = mc::sub_edges();
-        // Leaves first: a coarser edge then descends onto edges whose vertex is already known.
-        for (std::size_t ni = node_count; ni-- > 0;) {
-            if ((ni & 0xffff) == 0)
-                check_progress(progress, 0.65 + 0.15 * double(node_count - ni) / double(node_count), "mcoctree: vertices");
-            McNode& n = tree.nodes[ni];
-            n.first_vertex = static_cast<std::uint32_t>(tree.vertex_ids.size());
-            const int count = n.level == 0 ? mc::full_edges : mc::sub_edge_count;
-            for (int e = 0; e < count; ++e) {
-                const mc::SubEdge& se = subs[e];
-                if (((n.inside >> se.a) & 1u) == ((n.inside >> se.b) & 1u)) continue;
-                n.crossings |= std::uint64_t(1) << e;
-                const std::uint32_t lev = n.level == 0 ? 0 : (se.length == 2 ? n.level : n.level - 1u);
-                tree.vertex_ids.push_back(edge_vertex_of(sample_key(n, se.a), se.axis, lev));
-            }
-        }
-
-        clock.mark("vertices");
+        }, build_neighbours);
+        clock.mark("vertices, neighbours");
         frontier.clear();
         for (const std::uint64_t ek : vertex_edge) {
             const std::uint64_t a = ek & ((std::uint64_t(1) << 51) - 1);
@@ -968,47 +1005,6 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
     }
 
     clock.mark("check, renumbering");
-    // Same-level neighbours (faces and edges) for the seams.
-    tree.neighbours.assign(node_count * mc::neighbour_slots, none);
-    // Top-down, from the parents' neighbours: the cube next to a child across a face or edge is a sibling
-    // or a child of the parent's neighbour in the directions that leave the parent (a face or an edge
-    // slot too), so no look-up in the level maps is needed. Nodes are stored parents first.
-    {
-        int slot_of[27];
-        for (int& v : slot_of) v = -1;
-        for (int sl = 0; sl < mc::neighbour_slots; ++sl) {
-            const auto o = mc::neighbour_offset(sl);
-            slot_of[(o[0] + 1) + 3 * (o[1] + 1) + 9 * (o[2] + 1)] = sl;
-        }
-        auto child_at = [&](std::uint32_t parent, int octant) -> std::uint32_t {
-            const McNode& pn = tree.nodes[parent];
-            if (!(pn.child_mask & (1u << octant))) return none;
-            return pn.first_child + static_cast<std::uint32_t>(std::popcount(unsigned(pn.child_mask) & ((1u << octant) - 1)));
-        };
-        // A level reads only the level above: its nodes are independent, and split over the threads.
-        for (std::uint32_t l = levels; l-- > 0;) {
-            parallel_for(lv[l].size(), threads, [&, l](std::size_t b, std::size_t e) {
-                for (std::size_t ni = offset[l] + b; ni < offset[l] + e; ++ni) {
-                    const McNode& n = tree.nodes[ni];
-                    const std::uint32_t* parent_nb = &tree.neighbours[std::size_t(n.parent) * mc::neighbour_slots];
-                    const std::int64_t size = std::int64_t(grid >> n.level);
-                    for (int sl = 0; sl < mc::neighbour_slots; ++sl) {
-                        const auto o = mc::neighbour_offset(sl);
-                        const std::int64_t t[3] = {std::int64_t(n.x) + o[0], std::int64_t(n.y) + o[1], std::int64_t(n.z) + o[2]};
-                        if (t[0] < 0 || t[1] < 0 || t[2] < 0 || t[0] >= size || t[1] >= size || t[2] >= size) continue;
-                        const int octant = int(t[0] & 1) | int(t[1] & 1) << 1 | int(t[2] & 1) << 2;
-                        const int po[3] = {int((t[0] >> 1) - std::int64_t(n.x >> 1)), int((t[1] >> 1) - std::int64_t(n.y >> 1)),
-                                           int((t[2] >> 1) - std::int64_t(n.z >> 1))};
-                        std::uint32_t up = n.parent;
-                        if (po[0] || po[1] || po[2]) up = parent_nb[slot_of[(po[0] + 1) + 3 * (po[1] + 1) + 9 * (po[2] + 1)]];
-                        if (up != none) tree.neighbours[ni * mc::neighbour_slots + std::size_t(sl)] = child_at(up, octant);
-                    }
-                }
-            });
-        }
-    }
-
-    clock.mark("neighbours");
     // Area-difference metric: area of the children's triangles minus the node's own.
     check_progress(progress, 0.8, "mcoctree: priorities");
     std::vector<float> area(node_count, 0.f);

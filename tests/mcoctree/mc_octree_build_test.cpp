@@ -4,10 +4,12 @@
 #include "lodforge/mesh_io.h"
 #include "mc_test_support.h"
 #include "support/test_paths.h"
+#include "../../core/src/parallel_for.h"
 
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <new>
 
 using namespace lodforge;
 using lodforge::test::check_watertight;
@@ -186,4 +188,23 @@ TEST(McOctreeBuild, DuplicatePointsAreOnePoint) {
         EXPECT_NE(plain.positions, tilted_tree.positions) << what;  // the merged normals do matter
         EXPECT_EQ(tilted_tree.input_points, sphere.positions.size());
     }
+}
+
+TEST(McOctreeBuild, AnExceptionOnTheHelperThreadReachesTheCaller) {
+    // The build runs the kd-tree's construction beside the scatter (docs/mcoctree.md, D1) and the
+    // neighbour table beside the vertices through run_beside: a bad_alloc there must arrive here, after
+    // both sides have ended, instead of ending the process.
+    bool here_ran = false;
+    EXPECT_THROW(lodforge::detail::run_beside(
+                     2, [&] { here_ran = true; }, [] { throw std::bad_alloc(); }),
+                 std::bad_alloc);
+    EXPECT_TRUE(here_ran);
+    bool beside_ran = false;
+    EXPECT_THROW(lodforge::detail::run_beside(
+                     2, [] { throw Error(Error::Kind::invalid, "here"); }, [&] { beside_ran = true; }),
+                 Error);
+    EXPECT_TRUE(beside_ran);
+    int order = 0;
+    lodforge::detail::run_beside(1, [&] { order = order * 10 + 1; }, [&] { order = order * 10 + 2; });
+    EXPECT_EQ(order, 12);
 }
