@@ -99,7 +99,7 @@ PointCloud points_of(const Mesh& mesh, std::size_t& skipped, unsigned threads) {
     // Points at exactly the same position are one surface point (D1): the first keeps the sum of their
     // normals (for normals from faces, the normal of the welded vertex), the others are dropped. When the
     // sum vanishes (opposite normals) the first point's own normal stays. Finding the copies needs the
-    // positions only, so it runs on a second thread while this one makes the normals.
+    // positions only, so the normals are made on a second thread meanwhile.
     const bool colors = mesh.colors.size() == mesh.positions.size();
     std::vector<std::uint8_t> merged(mesh.positions.size(), 0);  // 1: a later copy, 2: the first of copies
     mc::KeyMap first;
@@ -120,7 +120,7 @@ PointCloud points_of(const Mesh& mesh, std::size_t& skipped, unsigned threads) {
             if (merged[at] < 2) merged[at] = 2, firsts.push_back(at);
         }
     };
-    detail::run_beside(threads, normals_of, find_copies);
+    detail::run_beside(threads, find_copies, normals_of);  // the longer one here (thread CPU = critical path)
     if (!firsts.empty()) {
         std::vector<std::uint32_t> group(mesh.positions.size(), none);
         std::vector<Vec3f> sums;  // per group: the sum of its normals, in point order
@@ -356,6 +356,14 @@ public:
     std::uint32_t nearest(std::uint32_t i) const { return nearest_[i]; }
     bool inside(std::uint64_t key) { return dist_[index(key)] < 0; }
     std::size_t size() const { return evaluated_; }
+    void reserve_blocks(std::size_t n) {
+        valid_.reserve(n);
+        pending_.reserve(n);
+        dist_.reserve(64 * n);
+        nearest_.reserve(64 * n);
+        edge_vertex_.reserve(192 * n);
+        block_key_.reserve(n);
+    }
 
 private:
     static std::uint32_t local(std::uint64_t key) { return Blocks::local(key); }
@@ -560,6 +568,10 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
             if (visited.insert(k)) frontier.push_back(k);
         }
         std::sort(frontier.begin(), frontier.end());  // lattice order: the queries' hints are near
+        // The field's blocks number about a quarter to a half of the seeds on the scans (dragon, frag_115 at
+        // 64-512): room for half of them at once saves the copies and page faults of growing 1.3 KB per block
+        // (only what is written becomes resident).
+        field.reserve_blocks(frontier.size() / 2 + 4096);
         // Scattering costs per point and per lattice point within the radius, a query per lattice point:
         // within 2 cube sizes (nearly every value the flood asks for) where there are at most 2 points per
         // cube holding points, within 1 (about 60 % of them, in the kd-tree's build time) up to 8.
