@@ -751,11 +751,7 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
             const auto o = mc::neighbour_offset(sl);
             slot_of[(o[0] + 1) + 3 * (o[1] + 1) + 9 * (o[2] + 1)] = sl;
         }
-        auto child_at = [&](std::uint32_t parent, int octant) -> std::uint32_t {
-            const McNode& pn = tree.nodes[parent];
-            if (!(pn.child_mask & (1u << octant))) return none;
-            return pn.first_child + static_cast<std::uint32_t>(std::popcount(unsigned(pn.child_mask) & ((1u << octant) - 1)));
-        };
+        auto child_at = [&](std::uint32_t parent, int octant) { return mc::child_index(tree.nodes[parent], octant); };
         for (std::size_t ni = 1; ni < node_count; ++ni) {  // every node below the root, parents first
             const McNode& n = tree.nodes[ni];
             const std::uint32_t* parent_nb = &tree.neighbours[std::size_t(n.parent) * mc::neighbour_slots];
@@ -998,7 +994,8 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
         for (std::size_t pass = 0; pass < 2; ++pass)
             for (std::size_t ni = pass == 0 ? offset[0] : 0; ni < (pass == 0 ? node_count : offset[0]); ++ni) {
                 const McNode& n = tree.nodes[ni];
-                for (int k = 0; k < std::popcount(n.crossings); ++k) {
+                const int crossings = std::popcount(n.crossings);
+                for (int k = 0; k < crossings; ++k) {
                     std::uint32_t& id = tree.vertex_ids[n.first_vertex + std::uint32_t(k)];
                     if (renum[id] == none) renum[id] = next_id++;
                 }

@@ -81,10 +81,7 @@ std::size_t number_mc_octree(McOctree& tree, const std::vector<KeyMap>& maps, un
     auto push = [&](std::uint32_t node) {
         if (tree.nodes[node].level > 0) heap.push({std::fabs(tree.metric[node]), node});
     };
-    auto child = [&](const McNode& p, int octant) -> std::uint32_t {
-        if (!(p.child_mask & (1u << octant))) return none;
-        return p.first_child + static_cast<std::uint32_t>(std::popcount(unsigned(p.child_mask) & ((1u << octant) - 1)));
-    };
+    auto child = [](const McNode& p, int octant) { return child_index(p, octant); };
 
     // The order depends on the metric and the blockers only; the triangle counts of the seams a step
     // gives its neighbours are recorded as (node, seam mask) changes, counted apart (each thread with its
@@ -165,13 +162,13 @@ std::size_t number_mc_octree(McOctree& tree, const std::vector<KeyMap>& maps, un
                         const McNode& nb = tree.nodes[m];
                         if (prio[m] != none) {
                             for (int o = 0; o < 8; ++o) {
-                                const std::uint32_t c = child(nb, o);
-                                if (c == none) continue;
                                 // child o of the neighbour touches x when, per axis, it lies on x's side
                                 const int ox = o & 1, oy = (o >> 1) & 1, oz = (o >> 2) & 1;
                                 const bool touches = (dx == 0 || (dx < 0) == (ox == 1)) && (dy == 0 || (dy < 0) == (oy == 1)) &&
                                                      (dz == 0 || (dz < 0) == (oz == 1));
                                 if (!touches) continue;
+                                const std::uint32_t c = child(nb, o);
+                                if (c == none) continue;
                                 if (blockers[c] > 0 && --blockers[c] == 0) push(c);
                             }
                         } else if (nb.parent == none || prio[nb.parent] != none) {
