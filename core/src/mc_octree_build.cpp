@@ -175,10 +175,9 @@ public:
     }
     // Block of `key`; `created` is set when the block is new (numbered size() - 1).
     std::uint32_t of(std::uint64_t key, bool& created) {
-        const std::uint64_t bk = ((key & mc::max_lattice) >> 2) | (((key >> 17) & mc::max_lattice) >> 2) << 17 |
-                                 (((key >> 34) & mc::max_lattice) >> 2) << 34;
+        const std::uint64_t bk = block_key(key);
         created = false;
-        Cached& c = cache_[(bk & 15) | ((bk >> 17) & 15) << 4 | ((bk >> 34) & 15) << 8];
+        Cached& c = cache_[slot(bk)];
         if (c.key == bk) return c.block;
         std::uint32_t b = map_.find(bk);
         if (b == none) {
@@ -190,14 +189,30 @@ public:
         return b;
     }
     std::size_t size() const { return count_; }
-
-private:
     struct Cached {
         std::uint64_t key = ~std::uint64_t(0);
         std::uint32_t block = 0;
     };
+    static constexpr std::size_t cache_size = 4096;
+    // Block of `key` or none, without creating one: safe on several threads at once while nobody creates
+    // blocks, each with its own cache (cache_size entries).
+    std::uint32_t find(std::uint64_t key, Cached* cache) const {
+        const std::uint64_t bk = block_key(key);
+        Cached& c = cache[slot(bk)];
+        if (c.key == bk) return c.block;
+        const std::uint32_t b = map_.find(bk);
+        if (b != none) c = {bk, b};
+        return b;
+    }
+
+private:
+    static std::uint64_t block_key(std::uint64_t key) {
+        return ((key & mc::max_lattice) >> 2) | (((key >> 17) & mc::max_lattice) >> 2) << 17 |
+               (((key >> 34) & mc::max_lattice) >> 2) << 34;
+    }
+    static std::size_t slot(std::uint64_t bk) { return (bk & 15) | ((bk >> 17) & 15) << 4 | ((bk >> 34) & 15) << 8; }
     KeyMap map_;
-    std::vector<Cached> cache_ = std::vector<Cached>(4096);
+    std::vector<Cached> cache_ = std::vector<Cached>(cache_size);
     std::size_t count_ = 0;
 };
 
@@ -355,6 +370,13 @@ public:
     float dist(std::uint32_t i) const { return dist_[i]; }  // signed: < 0 inside
     std::uint32_t nearest(std::uint32_t i) const { return nearest_[i]; }
     bool inside(std::uint64_t key) { return dist_[index(key)] < 0; }
+    // Inside (1), outside (0) or not evaluated yet (-1), without evaluating: safe on several threads at once
+    // between evaluations, each with its own cache of Blocks::cache_size entries.
+    int peek_inside(std::uint64_t key, Blocks::Cached* cache) const {
+        const std::uint32_t b = blocks_.find(key, cache);
+        if (b == none || !(valid_[b] & (std::uint64_t(1) << local(key)))) return -1;
+        return dist_[b * 64 + local(key)] < 0;
+    }
     std::size_t size() const { return evaluated_; }
     void reserve_blocks(std::size_t n) {
         valid_.reserve(n);
@@ -660,6 +682,8 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
         present.reserve(levels + 1);
         for (std::uint32_t l = 0; l <= levels; ++l) present.emplace_back(l == 0 ? 16 : leaves.size() >> (2 * l));
         std::vector<std::pair<std::uint32_t, std::uint64_t>> fresh;  // new coarse nodes: (level, packed x, y, z)
+        std::vector<std::uint32_t> fresh_inside;  // their sample masks
+        std::vector<std::uint8_t> fresh_edges;    // their crossings' leaf edges found in parallel (255: none)
         std::vector<std::uint64_t> sample_keys;
         auto coarse_sample = [](std::uint32_t l, std::uint64_t node, int s) {
             const std::uint32_t half = 1u << (l - 1);
@@ -684,30 +708,96 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
                 }
             }
             field.evaluate(sample_keys);  // in parallel; the descents below mostly find known values
-            frontier.clear();
-            for (const auto& [l, key] : fresh) {
-                std::uint32_t inside = 0;
-                for (int sm = 0; sm < 27; ++sm)
-                    if (sm != 13 && field.inside(coarse_sample(l, key, sm))) inside |= 1u << sm;
-                coarse_inside.push_back(inside);
-                for (int e = 0; e < mc::sub_edge_count; ++e) {
-                    const mc::SubEdge& se = subs[e];
-                    const bool a_inside = (inside >> se.a) & 1u;
-                    if (a_inside == bool((inside >> se.b) & 1u)) continue;
-                    std::uint64_t a = coarse_sample(l, key, se.a);
-                    for (std::uint32_t k = se.length == 2 ? l : l - 1; k > 0; --k) {
-                        const std::uint64_t mid = a + (std::uint64_t(1u << (k - 1)) << (17 * se.axis));
-                        if (field.inside(mid) == a_inside) a = mid;
+            // Each fresh node's mask, and the leaf edge of each of its crossings (the descent of D5), on
+            // every thread from the values known now; a node whose descent meets a value not evaluated yet
+            // is left to the serial pass below, which also adds the cubes around the leaf edges to the flood
+            // in node order.
+            fresh_inside.resize(fresh.size());
+            fresh_edges.assign(fresh.size(), 0);
+            // One contiguous range of fresh nodes per thread (one range when there are few), each with its
+            // own list of leaf edges, read back in node order below.
+            const std::size_t ranges = fresh.size() < 1024 ? 1 : std::max(1u, threads);
+            auto range_begin = [&](std::size_t r) { return r * fresh.size() / ranges; };
+            std::vector<std::vector<std::uint64_t>> edges_of_range(ranges);
+            constexpr std::uint8_t serial = 255;
+            auto descend = [&](std::uint32_t l, std::uint64_t key, const mc::SubEdge& se, bool a_inside,
+                               auto&& inside_at) -> std::uint64_t {
+                std::uint64_t a = coarse_sample(l, key, se.a);
+                for (std::uint32_t k = se.length == 2 ? l : l - 1; k > 0; --k) {
+                    const std::uint64_t mid = a + (std::uint64_t(1u << (k - 1)) << (17 * se.axis));
+                    const int in = inside_at(mid);
+                    if (in < 0) return none;
+                    if (bool(in) == a_inside) a = mid;
+                }
+                return a;
+            };
+            detail::parallel_for(ranges, unsigned(ranges), 1, [&](std::size_t first_range, std::size_t end_range) {
+                for (std::size_t range = first_range; range < end_range; ++range) {
+                    std::vector<std::uint64_t>& out = edges_of_range[range];
+                    std::vector<Blocks::Cached> cache(Blocks::cache_size);
+                    auto peek = [&](std::uint64_t k) { return field.peek_inside(k, cache.data()); };
+                    for (std::size_t i = range_begin(range), e = range_begin(range + 1); i < e; ++i) {
+                        const auto [l, key] = fresh[i];
+                        std::uint32_t inside = 0;
+                        bool known = true;
+                        for (int sm = 0; sm < 27 && known; ++sm) {
+                            if (sm == 13) continue;
+                            const int in = peek(coarse_sample(l, key, sm));
+                            known = in >= 0;
+                            if (in > 0) inside |= 1u << sm;
+                        }
+                        const std::size_t start = out.size();
+                        for (int se_i = 0; se_i < mc::sub_edge_count && known; ++se_i) {
+                            const mc::SubEdge& se = subs[se_i];
+                            const bool a_inside = (inside >> se.a) & 1u;
+                            if (a_inside == bool((inside >> se.b) & 1u)) continue;
+                            const std::uint64_t a = descend(l, key, se, a_inside, peek);
+                            known = a != none;
+                            out.push_back(a | std::uint64_t(se.axis) << 51);
+                        }
+                        fresh_inside[i] = inside;
+                        if (known) {
+                            fresh_edges[i] = static_cast<std::uint8_t>(out.size() - start);
+                        } else {
+                            out.resize(start);
+                            fresh_edges[i] = serial;
+                        }
                     }
-                    const int u = (se.axis + 1) % 3, v = (se.axis + 2) % 3;
-                    for (int c = 0; c < 4; ++c) {
-                        const int du = c & 1, dv = c >> 1;
-                        if ((du && ((a >> (17 * u)) & mc::max_lattice) == 0) ||
-                            (dv && ((a >> (17 * v)) & mc::max_lattice) == 0))
-                            continue;
-                        const std::uint64_t cube = a - std::uint64_t(du) * (std::uint64_t(1) << (17 * u)) -
-                                                   std::uint64_t(dv) * (std::uint64_t(1) << (17 * v));
-                        if (visited.insert(cube)) frontier.push_back(cube);
+                }
+            });
+            frontier.clear();
+            auto flood_around = [&](std::uint64_t a, int axis) {
+                const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+                for (int c = 0; c < 4; ++c) {
+                    const int du = c & 1, dv = c >> 1;
+                    if ((du && ((a >> (17 * u)) & mc::max_lattice) == 0) || (dv && ((a >> (17 * v)) & mc::max_lattice) == 0))
+                        continue;
+                    const std::uint64_t cube = a - std::uint64_t(du) * (std::uint64_t(1) << (17 * u)) -
+                                               std::uint64_t(dv) * (std::uint64_t(1) << (17 * v));
+                    if (visited.insert(cube)) frontier.push_back(cube);
+                }
+            };
+            for (std::size_t range = 0; range < ranges; ++range) {
+                const std::vector<std::uint64_t>& edges = edges_of_range[range];
+                std::size_t at = 0;
+                for (std::size_t i = range_begin(range), e = range_begin(range + 1); i < e; ++i) {
+                    const auto [l, key] = fresh[i];
+                    if (fresh_edges[i] != serial) {
+                        coarse_inside.push_back(fresh_inside[i]);
+                        for (const std::size_t stop = at + fresh_edges[i]; at < stop; ++at)
+                            flood_around(edges[at] & ((std::uint64_t(1) << 51) - 1), int(edges[at] >> 51));
+                        continue;
+                    }
+                    std::uint32_t inside = 0;  // as above, evaluating what is missing
+                    for (int sm = 0; sm < 27; ++sm)
+                        if (sm != 13 && field.inside(coarse_sample(l, key, sm))) inside |= 1u << sm;
+                    coarse_inside.push_back(inside);
+                    for (int se_i = 0; se_i < mc::sub_edge_count; ++se_i) {
+                        const mc::SubEdge& se = subs[se_i];
+                        const bool a_inside = (inside >> se.a) & 1u;
+                        if (a_inside == bool((inside >> se.b) & 1u)) continue;
+                        flood_around(descend(l, key, se, a_inside, [&](std::uint64_t k) { return int(field.inside(k)); }),
+                                     se.axis);
                     }
                 }
             }
