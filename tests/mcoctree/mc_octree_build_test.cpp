@@ -208,3 +208,31 @@ TEST(McOctreeBuild, AnExceptionOnTheHelperThreadReachesTheCaller) {
     lodforge::detail::run_beside(1, [&] { order = order * 10 + 1; }, [&] { order = order * 10 + 2; });
     EXPECT_EQ(order, 12);
 }
+
+TEST(McOctreeBuild, CancelDuringTheNumberingEndsItsCountingThread) {
+    // The seam counts run on a second thread while the heap numbers the nodes (docs/mcoctree.md, fourth
+    // round); a cancel inside the heap must end that thread too and arrive as Error(cancelled). The bunny's
+    // points at 128 have more than 16,384 internal nodes, so the heap reports (and polls) at least once.
+    struct CancelInHeap : Progress {
+        double at = 0;
+        void report(double fraction, std::string_view stage) override {
+            if (stage == "mcoctree: priorities" && fraction > 0.8 && at == 0) at = fraction;
+        }
+        bool cancelled() const override { return at > 0; }
+    };
+    const Mesh bunny = read_mesh(lodforge::test::shared_data("scan-bunny/bun_zipper.ply"));
+    McOctreeParams p;
+    p.resolution = 128;
+    for (const unsigned threads : {1u, 2u}) {
+        p.threads = threads;
+        CancelInHeap progress;
+        try {
+            build_mc_octree(bunny, p, &progress);
+            ADD_FAILURE() << "not cancelled, " << threads << " threads";
+        } catch (const Error& e) {
+            EXPECT_EQ(e.kind(), Error::Kind::cancelled);
+        }
+        EXPECT_GT(progress.at, 0.8) << "the cancel came from the heap's own report";
+        EXPECT_LT(progress.at, 1.0);
+    }
+}
