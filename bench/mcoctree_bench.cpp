@@ -195,8 +195,10 @@ int main(int argc, char** argv) {
             if (repeats > 1) std::printf("resolution %zu, builds (CPU / calling thread's CPU / wall s): %s\n", res, runs.c_str());
             if (build_only) {
                 std::string st;
-                for (const McBuildStage& g : r.stages) appendf(st, "%s%s %.3f/%.3f", st.empty() ? "" : ", ", g.name.c_str(), g.cpu_s, g.wall_s);
-                std::printf("resolution %zu, stages of the least-CPU build (CPU/wall s): %s; field values %zu (%zu scattered)\n",
+                for (const McBuildStage& g : r.stages)
+                    appendf(st, "%s%s %.3f/%.3f/%.3f", st.empty() ? "" : ", ", g.name.c_str(), g.cpu_s, g.thread_cpu_s, g.wall_s);
+                std::printf("resolution %zu, stages of the least-CPU build (CPU / calling thread's CPU / wall s): %s; field "
+                            "values %zu (%zu scattered)\n",
                             res, st.c_str(), r.field_samples, r.scattered_samples);
             }
             const McOctree& t = r.tree;

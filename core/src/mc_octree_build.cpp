@@ -463,22 +463,31 @@ private:
     std::size_t evaluated_ = 0;
 };
 
-// Wall and process CPU time (all threads) per build stage, for McOctreeBuildResult::stages.
+// Wall, process CPU time (all threads) and the calling thread's CPU time per build stage, for
+// McOctreeBuildResult::stages.
 class StageClock {
 public:
     explicit StageClock(std::vector<McBuildStage>& out) : out_(out) { reset(); }
     void mark(const char* name) {
         const auto w = std::chrono::steady_clock::now();
         const std::clock_t c = std::clock();
-        out_.push_back({name, std::chrono::duration<double>(w - wall_).count(), double(c - cpu_) / CLOCKS_PER_SEC});
-        wall_ = w, cpu_ = c;
+        const double t = thread_cpu();
+        out_.push_back({name, std::chrono::duration<double>(w - wall_).count(), double(c - cpu_) / CLOCKS_PER_SEC,
+                        t - thread_});
+        wall_ = w, cpu_ = c, thread_ = t;
     }
-    void reset() { wall_ = std::chrono::steady_clock::now(), cpu_ = std::clock(); }
+    void reset() { wall_ = std::chrono::steady_clock::now(), cpu_ = std::clock(), thread_ = thread_cpu(); }
 
 private:
+    static double thread_cpu() {
+        timespec ts{};
+        clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+        return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+    }
     std::vector<McBuildStage>& out_;
     std::chrono::steady_clock::time_point wall_;
     std::clock_t cpu_;
+    double thread_ = 0;
 };
 
 std::uint64_t morton(std::uint32_t x, std::uint32_t y, std::uint32_t z) {
