@@ -285,9 +285,80 @@ public:
     // Scatters every point to the lattice points closer than `radius` cube sizes (D1, "Field by
     // scattering"): a lattice point that receives a point this way has its exact nearest point (every
     // point within the radius reached it; ties to the lowest index, points are taken in index order);
-    // the others are left to the kd-tree. Serial; blocks are made as they are reached.
-    void scatter(float radius) {
+    // the others are left to the kd-tree. With two threads or more the lattice is cut at a block boundary
+    // near the points' median x: each half is scattered by every point into a block set of its own (so
+    // every lattice point is still written by one thread, in point order), and the halves' blocks are
+    // then added to the field's. The values are the same either way; only the blocks' numbering differs,
+    // which nothing reads.
+    void scatter(float radius, unsigned threads) {
         const float r2 = (radius * h_) * (radius * h_);
+        if (threads < 2 || pc_.points.size() < 20000) {
+            struct Direct {  // the field's own blocks
+                Field& field;
+                std::vector<std::uint64_t>& pending;
+                std::vector<float>& dist;
+                std::vector<std::uint32_t>& nearest;
+                std::uint32_t block_of(std::uint64_t key) { return field.block_of(key); }
+            } direct{*this, pending_, dist_, nearest_};
+            scatter_slab(r2, radius, 0, grid_ + 1, direct);
+        } else {
+            std::vector<float> xs;
+            for (std::size_t i = 0; i < pc_.points.size(); i += 16) xs.push_back(pc_.points[i].x);
+            std::nth_element(xs.begin(), xs.begin() + std::ptrdiff_t(xs.size() / 2), xs.end());
+            const auto mid = static_cast<std::uint32_t>(std::clamp((xs[xs.size() / 2] - origin_.x) / h_, 0.f, float(grid_)));
+            const std::uint32_t cut = mid & ~3u;  // a block boundary: no block spans both halves
+            std::array<ScatterSlab, 2> slabs;
+            detail::run_beside(
+                2, [&] { scatter_slab(r2, radius, 0, cut, slabs[0]); },
+                [&] { scatter_slab(r2, radius, cut, grid_ + 1, slabs[1]); });
+            for (const ScatterSlab& slab : slabs) {
+                for (std::size_t sb = 0; sb < slab.pending.size(); ++sb) {
+                    const std::uint64_t bits = slab.pending[sb];
+                    if (!bits) continue;
+                    const std::uint32_t b = block_of(slab.block_key[sb]);
+                    for (std::uint64_t left = bits; left; left &= left - 1) {
+                        const auto l = static_cast<std::uint32_t>(std::countr_zero(left));
+                        dist_[b * 64 + l] = slab.dist[sb * 64 + l];
+                        nearest_[b * 64 + l] = slab.nearest[sb * 64 + l];
+                    }
+                    pending_[b] |= bits;
+                }
+            }
+        }
+        scattered_ = 0;
+        for (std::uint32_t b = 0; b < valid_.size(); ++b) {
+            for (std::uint64_t bits = pending_[b]; bits; bits &= bits - 1) {
+                const auto l = static_cast<std::uint32_t>(std::countr_zero(bits));
+                const std::uint32_t at = b * 64 + l;
+                finish(block_key_[b] | pack(l & 3, (l >> 2) & 3, l >> 4), dist_[at], nearest_[at], dist_[at], nearest_[at]);
+            }
+            scattered_ += std::size_t(std::popcount(pending_[b]));
+            valid_[b] |= pending_[b];
+            pending_[b] = 0;
+        }
+    }
+    // Blocks of one half of the lattice during a two-thread scatter.
+    struct ScatterSlab {
+        Blocks blocks{1 << 12};
+        std::vector<std::uint64_t> pending, block_key;
+        std::vector<float> dist;
+        std::vector<std::uint32_t> nearest;
+        std::uint32_t block_of(std::uint64_t key) {
+            bool created;
+            const std::uint32_t b = blocks.of(key, created);
+            if (created) {
+                pending.push_back(0);
+                block_key.push_back(key & ~pack(3, 3, 3));
+                dist.resize(dist.size() + 64);
+                nearest.resize(nearest.size() + 64);
+            }
+            return b;
+        }
+    };
+    // Every point's writes to the lattice points with x in [x_begin, x_end) within the radius, into `out`'s
+    // blocks (the field itself or a ScatterSlab: block_of, pending, dist, nearest).
+    template <class Out>
+    void scatter_slab(float r2, float radius, std::uint32_t x_begin, std::uint32_t x_end, Out& out) const {
         const float inv = 1.f / h_;
         // Per point, the squared offsets along each axis to the lattice lines around it (the same float
         // operations as world() and distance2(), so a sum below is the query's squared distance exactly);
@@ -305,7 +376,8 @@ public:
                 for (int k = 0; k < width; ++k) {
                     const int x = lo + k;
                     const float t = (origin_[a] + float(x) * h_) - p[a];
-                    t2[std::size_t(a * width + k)] = x <= int(grid_) ? t * t : INFINITY;
+                    const bool in = a == 0 ? x >= int(x_begin) && x < int(x_end) : x <= int(grid_);
+                    t2[std::size_t(a * width + k)] = in ? t * t : INFINITY;
                 }
             }
             const float* tx = t2.data();
@@ -322,28 +394,17 @@ public:
                         const float d2 = dxy2 + tz[iz];
                         if (!(d2 < r2)) continue;
                         const std::uint32_t z = first[2] + std::uint32_t(iz);
-                        if ((z >> 2) != bz) bz = z >> 2, b = block_of(pack(x, y, z)), base = b * 64 + local(pack(x, y, 0));
+                        if ((z >> 2) != bz) bz = z >> 2, b = out.block_of(pack(x, y, z)), base = b * 64 + local(pack(x, y, 0));
                         const std::uint32_t l = (z & 3) << 4;
                         const std::uint64_t bit = std::uint64_t(1) << (l + (base & 63));
                         const std::uint32_t at = base + l;
-                        if ((pending_[b] & bit) && !(d2 < dist_[at])) continue;
-                        pending_[b] |= bit;
-                        dist_[at] = d2;
-                        nearest_[at] = i;
+                        if ((out.pending[b] & bit) && !(d2 < out.dist[at])) continue;
+                        out.pending[b] |= bit;
+                        out.dist[at] = d2;
+                        out.nearest[at] = i;
                     }
                 }
             }
-        }
-        scattered_ = 0;
-        for (std::uint32_t b = 0; b < valid_.size(); ++b) {
-            for (std::uint64_t bits = pending_[b]; bits; bits &= bits - 1) {
-                const auto l = static_cast<std::uint32_t>(std::countr_zero(bits));
-                const std::uint32_t at = b * 64 + l;
-                finish(block_key_[b] | pack(l & 3, (l >> 2) & 3, l >> 4), dist_[at], nearest_[at], dist_[at], nearest_[at]);
-            }
-            scattered_ += std::size_t(std::popcount(pending_[b]));
-            valid_[b] |= pending_[b];
-            pending_[b] = 0;
         }
     }
     std::size_t scattered() const { return scattered_; }
@@ -610,7 +671,7 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
         float radius = per_cube <= 2 ? 2.f : per_cube <= 8 ? 1.f : 0.f;
         if (params.field != McFieldMethod::automatic) radius = params.field == McFieldMethod::scatter ? 2.f : 0.f;
         scattering = radius > 0;
-        if (scattering) field.scatter(radius);
+        if (scattering) field.scatter(radius, threads);
     };
     detail::run_beside(threads, seeds_and_scatter, build_kd);
     check_progress(progress, 0.05, "mcoctree: distance field");
