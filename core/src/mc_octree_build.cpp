@@ -69,64 +69,72 @@ struct LowestNearest {
     float worstDist() const { return std::min(bound, best * (1 + 1e-5f) + 1e-30f); }
 };
 
-PointCloud points_of(const Mesh& mesh, std::size_t& skipped) {
+PointCloud points_of(const Mesh& mesh, std::size_t& skipped, unsigned threads) {
     if (mesh.positions.empty()) throw_error(Error::Kind::invalid, input_name, "no points");
     for (std::size_t i = 0; i < mesh.positions.size(); ++i)
         if (!is_finite(mesh.positions[i]))
             throw_error(Error::Kind::invalid, input_name, "point " + std::to_string(i) + " is not finite");
     PointCloud pc;
-    std::vector<Vec3f> normals = mesh.normals;
-    if (normals.size() != mesh.positions.size()) {
-        if (mesh.indices.empty())
-            throw_error(Error::Kind::invalid, input_name,
-                        "the points have no normals and there are no faces to compute them from");
-        normals.assign(mesh.positions.size(), Vec3f{});
-        for (std::size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
-            const std::uint32_t a = mesh.indices[t], b = mesh.indices[t + 1], c = mesh.indices[t + 2];
-            if (a >= normals.size() || b >= normals.size() || c >= normals.size())
-                throw_error(Error::Kind::invalid, input_name, "face " + std::to_string(t / 3) + " has an index out of range");
-            // cross product length = twice the area: area-weighted average of the adjacent face normals
-            const Vec3f n = cross(mesh.positions[b] - mesh.positions[a], mesh.positions[c] - mesh.positions[a]);
-            normals[a] = normals[a] + n, normals[b] = normals[b] + n, normals[c] = normals[c] + n;
+    std::vector<Vec3f> normals;
+    auto normals_of = [&] {
+        normals = mesh.normals;
+        if (normals.size() != mesh.positions.size()) {
+            if (mesh.indices.empty())
+                throw_error(Error::Kind::invalid, input_name,
+                            "the points have no normals and there are no faces to compute them from");
+            normals.assign(mesh.positions.size(), Vec3f{});
+            for (std::size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
+                const std::uint32_t a = mesh.indices[t], b = mesh.indices[t + 1], c = mesh.indices[t + 2];
+                if (a >= normals.size() || b >= normals.size() || c >= normals.size())
+                    throw_error(Error::Kind::invalid, input_name, "face " + std::to_string(t / 3) + " has an index out of range");
+                // cross product length = twice the area: area-weighted average of the adjacent face normals
+                const Vec3f n = cross(mesh.positions[b] - mesh.positions[a], mesh.positions[c] - mesh.positions[a]);
+                normals[a] = normals[a] + n, normals[b] = normals[b] + n, normals[c] = normals[c] + n;
+            }
         }
-    }
-    const bool colors = mesh.colors.size() == mesh.positions.size();
-    for (std::size_t i = 0; i < mesh.positions.size(); ++i)
-        if (!is_finite(normals[i]))
-            throw_error(Error::Kind::invalid, input_name, "normal of point " + std::to_string(i) + " is not finite");
+        for (std::size_t i = 0; i < mesh.positions.size(); ++i)
+            if (!is_finite(normals[i]))
+                throw_error(Error::Kind::invalid, input_name, "normal of point " + std::to_string(i) + " is not finite");
+    };
     // Points at exactly the same position are one surface point (D1): the first keeps the sum of their
     // normals (for normals from faces, the normal of the welded vertex), the others are dropped. When the
-    // sum vanishes (opposite normals) the first point's own normal stays.
-    std::vector<std::uint8_t> merged(mesh.positions.size(), 0);
-    {
+    // sum vanishes (opposite normals) the first point's own normal stays. Finding the copies needs the
+    // positions only, so the normals are made on a second thread meanwhile.
+    const bool colors = mesh.colors.size() == mesh.positions.size();
+    std::vector<std::uint8_t> merged(mesh.positions.size(), 0);  // 1: a later copy, 2: the first of copies
+    mc::KeyMap first;
+    std::vector<std::uint32_t> firsts;  // the first point of each group of copies, in order of discovery
+    auto key_of = [](const Vec3f& p) {
         auto bits = [](float f) { return std::bit_cast<std::uint32_t>(f == 0 ? 0.f : f); };  // -0 == +0
-        mc::KeyMap first(mesh.positions.size());
-        std::vector<std::pair<std::uint32_t, Vec3f>> sums;  // first index, sum of the group's normals
+        const std::uint64_t key = (std::uint64_t(bits(p.x)) * 0x9E3779B97F4A7C15ULL) ^
+                                  (std::uint64_t(bits(p.y)) * 0xC2B2AE3D27D4EB4FULL) ^ (std::uint64_t(bits(p.z)) << 7);
+        return key & ~(std::uint64_t(1) << 63);  // never the map's empty key
+    };
+    auto find_copies = [&] {
+        first = mc::KeyMap(mesh.positions.size());
         for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
             const Vec3f p = mesh.positions[i];
-            std::uint64_t key = (std::uint64_t(bits(p.x)) * 0x9E3779B97F4A7C15ULL) ^
-                                (std::uint64_t(bits(p.y)) * 0xC2B2AE3D27D4EB4FULL) ^ (std::uint64_t(bits(p.z)) << 7);
-            key &= ~(std::uint64_t(1) << 63);  // never the map's empty key
-            const std::uint32_t at = first.insert(key, static_cast<std::uint32_t>(i));
+            const std::uint32_t at = first.insert(key_of(p), static_cast<std::uint32_t>(i));
             if (at == i || !(mesh.positions[at] == p)) continue;  // new, or another position with this hash
             merged[i] = 1;
-            if (merged[at] < 2) merged[at] = 2, sums.emplace_back(at, normals[at]);
+            if (merged[at] < 2) merged[at] = 2, firsts.push_back(at);
         }
-        if (!sums.empty()) {
-            std::vector<std::uint32_t> group(mesh.positions.size(), none);
-            for (std::size_t g = 0; g < sums.size(); ++g) group[sums[g].first] = static_cast<std::uint32_t>(g);
-            for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
-                if (merged[i] != 1) continue;
-                const Vec3f p = mesh.positions[i];
-                std::uint64_t key = (std::uint64_t(bits(p.x)) * 0x9E3779B97F4A7C15ULL) ^
-                                    (std::uint64_t(bits(p.y)) * 0xC2B2AE3D27D4EB4FULL) ^ (std::uint64_t(bits(p.z)) << 7);
-                key &= ~(std::uint64_t(1) << 63);
-                Vec3f& sum = sums[group[first.find(key)]].second;
-                sum = sum + normals[i];
-            }
-            for (const auto& [i, sum] : sums)
-                if (length(sum) > 0) normals[i] = sum;
+    };
+    detail::run_beside(threads, find_copies, normals_of);  // the longer one here (thread CPU = critical path)
+    if (!firsts.empty()) {
+        std::vector<std::uint32_t> group(mesh.positions.size(), none);
+        std::vector<Vec3f> sums;  // per group: the sum of its normals, in point order
+        for (std::size_t g = 0; g < firsts.size(); ++g) {
+            group[firsts[g]] = static_cast<std::uint32_t>(g);
+            sums.push_back(normals[firsts[g]]);
         }
+        for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+            if (merged[i] != 1) continue;
+            Vec3f& sum = sums[group[first.find(key_of(mesh.positions[i]))]];
+            sum = sum + normals[i];
+        }
+        for (std::size_t g = 0; g < firsts.size(); ++g)
+            if (length(sums[g]) > 0) normals[firsts[g]] = sums[g];
     }
     for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
         if (merged[i] == 1) continue;
@@ -167,10 +175,9 @@ public:
     }
     // Block of `key`; `created` is set when the block is new (numbered size() - 1).
     std::uint32_t of(std::uint64_t key, bool& created) {
-        const std::uint64_t bk = ((key & mc::max_lattice) >> 2) | (((key >> 17) & mc::max_lattice) >> 2) << 17 |
-                                 (((key >> 34) & mc::max_lattice) >> 2) << 34;
+        const std::uint64_t bk = block_key(key);
         created = false;
-        Cached& c = cache_[(bk & 15) | ((bk >> 17) & 15) << 4 | ((bk >> 34) & 15) << 8];
+        Cached& c = cache_[slot(bk)];
         if (c.key == bk) return c.block;
         std::uint32_t b = map_.find(bk);
         if (b == none) {
@@ -182,14 +189,30 @@ public:
         return b;
     }
     std::size_t size() const { return count_; }
-
-private:
     struct Cached {
         std::uint64_t key = ~std::uint64_t(0);
         std::uint32_t block = 0;
     };
+    static constexpr std::size_t cache_size = 4096;
+    // Block of `key` or none, without creating one: safe on several threads at once while nobody creates
+    // blocks, each with its own cache (cache_size entries).
+    std::uint32_t find(std::uint64_t key, Cached* cache) const {
+        const std::uint64_t bk = block_key(key);
+        Cached& c = cache[slot(bk)];
+        if (c.key == bk) return c.block;
+        const std::uint32_t b = map_.find(bk);
+        if (b != none) c = {bk, b};
+        return b;
+    }
+
+private:
+    static std::uint64_t block_key(std::uint64_t key) {
+        return ((key & mc::max_lattice) >> 2) | (((key >> 17) & mc::max_lattice) >> 2) << 17 |
+               (((key >> 34) & mc::max_lattice) >> 2) << 34;
+    }
+    static std::size_t slot(std::uint64_t bk) { return (bk & 15) | ((bk >> 17) & 15) << 4 | ((bk >> 34) & 15) << 8; }
     KeyMap map_;
-    std::vector<Cached> cache_ = std::vector<Cached>(4096);
+    std::vector<Cached> cache_ = std::vector<Cached>(cache_size);
     std::size_t count_ = 0;
 };
 
@@ -262,9 +285,80 @@ public:
     // Scatters every point to the lattice points closer than `radius` cube sizes (D1, "Field by
     // scattering"): a lattice point that receives a point this way has its exact nearest point (every
     // point within the radius reached it; ties to the lowest index, points are taken in index order);
-    // the others are left to the kd-tree. Serial; blocks are made as they are reached.
-    void scatter(float radius) {
+    // the others are left to the kd-tree. With two threads or more the lattice is cut at a block boundary
+    // near the points' median x: each half is scattered by every point into a block set of its own (so
+    // every lattice point is still written by one thread, in point order), and the halves' blocks are
+    // then added to the field's. The values are the same either way; only the blocks' numbering differs,
+    // which nothing reads.
+    void scatter(float radius, unsigned threads) {
         const float r2 = (radius * h_) * (radius * h_);
+        if (threads < 2 || pc_.points.size() < 20000) {
+            struct Direct {  // the field's own blocks
+                Field& field;
+                std::vector<std::uint64_t>& pending;
+                std::vector<float>& dist;
+                std::vector<std::uint32_t>& nearest;
+                std::uint32_t block_of(std::uint64_t key) { return field.block_of(key); }
+            } direct{*this, pending_, dist_, nearest_};
+            scatter_slab(r2, radius, 0, grid_ + 1, direct);
+        } else {
+            std::vector<float> xs;
+            for (std::size_t i = 0; i < pc_.points.size(); i += 16) xs.push_back(pc_.points[i].x);
+            std::nth_element(xs.begin(), xs.begin() + std::ptrdiff_t(xs.size() / 2), xs.end());
+            const auto mid = static_cast<std::uint32_t>(std::clamp((xs[xs.size() / 2] - origin_.x) / h_, 0.f, float(grid_)));
+            const std::uint32_t cut = mid & ~3u;  // a block boundary: no block spans both halves
+            std::array<ScatterSlab, 2> slabs;
+            detail::run_beside(
+                2, [&] { scatter_slab(r2, radius, 0, cut, slabs[0]); },
+                [&] { scatter_slab(r2, radius, cut, grid_ + 1, slabs[1]); });
+            for (const ScatterSlab& slab : slabs) {
+                for (std::size_t sb = 0; sb < slab.pending.size(); ++sb) {
+                    const std::uint64_t bits = slab.pending[sb];
+                    if (!bits) continue;
+                    const std::uint32_t b = block_of(slab.block_key[sb]);
+                    for (std::uint64_t left = bits; left; left &= left - 1) {
+                        const auto l = static_cast<std::uint32_t>(std::countr_zero(left));
+                        dist_[b * 64 + l] = slab.dist[sb * 64 + l];
+                        nearest_[b * 64 + l] = slab.nearest[sb * 64 + l];
+                    }
+                    pending_[b] |= bits;
+                }
+            }
+        }
+        scattered_ = 0;
+        for (std::uint32_t b = 0; b < valid_.size(); ++b) {
+            for (std::uint64_t bits = pending_[b]; bits; bits &= bits - 1) {
+                const auto l = static_cast<std::uint32_t>(std::countr_zero(bits));
+                const std::uint32_t at = b * 64 + l;
+                finish(block_key_[b] | pack(l & 3, (l >> 2) & 3, l >> 4), dist_[at], nearest_[at], dist_[at], nearest_[at]);
+            }
+            scattered_ += std::size_t(std::popcount(pending_[b]));
+            valid_[b] |= pending_[b];
+            pending_[b] = 0;
+        }
+    }
+    // Blocks of one half of the lattice during a two-thread scatter.
+    struct ScatterSlab {
+        Blocks blocks{1 << 12};
+        std::vector<std::uint64_t> pending, block_key;
+        std::vector<float> dist;
+        std::vector<std::uint32_t> nearest;
+        std::uint32_t block_of(std::uint64_t key) {
+            bool created;
+            const std::uint32_t b = blocks.of(key, created);
+            if (created) {
+                pending.push_back(0);
+                block_key.push_back(key & ~pack(3, 3, 3));
+                dist.resize(dist.size() + 64);
+                nearest.resize(nearest.size() + 64);
+            }
+            return b;
+        }
+    };
+    // Every point's writes to the lattice points with x in [x_begin, x_end) within the radius, into `out`'s
+    // blocks (the field itself or a ScatterSlab: block_of, pending, dist, nearest).
+    template <class Out>
+    void scatter_slab(float r2, float radius, std::uint32_t x_begin, std::uint32_t x_end, Out& out) const {
         const float inv = 1.f / h_;
         // Per point, the squared offsets along each axis to the lattice lines around it (the same float
         // operations as world() and distance2(), so a sum below is the query's squared distance exactly);
@@ -282,7 +376,8 @@ public:
                 for (int k = 0; k < width; ++k) {
                     const int x = lo + k;
                     const float t = (origin_[a] + float(x) * h_) - p[a];
-                    t2[std::size_t(a * width + k)] = x <= int(grid_) ? t * t : INFINITY;
+                    const bool in = a == 0 ? x >= int(x_begin) && x < int(x_end) : x <= int(grid_);
+                    t2[std::size_t(a * width + k)] = in ? t * t : INFINITY;
                 }
             }
             const float* tx = t2.data();
@@ -299,28 +394,17 @@ public:
                         const float d2 = dxy2 + tz[iz];
                         if (!(d2 < r2)) continue;
                         const std::uint32_t z = first[2] + std::uint32_t(iz);
-                        if ((z >> 2) != bz) bz = z >> 2, b = block_of(pack(x, y, z)), base = b * 64 + local(pack(x, y, 0));
+                        if ((z >> 2) != bz) bz = z >> 2, b = out.block_of(pack(x, y, z)), base = b * 64 + local(pack(x, y, 0));
                         const std::uint32_t l = (z & 3) << 4;
                         const std::uint64_t bit = std::uint64_t(1) << (l + (base & 63));
                         const std::uint32_t at = base + l;
-                        if ((pending_[b] & bit) && !(d2 < dist_[at])) continue;
-                        pending_[b] |= bit;
-                        dist_[at] = d2;
-                        nearest_[at] = i;
+                        if ((out.pending[b] & bit) && !(d2 < out.dist[at])) continue;
+                        out.pending[b] |= bit;
+                        out.dist[at] = d2;
+                        out.nearest[at] = i;
                     }
                 }
             }
-        }
-        scattered_ = 0;
-        for (std::uint32_t b = 0; b < valid_.size(); ++b) {
-            for (std::uint64_t bits = pending_[b]; bits; bits &= bits - 1) {
-                const auto l = static_cast<std::uint32_t>(std::countr_zero(bits));
-                const std::uint32_t at = b * 64 + l;
-                finish(block_key_[b] | pack(l & 3, (l >> 2) & 3, l >> 4), dist_[at], nearest_[at], dist_[at], nearest_[at]);
-            }
-            scattered_ += std::size_t(std::popcount(pending_[b]));
-            valid_[b] |= pending_[b];
-            pending_[b] = 0;
         }
     }
     std::size_t scattered() const { return scattered_; }
@@ -347,7 +431,22 @@ public:
     float dist(std::uint32_t i) const { return dist_[i]; }  // signed: < 0 inside
     std::uint32_t nearest(std::uint32_t i) const { return nearest_[i]; }
     bool inside(std::uint64_t key) { return dist_[index(key)] < 0; }
+    // Inside (1), outside (0) or not evaluated yet (-1), without evaluating: safe on several threads at once
+    // between evaluations, each with its own cache of Blocks::cache_size entries.
+    int peek_inside(std::uint64_t key, Blocks::Cached* cache) const {
+        const std::uint32_t b = blocks_.find(key, cache);
+        if (b == none || !(valid_[b] & (std::uint64_t(1) << local(key)))) return -1;
+        return dist_[b * 64 + local(key)] < 0;
+    }
     std::size_t size() const { return evaluated_; }
+    void reserve_blocks(std::size_t n) {
+        valid_.reserve(n);
+        pending_.reserve(n);
+        dist_.reserve(64 * n);
+        nearest_.reserve(64 * n);
+        edge_vertex_.reserve(192 * n);
+        block_key_.reserve(n);
+    }
 
 private:
     static std::uint32_t local(std::uint64_t key) { return Blocks::local(key); }
@@ -425,22 +524,31 @@ private:
     std::size_t evaluated_ = 0;
 };
 
-// Wall and process CPU time (all threads) per build stage, for McOctreeBuildResult::stages.
+// Wall, process CPU time (all threads) and the calling thread's CPU time per build stage, for
+// McOctreeBuildResult::stages.
 class StageClock {
 public:
     explicit StageClock(std::vector<McBuildStage>& out) : out_(out) { reset(); }
     void mark(const char* name) {
         const auto w = std::chrono::steady_clock::now();
         const std::clock_t c = std::clock();
-        out_.push_back({name, std::chrono::duration<double>(w - wall_).count(), double(c - cpu_) / CLOCKS_PER_SEC});
-        wall_ = w, cpu_ = c;
+        const double t = thread_cpu();
+        out_.push_back({name, std::chrono::duration<double>(w - wall_).count(), double(c - cpu_) / CLOCKS_PER_SEC,
+                        t - thread_});
+        wall_ = w, cpu_ = c, thread_ = t;
     }
-    void reset() { wall_ = std::chrono::steady_clock::now(), cpu_ = std::clock(); }
+    void reset() { wall_ = std::chrono::steady_clock::now(), cpu_ = std::clock(), thread_ = thread_cpu(); }
 
 private:
+    static double thread_cpu() {
+        timespec ts{};
+        clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+        return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+    }
     std::vector<McBuildStage>& out_;
     std::chrono::steady_clock::time_point wall_;
     std::clock_t cpu_;
+    double thread_ = 0;
 };
 
 std::uint64_t morton(std::uint32_t x, std::uint32_t y, std::uint32_t z) {
@@ -494,7 +602,8 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
     if (params.cube_size == 0 && params.resolution == 0)
         throw_error(Error::Kind::argument, input_name, "resolution must be at least 1");
     std::size_t skipped = 0;
-    const PointCloud pc = points_of(input, skipped);
+    const unsigned threads = thread_count(params.threads);
+    const PointCloud pc = points_of(input, skipped, threads);
     Bounds bounds;
     for (const Vec3f& p : pc.points) bounds.add(p);
     const Vec3f ext = bounds.size();
@@ -525,50 +634,46 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
     tree.input_points = pc.points.size();
     tree.origin = bounds.min - Vec3f{1, 1, 1} * static_cast<float>(pad * h);
 
-    const unsigned threads = thread_count(params.threads);
     // Built once, below (nanoflann's constructor builds the index too unless told not to: main built it twice).
     KdTree kd(3, pc, nanoflann::KDTreeSingleIndexAdaptorParams(16, nanoflann::KDTreeSingleIndexAdaptorFlags::SkipInitialBuildIndex));
     Field field(pc, kd, tree.origin, static_cast<float>(h), grid, threads);
     const float cap = params.band > 0 ? static_cast<float>(params.band * h) : INFINITY;
 
-    // Leaf cubes: flood along the surface from the cubes holding points, across every face the surface
-    // crosses, so no crossing face of a kept cube leads to an unexamined one (that would be a hole).
-    CubeSet visited(pc.points.size() * 2);
-    std::vector<std::uint64_t> frontier;
-    for (const Vec3f& p : pc.points) {
-        const Vec3f r = (p - tree.origin) * static_cast<float>(1.0 / h);
-        const auto cx = static_cast<std::uint32_t>(std::clamp(r.x, 0.f, float(grid - 1)));
-        const auto cy = static_cast<std::uint32_t>(std::clamp(r.y, 0.f, float(grid - 1)));
-        const auto cz = static_cast<std::uint32_t>(std::clamp(r.z, 0.f, float(grid - 1)));
-        const std::uint64_t k = pack(cx, cy, cz);
-        if (visited.insert(k)) frontier.push_back(k);
-    }
-    std::sort(frontier.begin(), frontier.end());  // lattice order: the queries' hints are near
-
-    // The field near the points by scattering (D1), while the kd-tree for the other values is built on a
-    // second thread. Scattering costs per point and per lattice point within the radius, a query per
-    // lattice point: within 2 cube sizes (nearly every value the flood asks for) where there are at most 2
-    // points per cube holding points, within 1 (about 60 % of them, in the kd-tree's build time) up to 8.
-    const double per_cube = double(pc.points.size()) / double(frontier.size());
+    // The kd-tree is built on a second thread while this one finds the seed cubes and scatters the field
+    // near the points (D1); an exception there (bad_alloc) is rethrown here once both have ended.
     auto build_kd = [&] {
         kd.buildIndex();
         result.point_spacing = median_spacing(pc, kd);
     };
-    float radius = per_cube <= 2 ? 2.f : per_cube <= 8 ? 1.f : 0.f;
-    if (params.field != McFieldMethod::automatic) radius = params.field == McFieldMethod::scatter ? 2.f : 0.f;
-    const bool scattering = radius > 0;
-    if (scattering) {
-        if (threads > 1) {
-            std::thread kd_thread(build_kd);
-            field.scatter(radius);
-            kd_thread.join();
-        } else {
-            build_kd();
-            field.scatter(radius);
+    // Leaf cubes: flood along the surface from the cubes holding points, across every face the surface
+    // crosses, so no crossing face of a kept cube leads to an unexamined one (that would be a hole).
+    CubeSet visited(pc.points.size() * 2);
+    std::vector<std::uint64_t> frontier;
+    bool scattering = false;
+    auto seeds_and_scatter = [&] {
+        for (const Vec3f& p : pc.points) {
+            const Vec3f r = (p - tree.origin) * static_cast<float>(1.0 / h);
+            const auto cx = static_cast<std::uint32_t>(std::clamp(r.x, 0.f, float(grid - 1)));
+            const auto cy = static_cast<std::uint32_t>(std::clamp(r.y, 0.f, float(grid - 1)));
+            const auto cz = static_cast<std::uint32_t>(std::clamp(r.z, 0.f, float(grid - 1)));
+            const std::uint64_t k = pack(cx, cy, cz);
+            if (visited.insert(k)) frontier.push_back(k);
         }
-    } else {
-        build_kd();
-    }
+        std::sort(frontier.begin(), frontier.end());  // lattice order: the queries' hints are near
+        // The field's blocks number about a quarter to a half of the seeds on the scans (dragon, frag_115 at
+        // 64-512): room for half of them at once saves the copies and page faults of growing 1.3 KB per block
+        // (only what is written becomes resident).
+        field.reserve_blocks(frontier.size() / 2 + 4096);
+        // Scattering costs per point and per lattice point within the radius, a query per lattice point:
+        // within 2 cube sizes (nearly every value the flood asks for) where there are at most 2 points per
+        // cube holding points, within 1 (about 60 % of them, in the kd-tree's build time) up to 8.
+        const double per_cube = double(pc.points.size()) / double(frontier.size());
+        float radius = per_cube <= 2 ? 2.f : per_cube <= 8 ? 1.f : 0.f;
+        if (params.field != McFieldMethod::automatic) radius = params.field == McFieldMethod::scatter ? 2.f : 0.f;
+        scattering = radius > 0;
+        if (scattering) field.scatter(radius, threads);
+    };
+    detail::run_beside(threads, seeds_and_scatter, build_kd);
     check_progress(progress, 0.05, "mcoctree: distance field");
     const bool density_warned = result.point_spacing > h;
     if (density_warned) {
@@ -647,6 +752,8 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
         present.reserve(levels + 1);
         for (std::uint32_t l = 0; l <= levels; ++l) present.emplace_back(l == 0 ? 16 : leaves.size() >> (2 * l));
         std::vector<std::pair<std::uint32_t, std::uint64_t>> fresh;  // new coarse nodes: (level, packed x, y, z)
+        std::vector<std::uint32_t> fresh_inside;  // their sample masks
+        std::vector<std::uint8_t> fresh_edges;    // their crossings' leaf edges found in parallel (255: none)
         std::vector<std::uint64_t> sample_keys;
         auto coarse_sample = [](std::uint32_t l, std::uint64_t node, int s) {
             const std::uint32_t half = 1u << (l - 1);
@@ -671,30 +778,96 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
                 }
             }
             field.evaluate(sample_keys);  // in parallel; the descents below mostly find known values
-            frontier.clear();
-            for (const auto& [l, key] : fresh) {
-                std::uint32_t inside = 0;
-                for (int sm = 0; sm < 27; ++sm)
-                    if (sm != 13 && field.inside(coarse_sample(l, key, sm))) inside |= 1u << sm;
-                coarse_inside.push_back(inside);
-                for (int e = 0; e < mc::sub_edge_count; ++e) {
-                    const mc::SubEdge& se = subs[e];
-                    const bool a_inside = (inside >> se.a) & 1u;
-                    if (a_inside == bool((inside >> se.b) & 1u)) continue;
-                    std::uint64_t a = coarse_sample(l, key, se.a);
-                    for (std::uint32_t k = se.length == 2 ? l : l - 1; k > 0; --k) {
-                        const std::uint64_t mid = a + (std::uint64_t(1u << (k - 1)) << (17 * se.axis));
-                        if (field.inside(mid) == a_inside) a = mid;
+            // Each fresh node's mask, and the leaf edge of each of its crossings (the descent of D5), on
+            // every thread from the values known now; a node whose descent meets a value not evaluated yet
+            // is left to the serial pass below, which also adds the cubes around the leaf edges to the flood
+            // in node order.
+            fresh_inside.resize(fresh.size());
+            fresh_edges.assign(fresh.size(), 0);
+            // One contiguous range of fresh nodes per thread (one range when there are few), each with its
+            // own list of leaf edges, read back in node order below.
+            const std::size_t ranges = fresh.size() < 1024 ? 1 : std::max(1u, threads);
+            auto range_begin = [&](std::size_t r) { return r * fresh.size() / ranges; };
+            std::vector<std::vector<std::uint64_t>> edges_of_range(ranges);
+            constexpr std::uint8_t serial = 255;
+            auto descend = [&](std::uint32_t l, std::uint64_t key, const mc::SubEdge& se, bool a_inside,
+                               auto&& inside_at) -> std::uint64_t {
+                std::uint64_t a = coarse_sample(l, key, se.a);
+                for (std::uint32_t k = se.length == 2 ? l : l - 1; k > 0; --k) {
+                    const std::uint64_t mid = a + (std::uint64_t(1u << (k - 1)) << (17 * se.axis));
+                    const int in = inside_at(mid);
+                    if (in < 0) return none;
+                    if (bool(in) == a_inside) a = mid;
+                }
+                return a;
+            };
+            detail::parallel_for(ranges, unsigned(ranges), 1, [&](std::size_t first_range, std::size_t end_range) {
+                for (std::size_t range = first_range; range < end_range; ++range) {
+                    std::vector<std::uint64_t>& out = edges_of_range[range];
+                    std::vector<Blocks::Cached> cache(Blocks::cache_size);
+                    auto peek = [&](std::uint64_t k) { return field.peek_inside(k, cache.data()); };
+                    for (std::size_t i = range_begin(range), e = range_begin(range + 1); i < e; ++i) {
+                        const auto [l, key] = fresh[i];
+                        std::uint32_t inside = 0;
+                        bool known = true;
+                        for (int sm = 0; sm < 27 && known; ++sm) {
+                            if (sm == 13) continue;
+                            const int in = peek(coarse_sample(l, key, sm));
+                            known = in >= 0;
+                            if (in > 0) inside |= 1u << sm;
+                        }
+                        const std::size_t start = out.size();
+                        for (int se_i = 0; se_i < mc::sub_edge_count && known; ++se_i) {
+                            const mc::SubEdge& se = subs[se_i];
+                            const bool a_inside = (inside >> se.a) & 1u;
+                            if (a_inside == bool((inside >> se.b) & 1u)) continue;
+                            const std::uint64_t a = descend(l, key, se, a_inside, peek);
+                            known = a != none;
+                            out.push_back(a | std::uint64_t(se.axis) << 51);
+                        }
+                        fresh_inside[i] = inside;
+                        if (known) {
+                            fresh_edges[i] = static_cast<std::uint8_t>(out.size() - start);
+                        } else {
+                            out.resize(start);
+                            fresh_edges[i] = serial;
+                        }
                     }
-                    const int u = (se.axis + 1) % 3, v = (se.axis + 2) % 3;
-                    for (int c = 0; c < 4; ++c) {
-                        const int du = c & 1, dv = c >> 1;
-                        if ((du && ((a >> (17 * u)) & mc::max_lattice) == 0) ||
-                            (dv && ((a >> (17 * v)) & mc::max_lattice) == 0))
-                            continue;
-                        const std::uint64_t cube = a - std::uint64_t(du) * (std::uint64_t(1) << (17 * u)) -
-                                                   std::uint64_t(dv) * (std::uint64_t(1) << (17 * v));
-                        if (visited.insert(cube)) frontier.push_back(cube);
+                }
+            });
+            frontier.clear();
+            auto flood_around = [&](std::uint64_t a, int axis) {
+                const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+                for (int c = 0; c < 4; ++c) {
+                    const int du = c & 1, dv = c >> 1;
+                    if ((du && ((a >> (17 * u)) & mc::max_lattice) == 0) || (dv && ((a >> (17 * v)) & mc::max_lattice) == 0))
+                        continue;
+                    const std::uint64_t cube = a - std::uint64_t(du) * (std::uint64_t(1) << (17 * u)) -
+                                               std::uint64_t(dv) * (std::uint64_t(1) << (17 * v));
+                    if (visited.insert(cube)) frontier.push_back(cube);
+                }
+            };
+            for (std::size_t range = 0; range < ranges; ++range) {
+                const std::vector<std::uint64_t>& edges = edges_of_range[range];
+                std::size_t at = 0;
+                for (std::size_t i = range_begin(range), e = range_begin(range + 1); i < e; ++i) {
+                    const auto [l, key] = fresh[i];
+                    if (fresh_edges[i] != serial) {
+                        coarse_inside.push_back(fresh_inside[i]);
+                        for (const std::size_t stop = at + fresh_edges[i]; at < stop; ++at)
+                            flood_around(edges[at] & ((std::uint64_t(1) << 51) - 1), int(edges[at] >> 51));
+                        continue;
+                    }
+                    std::uint32_t inside = 0;  // as above, evaluating what is missing
+                    for (int sm = 0; sm < 27; ++sm)
+                        if (sm != 13 && field.inside(coarse_sample(l, key, sm))) inside |= 1u << sm;
+                    coarse_inside.push_back(inside);
+                    for (int se_i = 0; se_i < mc::sub_edge_count; ++se_i) {
+                        const mc::SubEdge& se = subs[se_i];
+                        const bool a_inside = (inside >> se.a) & 1u;
+                        if (a_inside == bool((inside >> se.b) & 1u)) continue;
+                        flood_around(descend(l, key, se, a_inside, [&](std::uint64_t k) { return int(field.inside(k)); }),
+                                     se.axis);
                     }
                 }
             }
@@ -725,6 +898,37 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
     std::vector<KeyMap> maps;
     const bool colors = !pc.colors.empty();
     std::vector<std::uint64_t> vertex_edge;  // leaf edge of each vertex: lattice key | axis << 51
+    // Same-level neighbours (faces and edges) for the seams: they depend on the octree only, and are
+    // made on a second thread while this one makes the vertices.
+    auto build_neighbours = [&] {
+        tree.neighbours.assign(node_count * mc::neighbour_slots, none);
+        // Top-down, from the parents' neighbours: the cube next to a child across a face or edge is a sibling
+        // or a child of the parent's neighbour in the directions that leave the parent (a face or an edge
+        // slot too), so no look-up in the level maps is needed. Nodes are stored parents first.
+        int slot_of[27];
+        for (int& v : slot_of) v = -1;
+        for (int sl = 0; sl < mc::neighbour_slots; ++sl) {
+            const auto o = mc::neighbour_offset(sl);
+            slot_of[(o[0] + 1) + 3 * (o[1] + 1) + 9 * (o[2] + 1)] = sl;
+        }
+        auto child_at = [&](std::uint32_t parent, int octant) { return mc::child_index(tree.nodes[parent], octant); };
+        for (std::size_t ni = 1; ni < node_count; ++ni) {  // every node below the root, parents first
+            const McNode& n = tree.nodes[ni];
+            const std::uint32_t* parent_nb = &tree.neighbours[std::size_t(n.parent) * mc::neighbour_slots];
+            const std::int64_t size = std::int64_t(grid >> n.level);
+            for (int sl = 0; sl < mc::neighbour_slots; ++sl) {
+                const auto o = mc::neighbour_offset(sl);
+                const std::int64_t t[3] = {std::int64_t(n.x) + o[0], std::int64_t(n.y) + o[1], std::int64_t(n.z) + o[2]};
+                if (t[0] < 0 || t[1] < 0 || t[2] < 0 || t[0] >= size || t[1] >= size || t[2] >= size) continue;
+                const int octant = int(t[0] & 1) | int(t[1] & 1) << 1 | int(t[2] & 1) << 2;
+                const int po[3] = {int((t[0] >> 1) - std::int64_t(n.x >> 1)), int((t[1] >> 1) - std::int64_t(n.y >> 1)),
+                                   int((t[2] >> 1) - std::int64_t(n.z >> 1))};
+                std::uint32_t up = n.parent;
+                if (po[0] || po[1] || po[2]) up = parent_nb[slot_of[(po[0] + 1) + 3 * (po[1] + 1) + 9 * (po[2] + 1)]];
+                if (up != none) tree.neighbours[ni * mc::neighbour_slots + std::size_t(sl)] = child_at(up, octant);
+            }
+        }
+    };
     for (int pass = 0;; ++pass) {
         tree.nodes.clear();
         tree.vertex_ids.clear();
@@ -841,86 +1045,87 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
         // Vertices: the crossing of an edge at any level is the crossing of the one leaf edge the recursive
         // edge-ratio extension lands on, so all levels share vertices by index.
         clock.mark("octree, samples");
-        check_progress(progress, 0.65, "mcoctree: vertices");
-        KeyMap edge_vertex(offset[0] * 4);  // coarse edges; leaf edges are memoised in the field's blocks
-        field.clear_leaf_edge_vertices();
-        auto leaf_vertex = [&](std::uint64_t a_key, int axis) -> std::uint32_t {
-            const std::uint64_t ekey = a_key | (std::uint64_t(axis) << 51);
-            std::uint32_t v = field.leaf_edge_vertex(a_key, axis);
-            if (v != none) return v;
-            const std::uint64_t b_key = a_key + (std::uint64_t(1) << (17 * axis));
-            const std::uint32_t ia = field.index(a_key), ib = field.index(b_key);
-            const float da = std::fabs(field.dist(ia)), db = std::fabs(field.dist(ib));
-            const float t = da + db > 0 ? da / (da + db) : 0.5f;
-            Vec3f p = field.world(a_key);
-            if (axis == 0) p.x += t * float(h);
-            else if (axis == 1) p.y += t * float(h);
-            else p.z += t * float(h);
-            const std::uint32_t pa = field.nearest(ia), pb = field.nearest(ib);
-            Vec3f nrm = pc.normals[pa] * (1 - t) + pc.normals[pb] * t;
-            const float len = length(nrm);
-            if (len > 1e-12f) {
-                nrm = nrm * (1.f / len);
-            } else {  // opposite normals (a thin sheet): point from the inside corner to the outside one
-                nrm = Vec3f{};
-                const float dir = field.dist(ia) < 0 ? 1.f : -1.f;
-                if (axis == 0) nrm.x = dir;
-                else if (axis == 1) nrm.y = dir;
-                else nrm.z = dir;
-            }
-            v = static_cast<std::uint32_t>(tree.positions.size());
-            tree.positions.push_back(p);
-            vertex_edge.push_back(ekey);
-            tree.normals.push_back(nrm);
-            if (colors) {
-                const Vec4f ca = pc.colors[pa], cb = pc.colors[pb];
-                tree.colors.push_back({ca.x + (cb.x - ca.x) * t, ca.y + (cb.y - ca.y) * t, ca.z + (cb.z - ca.z) * t,
-                                       ca.w + (cb.w - ca.w) * t});
-            }
-            field.set_leaf_edge_vertex(a_key, axis, v);
-            return v;
-        };
-        auto edge_vertex_of = [&](std::uint64_t a_key, int axis, std::uint32_t level) -> std::uint32_t {
-            const std::uint64_t top = a_key | (std::uint64_t(axis) << 51) | (std::uint64_t(level) << 53);
-            if (level > 0) {
-                const std::uint32_t known = edge_vertex.find(top);
-                if (known != none) return known;
-            }
-            std::uint64_t a = a_key;
-            const bool a_inside = field.inside(a);
-            for (std::uint32_t l = level; l > 0; --l) {
-                const std::uint64_t mid = a + (std::uint64_t(1u << (l - 1)) << (17 * axis));
-                if (field.inside(mid) == a_inside) a = mid;  // the crossing is in the upper half
-                if (l > 1) {
-                    const std::uint32_t known = edge_vertex.find(a | (std::uint64_t(axis) << 51) | (std::uint64_t(l - 1) << 53));
-                    if (known != none) {
-                        edge_vertex.insert(top, known);
-                        return known;
+        detail::run_beside(threads, [&] {
+            check_progress(progress, 0.65, "mcoctree: vertices");
+            KeyMap edge_vertex(offset[0] * 4);  // coarse edges; leaf edges are memoised in the field's blocks
+            field.clear_leaf_edge_vertices();
+            auto leaf_vertex = [&](std::uint64_t a_key, int axis) -> std::uint32_t {
+                const std::uint64_t ekey = a_key | (std::uint64_t(axis) << 51);
+                std::uint32_t v = field.leaf_edge_vertex(a_key, axis);
+                if (v != none) return v;
+                const std::uint64_t b_key = a_key + (std::uint64_t(1) << (17 * axis));
+                const std::uint32_t ia = field.index(a_key), ib = field.index(b_key);
+                const float da = std::fabs(field.dist(ia)), db = std::fabs(field.dist(ib));
+                const float t = da + db > 0 ? da / (da + db) : 0.5f;
+                Vec3f p = field.world(a_key);
+                if (axis == 0) p.x += t * float(h);
+                else if (axis == 1) p.y += t * float(h);
+                else p.z += t * float(h);
+                const std::uint32_t pa = field.nearest(ia), pb = field.nearest(ib);
+                Vec3f nrm = pc.normals[pa] * (1 - t) + pc.normals[pb] * t;
+                const float len = length(nrm);
+                if (len > 1e-12f) {
+                    nrm = nrm * (1.f / len);
+                } else {  // opposite normals (a thin sheet): point from the inside corner to the outside one
+                    nrm = Vec3f{};
+                    const float dir = field.dist(ia) < 0 ? 1.f : -1.f;
+                    if (axis == 0) nrm.x = dir;
+                    else if (axis == 1) nrm.y = dir;
+                    else nrm.z = dir;
+                }
+                v = static_cast<std::uint32_t>(tree.positions.size());
+                tree.positions.push_back(p);
+                vertex_edge.push_back(ekey);
+                tree.normals.push_back(nrm);
+                if (colors) {
+                    const Vec4f ca = pc.colors[pa], cb = pc.colors[pb];
+                    tree.colors.push_back({ca.x + (cb.x - ca.x) * t, ca.y + (cb.y - ca.y) * t, ca.z + (cb.z - ca.z) * t,
+                                           ca.w + (cb.w - ca.w) * t});
+                }
+                field.set_leaf_edge_vertex(a_key, axis, v);
+                return v;
+            };
+            auto edge_vertex_of = [&](std::uint64_t a_key, int axis, std::uint32_t level) -> std::uint32_t {
+                const std::uint64_t top = a_key | (std::uint64_t(axis) << 51) | (std::uint64_t(level) << 53);
+                if (level > 0) {
+                    const std::uint32_t known = edge_vertex.find(top);
+                    if (known != none) return known;
+                }
+                std::uint64_t a = a_key;
+                const bool a_inside = field.inside(a);
+                for (std::uint32_t l = level; l > 0; --l) {
+                    const std::uint64_t mid = a + (std::uint64_t(1u << (l - 1)) << (17 * axis));
+                    if (field.inside(mid) == a_inside) a = mid;  // the crossing is in the upper half
+                    if (l > 1) {
+                        const std::uint32_t known = edge_vertex.find(a | (std::uint64_t(axis) << 51) | (std::uint64_t(l - 1) << 53));
+                        if (known != none) {
+                            edge_vertex.insert(top, known);
+                            return known;
+                        }
                     }
                 }
+                const std::uint32_t v = leaf_vertex(a, axis);
+                if (level > 0) edge_vertex.insert(top, v);
+                return v;
+            };
+            const auto& subs = mc::sub_edges();
+            // Leaves first: a coarser edge then descends onto edges whose vertex is already known.
+            for (std::size_t ni = node_count; ni-- > 0;) {
+                if ((ni & 0xffff) == 0)
+                    check_progress(progress, 0.65 + 0.15 * double(node_count - ni) / double(node_count), "mcoctree: vertices");
+                McNode& n = tree.nodes[ni];
+                n.first_vertex = static_cast<std::uint32_t>(tree.vertex_ids.size());
+                const int count = n.level == 0 ? mc::full_edges : mc::sub_edge_count;
+                for (int e = 0; e < count; ++e) {
+                    const mc::SubEdge& se = subs[e];
+                    if (((n.inside >> se.a) & 1u) == ((n.inside >> se.b) & 1u)) continue;
+                    n.crossings |= std::uint64_t(1) << e;
+                    const std::uint32_t lev = n.level == 0 ? 0 : (se.length == 2 ? n.level : n.level - 1u);
+                    tree.vertex_ids.push_back(edge_vertex_of(sample_key(n, se.a), se.axis, lev));
+                }
             }
-            const std::uint32_t v = leaf_vertex(a, axis);
-            if (level > 0) edge_vertex.insert(top, v);
-            return v;
-        };
-        const auto& subs = mc::sub_edges();
-        // Leaves first: a coarser edge then descends onto edges whose vertex is already known.
-        for (std::size_t ni = node_count; ni-- > 0;) {
-            if ((ni & 0xffff) == 0)
-                check_progress(progress, 0.65 + 0.15 * double(node_count - ni) / double(node_count), "mcoctree: vertices");
-            McNode& n = tree.nodes[ni];
-            n.first_vertex = static_cast<std::uint32_t>(tree.vertex_ids.size());
-            const int count = n.level == 0 ? mc::full_edges : mc::sub_edge_count;
-            for (int e = 0; e < count; ++e) {
-                const mc::SubEdge& se = subs[e];
-                if (((n.inside >> se.a) & 1u) == ((n.inside >> se.b) & 1u)) continue;
-                n.crossings |= std::uint64_t(1) << e;
-                const std::uint32_t lev = n.level == 0 ? 0 : (se.length == 2 ? n.level : n.level - 1u);
-                tree.vertex_ids.push_back(edge_vertex_of(sample_key(n, se.a), se.axis, lev));
-            }
-        }
-
-        clock.mark("vertices");
+        }, build_neighbours);
+        clock.mark("vertices, neighbours");
         frontier.clear();
         for (const std::uint64_t ek : vertex_edge) {
             const std::uint64_t a = ek & ((std::uint64_t(1) << 51) - 1);
@@ -949,7 +1154,8 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
         for (std::size_t pass = 0; pass < 2; ++pass)
             for (std::size_t ni = pass == 0 ? offset[0] : 0; ni < (pass == 0 ? node_count : offset[0]); ++ni) {
                 const McNode& n = tree.nodes[ni];
-                for (int k = 0; k < std::popcount(n.crossings); ++k) {
+                const int crossings = std::popcount(n.crossings);
+                for (int k = 0; k < crossings; ++k) {
                     std::uint32_t& id = tree.vertex_ids[n.first_vertex + std::uint32_t(k)];
                     if (renum[id] == none) renum[id] = next_id++;
                 }
@@ -968,47 +1174,6 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
     }
 
     clock.mark("check, renumbering");
-    // Same-level neighbours (faces and edges) for the seams.
-    tree.neighbours.assign(node_count * mc::neighbour_slots, none);
-    // Top-down, from the parents' neighbours: the cube next to a child across a face or edge is a sibling
-    // or a child of the parent's neighbour in the directions that leave the parent (a face or an edge
-    // slot too), so no look-up in the level maps is needed. Nodes are stored parents first.
-    {
-        int slot_of[27];
-        for (int& v : slot_of) v = -1;
-        for (int sl = 0; sl < mc::neighbour_slots; ++sl) {
-            const auto o = mc::neighbour_offset(sl);
-            slot_of[(o[0] + 1) + 3 * (o[1] + 1) + 9 * (o[2] + 1)] = sl;
-        }
-        auto child_at = [&](std::uint32_t parent, int octant) -> std::uint32_t {
-            const McNode& pn = tree.nodes[parent];
-            if (!(pn.child_mask & (1u << octant))) return none;
-            return pn.first_child + static_cast<std::uint32_t>(std::popcount(unsigned(pn.child_mask) & ((1u << octant) - 1)));
-        };
-        // A level reads only the level above: its nodes are independent, and split over the threads.
-        for (std::uint32_t l = levels; l-- > 0;) {
-            parallel_for(lv[l].size(), threads, [&, l](std::size_t b, std::size_t e) {
-                for (std::size_t ni = offset[l] + b; ni < offset[l] + e; ++ni) {
-                    const McNode& n = tree.nodes[ni];
-                    const std::uint32_t* parent_nb = &tree.neighbours[std::size_t(n.parent) * mc::neighbour_slots];
-                    const std::int64_t size = std::int64_t(grid >> n.level);
-                    for (int sl = 0; sl < mc::neighbour_slots; ++sl) {
-                        const auto o = mc::neighbour_offset(sl);
-                        const std::int64_t t[3] = {std::int64_t(n.x) + o[0], std::int64_t(n.y) + o[1], std::int64_t(n.z) + o[2]};
-                        if (t[0] < 0 || t[1] < 0 || t[2] < 0 || t[0] >= size || t[1] >= size || t[2] >= size) continue;
-                        const int octant = int(t[0] & 1) | int(t[1] & 1) << 1 | int(t[2] & 1) << 2;
-                        const int po[3] = {int((t[0] >> 1) - std::int64_t(n.x >> 1)), int((t[1] >> 1) - std::int64_t(n.y >> 1)),
-                                           int((t[2] >> 1) - std::int64_t(n.z >> 1))};
-                        std::uint32_t up = n.parent;
-                        if (po[0] || po[1] || po[2]) up = parent_nb[slot_of[(po[0] + 1) + 3 * (po[1] + 1) + 9 * (po[2] + 1)]];
-                        if (up != none) tree.neighbours[ni * mc::neighbour_slots + std::size_t(sl)] = child_at(up, octant);
-                    }
-                }
-            });
-        }
-    }
-
-    clock.mark("neighbours");
     // Area-difference metric: area of the children's triangles minus the node's own.
     check_progress(progress, 0.8, "mcoctree: priorities");
     std::vector<float> area(node_count, 0.f);

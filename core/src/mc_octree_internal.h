@@ -45,6 +45,19 @@ inline std::uint32_t refine_mask(const McOctree& tree, std::uint32_t node, std::
     return refine_mask(tree, node, expanded_up_to, [&](std::uint32_t n) { return tree.nodes[n].priority; });
 }
 
+// The child of `n` in octant `octant`, or none (children are stored contiguously in octant order). The
+// rank among the children comes from a table: on a baseline x86-64 build std::popcount is a library call,
+// and the numbering's heap asks this about a hundred times a step.
+inline std::uint32_t child_index(const McNode& n, int octant) {
+    static constexpr std::array<std::uint8_t, 256> bits = [] {
+        std::array<std::uint8_t, 256> t{};
+        for (unsigned m = 0; m < 256; ++m) t[m] = static_cast<std::uint8_t>((m & 1) + t[m >> 1]);
+        return t;
+    }();
+    if (!(n.child_mask & (1u << octant))) return none;
+    return n.first_child + bits[n.child_mask & ((1u << octant) - 1)];
+}
+
 inline std::uint32_t sub_edge_vertex(const McOctree& tree, const McNode& n, int sub_edge) {
     const std::uint64_t below = n.crossings & ((std::uint64_t(1) << sub_edge) - 1);
     return tree.vertex_ids[n.first_vertex + static_cast<std::uint32_t>(std::popcount(below))];

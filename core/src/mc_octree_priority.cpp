@@ -14,8 +14,12 @@
 #include "parallel_for.h"
 
 #include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <cmath>
+#include <memory>
 #include <queue>
+#include <thread>
 
 namespace lodforge::mc {
 namespace {
@@ -77,92 +81,139 @@ std::size_t number_mc_octree(McOctree& tree, const std::vector<KeyMap>& maps, un
     auto push = [&](std::uint32_t node) {
         if (tree.nodes[node].level > 0) heap.push({std::fabs(tree.metric[node]), node});
     };
-    auto child = [&](const McNode& p, int octant) -> std::uint32_t {
-        if (!(p.child_mask & (1u << octant))) return none;
-        return p.first_child + static_cast<std::uint32_t>(std::popcount(unsigned(p.child_mask) & ((1u << octant) - 1)));
-    };
+    auto child = [](const McNode& p, int octant) { return child_index(p, octant); };
 
     // The order depends on the metric and the blockers only; the triangle counts of the seams a step
-    // gives its neighbours are recorded as (node, seam mask) changes and counted afterwards, in parallel
-    // (each thread with its own cache of triangulations), then replayed in order for the exact totals.
-    std::vector<std::uint64_t> changes;  // node | seam mask << 32
-    std::vector<std::uint32_t> changes_end;  // per step: end of its changes
-    changes_end.reserve(n / 2 + 1);
-    push(0);
+    // gives its neighbours are recorded as (node, seam mask) changes, counted apart (each thread with its
+    // own cache of triangulations) and replayed in order for the exact totals. The counting overlaps the
+    // heap, which is serial by nature: a second thread counts the changes recorded so far, chunk by
+    // chunk, and this one takes the chunks left when the heap is done.
     std::size_t numbered = 0, internal = 0;
     for (const McNode& node : tree.nodes) internal += node.level > 0;
-    while (!heap.empty()) {
-        const std::uint32_t x = heap.top().node;
-        heap.pop();
-        McNode& node = tree.nodes[x];
-        node.priority = static_cast<std::uint32_t>(++numbered);
-        prio[x] = node.priority;
-        tree.order.push_back(x);
-        if ((numbered & 0x3fff) == 0)
-            check_progress(progress, 0.8 + 0.2 * double(numbered) / double(internal), "mcoctree: priorities");
-
-        // x's 26 neighbours, looked up once (the children and the seams below all read them)
-        std::uint32_t around[27];
-        for (int d = 0; d < 27; ++d)
-            around[d] = d == 13 ? none : find(x, d % 3 - 1, (d / 3) % 3 - 1, d / 9 - 1);
-        auto near = [&](int dx, int dy, int dz) { return around[(dx + 1) + 3 * (dy + 1) + 9 * (dz + 1)]; };
-        // Children become present; each waits for the unexpanded coarse nodes it touches.
-        for (int o = 0; o < 8; ++o) {
-            const std::uint32_t c = child(node, o);
-            if (c == none) continue;
-            std::uint8_t count = 0;
-            for (int d = 1; d < 8; ++d) {
-                const int dx = (d & 1) ? ((o & 1) ? 1 : -1) : 0, dy = (d & 2) ? ((o & 2) ? 1 : -1) : 0,
-                          dz = (d & 4) ? ((o & 4) ? 1 : -1) : 0;
-                const std::uint32_t m = near(dx, dy, dz);
-                if (m != none && prio[m] == none) ++count;
-            }
-            blockers[c] = count;
-            // No same-level neighbour of c is expanded yet (each touches x, which blocked it until now):
-            // its count is its own triangulation's, taken in the replay.
-            if (count == 0) push(c);
+    // A step changes the seams of at most its 18 face and edge neighbours: reserved once, so the counting
+    // thread can read what is published while the heap appends (only the touched pages are resident).
+    const std::size_t max_changes = 18 * internal + 1;
+    std::vector<std::uint64_t> changes;  // node | seam mask << 32
+    changes.reserve(max_changes);
+    const std::uint64_t* const change_data = changes.data();
+    const std::unique_ptr<std::uint32_t[]> counts(new std::uint32_t[max_changes]);
+    std::vector<std::uint32_t> changes_end;  // per step: end of its changes
+    changes_end.reserve(internal + 1);
+    constexpr std::size_t chunk = 2048;
+    std::atomic<std::size_t> published{0}, next_chunk{0};
+    std::atomic<bool> heap_done{false};
+    // Counts the next whole published chunk (or, once the heap is done, the next one at all); false when
+    // there is none now.
+    auto count_chunk = [&](SeamCache& cache) {
+        const bool done = heap_done.load(std::memory_order_acquire);
+        const std::size_t avail = published.load(std::memory_order_acquire);
+        std::size_t c = next_chunk.load(std::memory_order_relaxed);
+        for (;;) {
+            const std::size_t b = c * chunk;
+            if (b >= avail || (!done && b + chunk > avail)) return false;
+            if (next_chunk.compare_exchange_weak(c, c + 1, std::memory_order_relaxed)) break;
         }
-        // Neighbours: children of expanded ones stop waiting for x; present ones get a seam with x's children.
-        for (int dz = -1; dz <= 1; ++dz)
-            for (int dy = -1; dy <= 1; ++dy)
-                for (int dx = -1; dx <= 1; ++dx) {
-                    if (dx == 0 && dy == 0 && dz == 0) continue;
+        const std::size_t b = c * chunk, e = std::min(avail, b + chunk);
+        for (std::size_t i = b; i < e; ++i)
+            counts[i] = static_cast<std::uint32_t>(node_triangle_count(
+                tree, static_cast<std::uint32_t>(change_data[i]), static_cast<std::uint32_t>(change_data[i] >> 32), cache));
+        return true;
+    };
+    auto run_heap = [&] {
+        push(0);
+        while (!heap.empty()) {
+            const std::uint32_t x = heap.top().node;
+            heap.pop();
+            McNode& node = tree.nodes[x];
+            node.priority = static_cast<std::uint32_t>(++numbered);
+            prio[x] = node.priority;
+            tree.order.push_back(x);
+            if ((numbered & 0x3fff) == 0)
+                check_progress(progress, 0.8 + 0.2 * double(numbered) / double(internal), "mcoctree: priorities");
+
+            // x's 26 neighbours, looked up once (the children and the seams below all read them)
+            std::uint32_t around[27];
+            for (int d = 0; d < 27; ++d)
+                around[d] = d == 13 ? none : find(x, d % 3 - 1, (d / 3) % 3 - 1, d / 9 - 1);
+            auto near = [&](int dx, int dy, int dz) { return around[(dx + 1) + 3 * (dy + 1) + 9 * (dz + 1)]; };
+            // Children become present; each waits for the unexpanded coarse nodes it touches.
+            for (int o = 0; o < 8; ++o) {
+                const std::uint32_t c = child(node, o);
+                if (c == none) continue;
+                std::uint8_t count = 0;
+                for (int d = 1; d < 8; ++d) {
+                    const int dx = (d & 1) ? ((o & 1) ? 1 : -1) : 0, dy = (d & 2) ? ((o & 2) ? 1 : -1) : 0,
+                              dz = (d & 4) ? ((o & 4) ? 1 : -1) : 0;
                     const std::uint32_t m = near(dx, dy, dz);
-                    if (m == none) continue;
-                    const McNode& nb = tree.nodes[m];
-                    if (prio[m] != none) {
-                        for (int o = 0; o < 8; ++o) {
-                            const std::uint32_t c = child(nb, o);
-                            if (c == none) continue;
-                            // child o of the neighbour touches x when, per axis, it lies on x's side
-                            const int ox = o & 1, oy = (o >> 1) & 1, oz = (o >> 2) & 1;
-                            const bool touches = (dx == 0 || (dx < 0) == (ox == 1)) && (dy == 0 || (dy < 0) == (oy == 1)) &&
-                                                 (dz == 0 || (dz < 0) == (oz == 1));
-                            if (!touches) continue;
-                            if (blockers[c] > 0 && --blockers[c] == 0) push(c);
-                        }
-                    } else if (nb.parent == none || prio[nb.parent] != none) {
-                        const bool shares_edge = (dx == 0) + (dy == 0) + (dz == 0) >= 1;
-                        if (!shares_edge || nb.level == 0) continue;
-                        refine[m] |= slot_bits[std::size_t(slot_of[(1 - dx) + 3 * (1 - dy) + 9 * (1 - dz)])];
-                        changes.push_back(std::uint64_t(m) | std::uint64_t(refine[m]) << 32);
-                    }
+                    if (m != none && prio[m] == none) ++count;
                 }
-        changes_end.push_back(static_cast<std::uint32_t>(changes.size()));
-    }
+                blockers[c] = count;
+                // No same-level neighbour of c is expanded yet (each touches x, which blocked it until now):
+                // its count is its own triangulation's, taken in the replay.
+                if (count == 0) push(c);
+            }
+            // Neighbours: children of expanded ones stop waiting for x; present ones get a seam with x's children.
+            for (int dz = -1; dz <= 1; ++dz)
+                for (int dy = -1; dy <= 1; ++dy)
+                    for (int dx = -1; dx <= 1; ++dx) {
+                        if (dx == 0 && dy == 0 && dz == 0) continue;
+                        const std::uint32_t m = near(dx, dy, dz);
+                        if (m == none) continue;
+                        const McNode& nb = tree.nodes[m];
+                        if (prio[m] != none) {
+                            for (int o = 0; o < 8; ++o) {
+                                // child o of the neighbour touches x when, per axis, it lies on x's side
+                                const int ox = o & 1, oy = (o >> 1) & 1, oz = (o >> 2) & 1;
+                                const bool touches = (dx == 0 || (dx < 0) == (ox == 1)) && (dy == 0 || (dy < 0) == (oy == 1)) &&
+                                                     (dz == 0 || (dz < 0) == (oz == 1));
+                                if (!touches) continue;
+                                const std::uint32_t c = child(nb, o);
+                                if (c == none) continue;
+                                if (blockers[c] > 0 && --blockers[c] == 0) push(c);
+                            }
+                        } else if (nb.parent == none || prio[nb.parent] != none) {
+                            const bool shares_edge = (dx == 0) + (dy == 0) + (dz == 0) >= 1;
+                            if (!shares_edge || nb.level == 0) continue;
+                            refine[m] |= slot_bits[std::size_t(slot_of[(1 - dx) + 3 * (1 - dy) + 9 * (1 - dz)])];
+                            changes.push_back(std::uint64_t(m) | std::uint64_t(refine[m]) << 32);
+                        }
+                    }
+            changes_end.push_back(static_cast<std::uint32_t>(changes.size()));
+            published.store(changes.size(), std::memory_order_release);
+        }
+    };
+    detail::run_beside(
+        std::max(1u, threads),
+        [&] {
+            // The heap, then the chunks left; `heap_done` also when the heap throws (cancelled), so the
+            // counting thread ends.
+            struct Done {
+                std::atomic<bool>& flag;
+                ~Done() { flag.store(true, std::memory_order_release); }
+            };
+            {
+                Done done{heap_done};
+                run_heap();
+            }
+            SeamCache cache;
+            while (count_chunk(cache)) {
+            }
+        },
+        [&] {
+            SeamCache cache;
+            for (;;) {
+                if (count_chunk(cache)) continue;
+                if (heap_done.load(std::memory_order_acquire) &&
+                    next_chunk.load(std::memory_order_relaxed) * chunk >= published.load(std::memory_order_acquire))
+                    return;
+                std::this_thread::sleep_for(std::chrono::microseconds(100));
+            }
+        });
     if (numbered != internal)
         throw Error(Error::Kind::invalid, "mcoctree: priority numbering stopped early (" + std::to_string(numbered) +
                                               " of " + std::to_string(internal) + " nodes)");
 
-    // The seams' triangle counts (the costly part: triangulations through a cache) on every thread, then
-    // the replay: every cut's exact count, in order.
-    std::vector<std::uint32_t> counts(changes.size());
-    detail::parallel_for(changes.size(), std::max(1u, threads), 4096, [&](std::size_t b, std::size_t e) {
-        SeamCache cache;
-        for (std::size_t i = b; i < e; ++i)
-            counts[i] = static_cast<std::uint32_t>(node_triangle_count(
-                tree, static_cast<std::uint32_t>(changes[i]), static_cast<std::uint32_t>(changes[i] >> 32), cache));
-    });
+    // The replay: every cut's exact count, in order.
     std::uint64_t total = node_triangle_count(tree, 0, 0, seams);
     triangles[0] = static_cast<std::uint32_t>(total);
     sequence.push_back(total);

@@ -43,4 +43,32 @@ void parallel_for(std::size_t n, unsigned threads, std::size_t min_n, F&& f) {
         if (e) std::rethrow_exception(e);
 }
 
+// `beside()` on a second thread while `here()` runs on this one (both here, in that order, with one
+// thread). Like parallel_for, an exception from either is rethrown here once both have ended; when both
+// throw, `here`'s wins.
+template <class Here, class Beside>
+void run_beside(unsigned threads, Here&& here, Beside&& beside) {
+    if (threads <= 1) {
+        here();
+        beside();
+        return;
+    }
+    std::exception_ptr beside_error, here_error;
+    std::thread helper([&beside, &beside_error] {
+        try {
+            beside();
+        } catch (...) {
+            beside_error = std::current_exception();
+        }
+    });
+    try {
+        here();
+    } catch (...) {
+        here_error = std::current_exception();
+    }
+    helper.join();
+    if (here_error) std::rethrow_exception(here_error);
+    if (beside_error) std::rethrow_exception(beside_error);
+}
+
 }  // namespace lodforge::detail

@@ -4,10 +4,12 @@
 #include "lodforge/mesh_io.h"
 #include "mc_test_support.h"
 #include "support/test_paths.h"
+#include "../../core/src/parallel_for.h"
 
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <new>
 
 using namespace lodforge;
 using lodforge::test::check_watertight;
@@ -185,5 +187,52 @@ TEST(McOctreeBuild, DuplicatePointsAreOnePoint) {
         expect_same_tree(build_with(summed, p, m, 2).tree, tilted_tree, what, false);
         EXPECT_NE(plain.positions, tilted_tree.positions) << what;  // the merged normals do matter
         EXPECT_EQ(tilted_tree.input_points, sphere.positions.size());
+    }
+}
+
+TEST(McOctreeBuild, AnExceptionOnTheHelperThreadReachesTheCaller) {
+    // The build runs the kd-tree's construction beside the scatter (docs/mcoctree.md, D1) and the
+    // neighbour table beside the vertices through run_beside: a bad_alloc there must arrive here, after
+    // both sides have ended, instead of ending the process.
+    bool here_ran = false;
+    EXPECT_THROW(lodforge::detail::run_beside(
+                     2, [&] { here_ran = true; }, [] { throw std::bad_alloc(); }),
+                 std::bad_alloc);
+    EXPECT_TRUE(here_ran);
+    bool beside_ran = false;
+    EXPECT_THROW(lodforge::detail::run_beside(
+                     2, [] { throw Error(Error::Kind::invalid, "here"); }, [&] { beside_ran = true; }),
+                 Error);
+    EXPECT_TRUE(beside_ran);
+    int order = 0;
+    lodforge::detail::run_beside(1, [&] { order = order * 10 + 1; }, [&] { order = order * 10 + 2; });
+    EXPECT_EQ(order, 12);
+}
+
+TEST(McOctreeBuild, CancelDuringTheNumberingEndsItsCountingThread) {
+    // The seam counts run on a second thread while the heap numbers the nodes (docs/mcoctree.md, fourth
+    // round); a cancel inside the heap must end that thread too and arrive as Error(cancelled). The bunny's
+    // points at 128 have more than 16,384 internal nodes, so the heap reports (and polls) at least once.
+    struct CancelInHeap : Progress {
+        double at = 0;
+        void report(double fraction, std::string_view stage) override {
+            if (stage == "mcoctree: priorities" && fraction > 0.8 && at == 0) at = fraction;
+        }
+        bool cancelled() const override { return at > 0; }
+    };
+    const Mesh bunny = read_mesh(lodforge::test::shared_data("scan-bunny/bun_zipper.ply"));
+    McOctreeParams p;
+    p.resolution = 128;
+    for (const unsigned threads : {1u, 2u}) {
+        p.threads = threads;
+        CancelInHeap progress;
+        try {
+            build_mc_octree(bunny, p, &progress);
+            ADD_FAILURE() << "not cancelled, " << threads << " threads";
+        } catch (const Error& e) {
+            EXPECT_EQ(e.kind(), Error::Kind::cancelled);
+        }
+        EXPECT_GT(progress.at, 0.8) << "the cancel came from the heap's own report";
+        EXPECT_LT(progress.at, 1.0);
     }
 }

@@ -97,10 +97,12 @@ struct McOctree {
     bool has_colors() const { return !colors.empty(); }
 };
 
-// Time spent in one stage of the build: wall clock and CPU time of the whole process (all threads).
+// Time spent in one stage of the build: wall clock, CPU time of the whole process (all threads) and of the
+// calling thread (the stage's critical path where the helper threads' shares end first; on a machine shared
+// with other jobs it is what the stage would take with both cores to itself, the wall clock is not).
 struct McBuildStage {
     std::string name;
-    double wall_s = 0, cpu_s = 0;
+    double wall_s = 0, cpu_s = 0, thread_cpu_s = 0;
 };
 
 struct McOctreeBuildResult {
