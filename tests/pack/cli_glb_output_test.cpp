@@ -99,14 +99,16 @@ TEST(CliGlbOutput, LodChainAsGlbLevels) {
         ASSERT_TRUE(fs::exists(f)) << f;
         EXPECT_EQ(test::validate_gltf(f).exit_code, 0) << f;
         const std::size_t t = read_mesh(f).triangle_count();
-        if (i > 0) EXPECT_LT(t, previous);
+        if (i > 0) {
+            EXPECT_LT(t, previous);
+        }
         previous = t;
     }
 }
 
 TEST(CliGlbOutput, GltfAndUnknownOutputsFailBeforeTheWork) {
     ScratchDir dir("cli-glb-bad");
-    for (const std::string& name : {"out.gltf", "out.stl"}) {
+    for (const char* name : {"out.gltf", "out.stl"}) {
         const std::string out = dir.file(name);
         const CliRun r = run_cli("-q simplify " + quoted(shared_data("scan-bunny/bun_zipper.ply")) + " -o " +
                                  quoted(out) + " --ratio 0.5");
