@@ -16,7 +16,7 @@ void add_convert_command(CLI::App& app, const GlobalOptions& global) {
         bool no_normals = false, no_colors = false, no_texcoords = false;
     };
     auto options = std::make_shared<Options>();
-    CLI::App* cmd = app.add_subcommand("convert", "Convert any supported input to PLY or OBJ");
+    CLI::App* cmd = app.add_subcommand("convert", "Convert any supported input to PLY, OBJ or GLB");
     cmd->add_option("IN", options->input, "Input mesh (.ply, .obj, .gltf, .glb)")->required();
     cmd->add_option("OUT", options->output, "Output mesh (.ply, .obj or .glb)")->required();
     cmd->add_option("--encoding", options->encoding, "PLY encoding")

@@ -195,9 +195,6 @@ private:
         const std::uint64_t h = ooc::mix64(std::uint64_t{bits[0]} << 32 | bits[1]) & 0x7fffffffu;
         return h << 32 | vid;
     }
-    const float* position(const std::byte* tri, int k) const {
-        return reinterpret_cast<const float*>(tri + static_cast<std::size_t>(k) * corner_ + 4);
-    }
     int octant(const std::byte* tri, const double mid[3]) const { return ooc::centroid_octant(tri, corner_, mid); }
     void cell_mid(std::uint32_t id, double mid[3]) const {
         const OctreeNode& d = nodes_[id];
@@ -217,11 +214,7 @@ private:
             for (std::size_t i = from; i < to; ++i) {
                 const std::byte* tri = base + std::size_t{tris[i]} * tri_bytes_;
                 double c[3];
-                {
-                    float p[3][3];
-                    for (int k = 0; k < 3; ++k) std::memcpy(p[k], position(tri, k), sizeof p[k]);
-                    for (int a = 0; a < 3; ++a) c[a] = (static_cast<double>(p[0][a]) + p[1][a] + p[2][a]) / 3.0;
-                }
+                ooc::centroid(tri, corner_, c);
                 float cmin[3] = {root.cell_min[0], root.cell_min[1], root.cell_min[2]};
                 float size = root.cell_size;
                 std::uint64_t path = 0;

@@ -30,17 +30,22 @@ inline std::uint64_t mix64(std::uint64_t x) {  // splitmix64 finaliser
     return x ^ (x >> 31);
 }
 
-// The octant about `mid` of a soup triangle (records of `corner_bytes`, position after the 4-byte id):
-// the octant of its centroid, computed in double; a centroid on a splitting plane goes to the upper half
-// (docs/octree.md, the assignment rule). Bit a is set for the upper half along axis a.
-inline int centroid_octant(const std::byte* tri, std::size_t corner_bytes, const double mid[3]) {
+// The centroid of a soup triangle (records of `corner_bytes`, position after the 4-byte id), in double:
+// the one definition the octant assignment and the planning paths both use (docs/octree.md).
+inline void centroid(const std::byte* tri, std::size_t corner_bytes, double c[3]) {
     float p[3][3];
     for (int k = 0; k < 3; ++k) std::memcpy(p[k], tri + static_cast<std::size_t>(k) * corner_bytes + 4, sizeof p[k]);
+    for (int a = 0; a < 3; ++a) c[a] = (static_cast<double>(p[0][a]) + p[1][a] + p[2][a]) / 3.0;
+}
+
+// The octant about `mid` of a soup triangle: the octant of its centroid; a centroid on a splitting
+// plane goes to the upper half (the assignment rule). Bit a is set for the upper half along axis a.
+inline int centroid_octant(const std::byte* tri, std::size_t corner_bytes, const double mid[3]) {
+    double c[3];
+    centroid(tri, corner_bytes, c);
     int o = 0;
-    for (int a = 0; a < 3; ++a) {
-        const double c = (static_cast<double>(p[0][a]) + p[1][a] + p[2][a]) / 3.0;
-        if (c >= mid[a]) o |= 1 << a;
-    }
+    for (int a = 0; a < 3; ++a)
+        if (c[a] >= mid[a]) o |= 1 << a;
     return o;
 }
 
@@ -239,4 +244,3 @@ void run_workers(int workers, std::atomic<bool>& stop, Body body) {
 }
 
 }  // namespace lodforge::ooc
-

@@ -710,7 +710,7 @@ double Simplifier::frames_cost(std::uint32_t u, std::uint32_t v, double geometri
     }
     if (params_.frame_cost == SimplifyParams::FrameCost::sum) excess /= double(frames_ + 1);
     const double total_mean = mean(total, weight);
-    return excess == 0 ? total_mean : total_mean + excess;
+    return total_mean + excess;
 }
 
 // No face around u flips or becomes a needle in any extra frame when u moves onto v. Other frames only
