@@ -136,6 +136,9 @@ PointCloud points_of(const Mesh& mesh, std::size_t& skipped, unsigned threads) {
         for (std::size_t g = 0; g < firsts.size(); ++g)
             if (length(sums[g]) > 0) normals[firsts[g]] = sums[g];
     }
+    pc.points.reserve(mesh.positions.size());
+    pc.normals.reserve(mesh.positions.size());
+    if (colors) pc.colors.reserve(mesh.positions.size());
     for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
         if (merged[i] == 1) continue;
         const Vec3f n = normals[i];
@@ -263,23 +266,29 @@ public:
             if (!pending_[b]) touched_.push_back(b);
             pending_[b] |= bit;
         }
+        // The values are written in place by the query threads (every block exists by now, and each value
+        // has one writer), then the blocks' bits are settled: no second look-up per key.
         keys.clear();
+        at_.clear();
         for (const std::uint32_t b : touched_) {
             for (std::uint64_t bits = pending_[b]; bits; bits &= bits - 1) {
                 const auto l = static_cast<std::uint32_t>(std::countr_zero(bits));
                 keys.push_back(block_key_[b] | pack(l & 3, (l >> 2) & 3, l >> 4));
+                at_.push_back(b * 64 + l);
             }
         }
-        scratch_d_.resize(keys.size());
-        scratch_n_.resize(keys.size());
         parallel_for(keys.size(), threads_, [&](std::size_t b, std::size_t e) {
             std::uint32_t hint = none;  // the previous key's nearest point: the keys come block by block
             for (std::size_t i = b; i < e; ++i) {
-                query(keys[i], scratch_d_[i], scratch_n_[i], hint);
-                hint = scratch_n_[i];
+                const std::uint32_t at = at_[i];
+                query(keys[i], dist_[at], nearest_[at], hint);
+                hint = nearest_[at];
             }
         });
-        for (std::size_t i = 0; i < keys.size(); ++i) store(keys[i], scratch_d_[i], scratch_n_[i]);
+        for (const std::uint32_t b : touched_) {
+            valid_[b] |= pending_[b];
+            pending_[b] = 0;
+        }
         evaluated_ += keys.size();
     }
     // Scatters every point to the lattice points closer than `radius` cube sizes (D1, "Field by
@@ -463,13 +472,6 @@ private:
         }
         return b;
     }
-    void store(std::uint64_t key, float d, std::uint32_t nearest) {
-        const std::uint32_t b = block_of(key);
-        dist_[b * 64 + local(key)] = d;
-        nearest_[b * 64 + local(key)] = nearest;
-        valid_[b] |= std::uint64_t(1) << local(key);
-        pending_[b] &= ~(std::uint64_t(1) << local(key));
-    }
     // Squared distance as nanoflann's L2_Simple_Adaptor computes it (same order of operations).
     float distance2(const float q[3], std::uint32_t i) const {
         float r = 0;
@@ -518,8 +520,7 @@ private:
     std::vector<std::uint32_t> edge_vertex_;  // per block: 64 points x 3 axes
     std::vector<std::uint64_t> block_key_;    // per block: its lowest lattice point
     std::size_t scattered_ = 0;
-    std::vector<float> scratch_d_;
-    std::vector<std::uint32_t> scratch_n_;
+    std::vector<std::uint32_t> at_;  // evaluate(): each key's value index
     std::vector<std::uint32_t> touched_;  // blocks with pending keys, in order of first use
     std::size_t evaluated_ = 0;
 };
