@@ -18,7 +18,9 @@
 #include <array>
 #include <atomic>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
+#include <memory>
 #include <chrono>
 #include <cstdio>
 #include <ctime>
@@ -167,12 +169,24 @@ template <class F> void parallel_for(std::size_t n, unsigned threads, F&& f) {
     detail::parallel_for(n, threads, 4096, std::forward<F>(f));
 }
 
-// Lattice points grouped in 4x4x4 blocks, numbered in order of first use: one hash look-up per block,
-// behind a direct-mapped cache of recent blocks (16^3 of them, by their low coordinate bits), since the
-// flood, the closing and the nodes' samples mostly touch blocks met just before.
+// Lattice points grouped in 4x4x4 blocks, numbered in order of first use. Where the lattice is small
+// enough (up to 2^23 blocks: a root grid of 512 cubes, i.e. resolutions up to about 500) a block is found
+// by its position in a dense index (4 bytes a block, zero pages until written: only the blocks near the
+// surface become resident); elsewhere by one hash look-up behind a direct-mapped cache of recent blocks
+// (16^3 of them, by their low coordinate bits), since the flood, the closing and the nodes' samples mostly
+// touch blocks met just before.
 class Blocks {
 public:
-    explicit Blocks(std::size_t expected) : map_(expected) {}
+    // `lattice`: lattice points per axis (0 = unknown: hashing only).
+    explicit Blocks(std::size_t expected, std::uint32_t lattice = 0) : map_(expected) {
+        const std::size_t n = (std::size_t(lattice) + 3) / 4;
+        if (lattice > 0 && n * n * n <= (std::size_t(1) << 23)) {
+            side_ = n;
+            // calloc: the kernel's zero pages until a block near them is created
+            dense_.reset(static_cast<std::uint32_t*>(std::calloc(n * n * n, sizeof(std::uint32_t))));
+            if (!dense_) throw std::bad_alloc();
+        }
+    }
     static std::uint32_t local(std::uint64_t key) {
         return std::uint32_t((key & 3) | ((key >> 17) & 3) << 2 | ((key >> 34) & 3) << 4);
     }
@@ -180,6 +194,12 @@ public:
     std::uint32_t of(std::uint64_t key, bool& created) {
         const std::uint64_t bk = block_key(key);
         created = false;
+        const std::size_t at = dense_at(bk);
+        if (at != npos) {
+            std::uint32_t& d = dense_[at];  // block + 1, 0 = none
+            if (d == 0) d = static_cast<std::uint32_t>(++count_), created = true;
+            return d - 1;
+        }
         Cached& c = cache_[slot(bk)];
         if (c.key == bk) return c.block;
         std::uint32_t b = map_.find(bk);
@@ -201,6 +221,8 @@ public:
     // blocks, each with its own cache (cache_size entries).
     std::uint32_t find(std::uint64_t key, Cached* cache) const {
         const std::uint64_t bk = block_key(key);
+        const std::size_t at = dense_at(bk);
+        if (at != npos) return dense_[at] - 1;  // 0 - 1 = none
         Cached& c = cache[slot(bk)];
         if (c.key == bk) return c.block;
         const std::uint32_t b = map_.find(bk);
@@ -209,11 +231,23 @@ public:
     }
 
 private:
+    static constexpr std::size_t npos = ~std::size_t(0);
     static std::uint64_t block_key(std::uint64_t key) {
         return ((key & mc::max_lattice) >> 2) | (((key >> 17) & mc::max_lattice) >> 2) << 17 |
                (((key >> 34) & mc::max_lattice) >> 2) << 34;
     }
+    // Position of a block in the dense index, or npos (no dense index, or a block outside it: hashed).
+    std::size_t dense_at(std::uint64_t bk) const {
+        const std::size_t x = bk & mc::max_lattice, y = (bk >> 17) & mc::max_lattice, z = bk >> 34;
+        if (x >= side_ || y >= side_ || z >= side_) return npos;  // side_ is 0 without a dense index
+        return x + side_ * (y + side_ * z);
+    }
     static std::size_t slot(std::uint64_t bk) { return (bk & 15) | ((bk >> 17) & 15) << 4 | ((bk >> 34) & 15) << 8; }
+    struct Free {
+        void operator()(std::uint32_t* p) const { std::free(p); }
+    };
+    std::unique_ptr<std::uint32_t[], Free> dense_;
+    std::size_t side_ = 0;
     KeyMap map_;
     std::vector<Cached> cache_ = std::vector<Cached>(cache_size);
     std::size_t count_ = 0;
@@ -222,7 +256,7 @@ private:
 // A set of lattice cubes (by their lower corner) as bits of blocks.
 class CubeSet {
 public:
-    explicit CubeSet(std::size_t expected) : blocks_(expected / 8 + 16) {}
+    CubeSet(std::size_t expected, std::uint32_t lattice) : blocks_(expected / 8 + 16, lattice) {}
     // True when `key` was not in the set; it is now.
     bool insert(std::uint64_t key) {
         bool created;
@@ -316,7 +350,7 @@ public:
             std::nth_element(xs.begin(), xs.begin() + std::ptrdiff_t(xs.size() / 2), xs.end());
             const auto mid = static_cast<std::uint32_t>(std::clamp((xs[xs.size() / 2] - origin_.x) / h_, 0.f, float(grid_)));
             const std::uint32_t cut = mid & ~3u;  // a block boundary: no block spans both halves
-            std::array<ScatterSlab, 2> slabs;
+            std::array<ScatterSlab, 2> slabs{ScatterSlab(grid_ + 1), ScatterSlab(grid_ + 1)};
             detail::run_beside(
                 2, [&] { scatter_slab(r2, radius, 0, cut, slabs[0]); },
                 [&] { scatter_slab(r2, radius, cut, grid_ + 1, slabs[1]); });
@@ -348,7 +382,8 @@ public:
     }
     // Blocks of one half of the lattice during a two-thread scatter.
     struct ScatterSlab {
-        Blocks blocks{1 << 12};
+        explicit ScatterSlab(std::uint32_t lattice) : blocks(1 << 12, lattice) {}
+        Blocks blocks;
         std::vector<std::uint64_t> pending, block_key;
         std::vector<float> dist;
         std::vector<std::uint32_t> nearest;
@@ -512,7 +547,7 @@ private:
     float h_;
     std::uint32_t grid_;
     unsigned threads_;
-    Blocks blocks_{1 << 12};
+    Blocks blocks_{1 << 12, grid_ + 1};
     std::vector<std::uint64_t> valid_;    // per block: which of its 64 values are evaluated
     std::vector<std::uint64_t> pending_;  // per block: queued in the current evaluate()
     std::vector<float> dist_;
@@ -648,7 +683,7 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
     };
     // Leaf cubes: flood along the surface from the cubes holding points, across every face the surface
     // crosses, so no crossing face of a kept cube leads to an unexamined one (that would be a hole).
-    CubeSet visited(pc.points.size() * 2);
+    CubeSet visited(pc.points.size() * 2, grid);
     std::vector<std::uint64_t> frontier;
     bool scattering = false;
     auto seeds_and_scatter = [&] {
