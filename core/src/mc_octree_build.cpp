@@ -170,9 +170,10 @@ template <class F> void parallel_for(std::size_t n, unsigned threads, F&& f) {
 }
 
 // Lattice points grouped in 4x4x4 blocks, numbered in order of first use. Where the lattice is small
-// enough (up to 2^23 blocks: a root grid of 512 cubes, i.e. resolutions up to about 500) a block is found
-// by its position in a dense index (4 bytes a block, zero pages until written: only the blocks near the
-// surface become resident); elsewhere by one hash look-up behind a direct-mapped cache of recent blocks
+// enough (up to 2^25 blocks: a root grid of 1024 cubes, i.e. resolutions up to about 1000) a block is
+// found by its position in a dense index (4 bytes a block, 128 MB of address space at most, zero pages
+// until written: only the pages near the surface become resident, a few MB at 512); elsewhere by one
+// hash look-up behind a direct-mapped cache of recent blocks
 // (16^3 of them, by their low coordinate bits), since the flood, the closing and the nodes' samples mostly
 // touch blocks met just before.
 class Blocks {
@@ -180,7 +181,7 @@ public:
     // `lattice`: lattice points per axis (0 = unknown: hashing only).
     explicit Blocks(std::size_t expected, std::uint32_t lattice = 0) : map_(expected) {
         const std::size_t n = (std::size_t(lattice) + 3) / 4;
-        if (lattice > 0 && n * n * n <= (std::size_t(1) << 23)) {
+        if (lattice > 0 && n * n * n <= (std::size_t(1) << 25)) {
             side_ = n;
             // calloc: the kernel's zero pages until a block near them is created
             dense_.reset(static_cast<std::uint32_t*>(std::calloc(n * n * n, sizeof(std::uint32_t))));

@@ -236,3 +236,39 @@ TEST(McOctreeBuild, CancelDuringTheNumberingEndsItsCountingThread) {
         EXPECT_LT(progress.at, 1.0);
     }
 }
+
+TEST(McOctreeBuild, HashedBlocksOfALargeGridGiveTheSameLeavesAsTheDenseIndex) {
+    // The field's and the flood's blocks are found through a dense index up to a root grid of 1024 cubes
+    // and by hashing above (mc_octree_build.cpp, Blocks). A sphere alone (grid 128: dense) and with a far
+    // copy (grid 16384: hashed) has the same lattice around the first sphere (same lower box corner, same
+    // cube size), so its leaves there must be the same cubes with the same corner signs. 12,000 points per
+    // sphere and 50 cubes of radius: the field is scattered (on two threads for the pair).
+    const Mesh a = lodforge::test::sphere_points(12000);
+    Mesh pair = a;
+    for (std::size_t i = 0; i < a.positions.size(); ++i) {
+        pair.positions.push_back(a.positions[i] + Vec3f{300, 0, 0});
+        pair.normals.push_back(a.normals[i]);
+    }
+    McOctreeParams p;
+    p.cube_size = 0.02;
+    p.threads = 2;
+    const McOctreeBuildResult alone = build_mc_octree(a, p);
+    const McOctreeBuildResult both = build_mc_octree(pair, p);
+    ASSERT_LE(alone.tree.levels, 10u);
+    ASSERT_GE(both.tree.levels, 11u);
+    EXPECT_GT(both.scattered_samples, 0u);
+    using Leaf = std::tuple<std::uint32_t, std::uint32_t, std::uint32_t, std::uint32_t>;
+    auto leaves_near_origin = [](const McOctree& t) {
+        std::vector<Leaf> out;
+        for (const McNode& n : t.nodes)
+            if (n.level == 0 && float(n.x) * t.cube_size < 150) out.emplace_back(n.x, n.y, n.z, n.inside);
+        std::sort(out.begin(), out.end());
+        return out;
+    };
+    const std::vector<Leaf> dense = leaves_near_origin(alone.tree);
+    EXPECT_GT(dense.size(), 10000u);
+    EXPECT_EQ(dense, leaves_near_origin(both.tree));
+    EXPECT_GT(both.tree.leaf_count(), dense.size() + 10000);  // the copy has its leaves too
+    // On the hashed blocks as well, the field does not depend on the method or the thread count (D1).
+    expect_same_tree(both.tree, build_with(pair, p, McFieldMethod::queries, 1).tree, "hashed, queries, 1 thread");
+}
