@@ -18,9 +18,7 @@
 #include <array>
 #include <atomic>
 #include <cmath>
-#include <cstdlib>
 #include <cstring>
-#include <memory>
 #include <chrono>
 #include <cstdio>
 #include <ctime>
@@ -170,22 +168,22 @@ template <class F> void parallel_for(std::size_t n, unsigned threads, F&& f) {
 }
 
 // Lattice points grouped in 4x4x4 blocks, numbered in order of first use. Where the lattice is small
-// enough (up to 2^25 blocks: a root grid of 1024 cubes, i.e. resolutions up to about 1000) a block is
-// found by its position in a dense index (4 bytes a block, 128 MB of address space at most, zero pages
-// until written: only the pages near the surface become resident, a few MB at 512); elsewhere by one
-// hash look-up behind a direct-mapped cache of recent blocks
-// (16^3 of them, by their low coordinate bits), since the flood, the closing and the nodes' samples mostly
-// touch blocks met just before.
+// enough (a root grid up to 2048 cubes, i.e. resolutions up to about 2000) a block is found by its
+// position: a directory of tiles of 8x8x8 blocks (one entry per tile), each tile an array of its 512
+// blocks' numbers, made when a block in it is first created (2 KB; only the tiles along the surface exist,
+// about 1 MB on the dragon at 256) — no hashing, and the few KB of the directory stay in the cache.
+// Elsewhere a block is found by one hash look-up behind a direct-mapped cache of recent blocks (16^3 of
+// them, by their low coordinate bits), since the flood, the closing and the nodes' samples mostly touch
+// blocks met just before.
 class Blocks {
 public:
     // `lattice`: lattice points per axis (0 = unknown: hashing only).
     explicit Blocks(std::size_t expected, std::uint32_t lattice = 0) : map_(expected) {
-        const std::size_t n = (std::size_t(lattice) + 3) / 4;
-        if (lattice > 0 && n * n * n <= (std::size_t(1) << 25)) {
+        const std::size_t n = (std::size_t(lattice) + 3) / 4, t = (n + tile - 1) / tile;
+        if (lattice > 0 && t * t * t <= (std::size_t(1) << 19)) {  // a directory of 2 MB at most
             side_ = n;
-            // calloc: the kernel's zero pages until a block near them is created
-            dense_.reset(static_cast<std::uint32_t*>(std::calloc(n * n * n, sizeof(std::uint32_t))));
-            if (!dense_) throw std::bad_alloc();
+            tiles_side_ = t;
+            directory_.assign(t * t * t, 0);
         }
     }
     static std::uint32_t local(std::uint64_t key) {
@@ -195,11 +193,9 @@ public:
     std::uint32_t of(std::uint64_t key, bool& created) {
         const std::uint64_t bk = block_key(key);
         created = false;
-        const std::size_t at = dense_at(bk);
-        if (at != npos) {
-            std::uint32_t& d = dense_[at];  // block + 1, 0 = none
-            if (d == 0) d = static_cast<std::uint32_t>(++count_), created = true;
-            return d - 1;
+        if (std::uint32_t* d = tiled(bk)) {  // block + 1, 0 = none
+            if (*d == 0) *d = static_cast<std::uint32_t>(++count_), created = true;
+            return *d - 1;
         }
         Cached& c = cache_[slot(bk)];
         if (c.key == bk) return c.block;
@@ -222,8 +218,11 @@ public:
     // blocks, each with its own cache (cache_size entries).
     std::uint32_t find(std::uint64_t key, Cached* cache) const {
         const std::uint64_t bk = block_key(key);
-        const std::size_t at = dense_at(bk);
-        if (at != npos) return dense_[at] - 1;  // 0 - 1 = none
+        const std::size_t x = bk & mc::max_lattice, y = (bk >> 17) & mc::max_lattice, z = bk >> 34;
+        if (x < side_ && y < side_ && z < side_) {
+            const std::uint32_t t = directory_[tile_of(x, y, z)];
+            return t == 0 ? none : tiles_[in_tile(t, x, y, z)] - 1;  // 0 - 1 = none
+        }
         Cached& c = cache[slot(bk)];
         if (c.key == bk) return c.block;
         const std::uint32_t b = map_.find(bk);
@@ -232,23 +231,33 @@ public:
     }
 
 private:
-    static constexpr std::size_t npos = ~std::size_t(0);
+    static constexpr std::size_t tile = 8;  // blocks per axis of a tile
     static std::uint64_t block_key(std::uint64_t key) {
         return ((key & mc::max_lattice) >> 2) | (((key >> 17) & mc::max_lattice) >> 2) << 17 |
                (((key >> 34) & mc::max_lattice) >> 2) << 34;
     }
-    // Position of a block in the dense index, or npos (no dense index, or a block outside it: hashed).
-    std::size_t dense_at(std::uint64_t bk) const {
+    std::size_t tile_of(std::size_t x, std::size_t y, std::size_t z) const {
+        return x / tile + tiles_side_ * (y / tile + tiles_side_ * (z / tile));
+    }
+    static std::size_t in_tile(std::uint32_t t, std::size_t x, std::size_t y, std::size_t z) {
+        return std::size_t(t - 1) * tile * tile * tile + x % tile + tile * (y % tile + tile * (z % tile));
+    }
+    // The tiled entry of a block (its tile made if needed), or nullptr where the block is hashed (no
+    // tiles, or outside them).
+    std::uint32_t* tiled(std::uint64_t bk) {
         const std::size_t x = bk & mc::max_lattice, y = (bk >> 17) & mc::max_lattice, z = bk >> 34;
-        if (x >= side_ || y >= side_ || z >= side_) return npos;  // side_ is 0 without a dense index
-        return x + side_ * (y + side_ * z);
+        if (x >= side_ || y >= side_ || z >= side_) return nullptr;  // side_ is 0 without tiles
+        std::uint32_t& t = directory_[tile_of(x, y, z)];
+        if (t == 0) {
+            tiles_.resize(tiles_.size() + tile * tile * tile, 0);
+            t = static_cast<std::uint32_t>(tiles_.size() / (tile * tile * tile));
+        }
+        return &tiles_[in_tile(t, x, y, z)];
     }
     static std::size_t slot(std::uint64_t bk) { return (bk & 15) | ((bk >> 17) & 15) << 4 | ((bk >> 34) & 15) << 8; }
-    struct Free {
-        void operator()(std::uint32_t* p) const { std::free(p); }
-    };
-    std::unique_ptr<std::uint32_t[], Free> dense_;
-    std::size_t side_ = 0;
+    std::size_t side_ = 0, tiles_side_ = 0;  // blocks and tiles per axis (0: no tiles)
+    std::vector<std::uint32_t> directory_;   // per tile: its number + 1 in tiles_ (0 = none yet)
+    std::vector<std::uint32_t> tiles_;       // per tile, per block: the block's number + 1 (0 = none)
     KeyMap map_;
     std::vector<Cached> cache_ = std::vector<Cached>(cache_size);
     std::size_t count_ = 0;

@@ -237,9 +237,9 @@ TEST(McOctreeBuild, CancelDuringTheNumberingEndsItsCountingThread) {
     }
 }
 
-TEST(McOctreeBuild, HashedBlocksOfALargeGridGiveTheSameLeavesAsTheDenseIndex) {
-    // The field's and the flood's blocks are found through a dense index up to a root grid of 1024 cubes
-    // and by hashing above (mc_octree_build.cpp, Blocks). A sphere alone (grid 128: dense) and with a far
+TEST(McOctreeBuild, HashedBlocksOfALargeGridGiveTheSameLeavesAsTheTiledOnes) {
+    // The field's and the flood's blocks are found by position (tiles) up to a root grid of 2048 cubes
+    // and by hashing above (mc_octree_build.cpp, Blocks). A sphere alone (grid 128: tiles) and with a far
     // copy (grid 16384: hashed) has the same lattice around the first sphere (same lower box corner, same
     // cube size), so its leaves there must be the same cubes with the same corner signs. 12,000 points per
     // sphere and 50 cubes of radius: the field is scattered (on two threads for the pair).
