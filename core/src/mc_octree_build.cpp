@@ -278,10 +278,28 @@ public:
         return true;
     }
 
+    // Whether `key` is in the set, without inserting: safe on several threads at once while nobody
+    // inserts, each with its own cache of Blocks::cache_size entries.
+    bool contains(std::uint64_t key, Blocks::Cached* cache) const {
+        const std::uint32_t b = blocks_.find(key, cache);
+        return b != none && (bits_[b] >> Blocks::local(key)) & 1u;
+    }
+
 private:
     Blocks blocks_;
     std::vector<std::uint64_t> bits_;
 };
+
+// f(cube) for each of the (up to) four leaf cubes around the leaf edge from lattice point `a` along
+// `axis` (the cubes below the lattice's zero planes do not exist).
+template <class F> void for_cubes_around(std::uint64_t a, int axis, F&& f) {
+    const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+    for (int c = 0; c < 4; ++c) {
+        const int du = c & 1, dv = c >> 1;
+        if ((du && ((a >> (17 * u)) & mc::max_lattice) == 0) || (dv && ((a >> (17 * v)) & mc::max_lattice) == 0)) continue;
+        f(a - std::uint64_t(du) * (std::uint64_t(1) << (17 * u)) - std::uint64_t(dv) * (std::uint64_t(1) << (17 * v)));
+    }
+}
 
 // The signed distance field on the leaf lattice, evaluated on demand and kept, in a sparse grid of 4x4x4
 // blocks (Blocks), so the 8 corners of a cube or the samples of a node mostly cost one look-up together.
@@ -850,7 +868,7 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
             detail::parallel_for(ranges, unsigned(ranges), 1, [&](std::size_t first_range, std::size_t end_range) {
                 for (std::size_t range = first_range; range < end_range; ++range) {
                     std::vector<std::uint64_t>& out = edges_of_range[range];
-                    std::vector<Blocks::Cached> cache(Blocks::cache_size);
+                    std::vector<Blocks::Cached> cache(Blocks::cache_size), visited_cache(Blocks::cache_size);
                     auto peek = [&](std::uint64_t k) { return field.peek_inside(k, cache.data()); };
                     for (std::size_t i = range_begin(range), e = range_begin(range + 1); i < e; ++i) {
                         const auto [l, key] = fresh[i];
@@ -869,7 +887,14 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
                             if (a_inside == bool((inside >> se.b) & 1u)) continue;
                             const std::uint64_t a = descend(l, key, se, a_inside, peek);
                             known = a != none;
-                            out.push_back(a | std::uint64_t(se.axis) << 51);
+                            // A leaf edge whose four cubes were all examined before this round adds
+                            // nothing to the flood: left out here, so the serial pass below skips it.
+                            bool examined = known;
+                            if (examined)
+                                for_cubes_around(a, se.axis, [&](std::uint64_t cube) {
+                                    examined = examined && visited.contains(cube, visited_cache.data());
+                                });
+                            if (known && !examined) out.push_back(a | std::uint64_t(se.axis) << 51);
                         }
                         fresh_inside[i] = inside;
                         if (known) {
@@ -883,15 +908,9 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
             });
             frontier.clear();
             auto flood_around = [&](std::uint64_t a, int axis) {
-                const int u = (axis + 1) % 3, v = (axis + 2) % 3;
-                for (int c = 0; c < 4; ++c) {
-                    const int du = c & 1, dv = c >> 1;
-                    if ((du && ((a >> (17 * u)) & mc::max_lattice) == 0) || (dv && ((a >> (17 * v)) & mc::max_lattice) == 0))
-                        continue;
-                    const std::uint64_t cube = a - std::uint64_t(du) * (std::uint64_t(1) << (17 * u)) -
-                                               std::uint64_t(dv) * (std::uint64_t(1) << (17 * v));
+                for_cubes_around(a, axis, [&](std::uint64_t cube) {
                     if (visited.insert(cube)) frontier.push_back(cube);
-                }
+                });
             };
             for (std::size_t range = 0; range < ranges; ++range) {
                 const std::vector<std::uint64_t>& edges = edges_of_range[range];
@@ -1173,17 +1192,10 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
         }, build_neighbours);
         clock.mark("vertices, neighbours");
         frontier.clear();
-        for (const std::uint64_t ek : vertex_edge) {
-            const std::uint64_t a = ek & ((std::uint64_t(1) << 51) - 1);
-            const int axis = int(ek >> 51), u = (axis + 1) % 3, v = (axis + 2) % 3;
-            for (int k = 0; k < 4; ++k) {
-                const int du = k & 1, dv = k >> 1;
-                if ((du && ((a >> (17 * u)) & mc::max_lattice) == 0) || (dv && ((a >> (17 * v)) & mc::max_lattice) == 0)) continue;
-                const std::uint64_t cube = a - std::uint64_t(du) * (std::uint64_t(1) << (17 * u)) -
-                                           std::uint64_t(dv) * (std::uint64_t(1) << (17 * v));
+        for (const std::uint64_t ek : vertex_edge)
+            for_cubes_around(ek & ((std::uint64_t(1) << 51) - 1), int(ek >> 51), [&](std::uint64_t cube) {
                 if (visited.insert(cube)) frontier.push_back(cube);
-            }
-        }
+            });
         if (frontier.empty() || pass >= 32) break;
         // With a band, the cube diagonal to a kept one across a crossing edge may sit behind a dropped
         // face neighbour and was never examined; it is usually dropped too, and then the tree stands.
