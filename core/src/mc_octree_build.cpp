@@ -510,6 +510,13 @@ public:
         if (b == none || !(valid_[b] & (std::uint64_t(1) << local(key)))) return -1;
         return dist_[b * 64 + local(key)] < 0;
     }
+    // The signed distance at `key` if it is evaluated (like peek_inside: several threads at once).
+    bool peek_dist(std::uint64_t key, Blocks::Cached* cache, float& d) const {
+        const std::uint32_t b = blocks_.find(key, cache);
+        if (b == none || !(valid_[b] & (std::uint64_t(1) << local(key)))) return false;
+        d = dist_[b * 64 + local(key)];
+        return true;
+    }
     std::size_t size() const { return evaluated_; }
     void reserve_blocks(std::size_t n) {
         valid_.reserve(n);
@@ -756,6 +763,35 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
     std::vector<TmpNode> leaves;
     std::vector<std::uint64_t> corner_keys, next;
     std::size_t round = 0;
+    // A frontier cube examined on the worker threads: its inside corners, the faces to flood across
+    // (bit f: face f = 2 * axis + side), and what became of it.
+    struct CubeState {
+        enum : std::uint8_t { none, far, kept, serial };
+        std::uint8_t inside, faces, state;
+    };
+    std::vector<CubeState> cube_states;
+    // The neighbour of cube `k` across face f (inside the grid: the caller checks).
+    auto face_neighbour = [](std::uint64_t k, int f) {
+        const int a = f / 2;
+        const std::uint64_t step = std::uint64_t(1) << (17 * a);
+        return f & 1 ? k + step : k - step;
+    };
+    // The faces of cube `k` with corner signs `inside` that the surface crosses towards a neighbour
+    // inside the grid for which `wanted(neighbour)` holds.
+    auto crossed_faces = [&](std::uint64_t k, std::uint32_t inside, auto&& wanted) {
+        std::uint8_t faces = 0;
+        for (int f = 0; f < 6; ++f) {
+            const int a = f / 2, side = f & 1;
+            std::uint32_t fm = 0, count = 0;
+            for (int c = 0; c < 8; ++c)
+                if (((c >> a) & 1) == side) fm |= ((inside >> c) & 1u) << count++;
+            if (fm == 0 || fm == 15) continue;  // the surface does not cross this face
+            const auto coord = std::int64_t((k >> (17 * a)) & mc::max_lattice) + (side ? 1 : -1);
+            if (coord < 0 || coord >= std::int64_t(grid)) continue;
+            if (wanted(face_neighbour(k, f))) faces = static_cast<std::uint8_t>(faces | 1u << f);
+        }
+        return faces;
+    };
     auto run_flood = [&] {
         while (!frontier.empty()) {
             check_progress(progress, 0.05 + 0.4 * (1.0 - 1.0 / double(++round + 1)), "mcoctree: leaf cubes");
@@ -764,33 +800,64 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
                 for (int c = 0; c < 8; ++c)
                     corner_keys.push_back(k + pack(c & 1, (c >> 1) & 1, (c >> 2) & 1));
             field.evaluate(corner_keys);
+            // Each cube's corner signs and the faces the surface crosses towards cubes not examined before
+            // this round, on every thread (reads only); then, in frontier order, the leaves and the new
+            // frontier. A neighbour examined before the round would not be inserted anyway, so leaving it
+            // out changes nothing but the work.
+            cube_states.resize(frontier.size());
+            parallel_for(frontier.size(), threads, [&](std::size_t b, std::size_t e) {
+                std::vector<Blocks::Cached> field_cache(Blocks::cache_size), visited_cache(Blocks::cache_size);
+                for (std::size_t i = b; i < e; ++i) {
+                    const std::uint64_t k = frontier[i];
+                    CubeState& st = cube_states[i];
+                    st = {0, 0, 0};
+                    float far = 0;
+                    for (int c = 0; c < 8; ++c) {
+                        float d = 0;
+                        if (!field.peek_dist(k + pack(c & 1, (c >> 1) & 1, (c >> 2) & 1), field_cache.data(), d)) {
+                            st.state = CubeState::serial;
+                            break;
+                        }
+                        if (d < 0) st.inside = static_cast<std::uint8_t>(st.inside | 1u << c);
+                        far = std::max(far, std::fabs(d));
+                    }
+                    if (st.state == CubeState::serial) continue;
+                    if (st.inside == 0 || st.inside == 255) continue;
+                    if (far > cap) {
+                        st.state = CubeState::far;
+                        continue;
+                    }
+                    st.state = CubeState::kept;
+                    st.faces = crossed_faces(k, st.inside, [&](std::uint64_t nk) {
+                        return !visited.contains(nk, visited_cache.data());
+                    });
+                }
+            });
             next.clear();
-            for (std::uint64_t k : frontier) {
-                std::uint32_t inside = 0;
-                float far = 0;
-                for (int c = 0; c < 8; ++c) {
-                    const float d = field.dist(field.index(k + pack(c & 1, (c >> 1) & 1, (c >> 2) & 1)));
-                    if (d < 0) inside |= 1u << c;
-                    far = std::max(far, std::fabs(d));
+            for (std::size_t i = 0; i < frontier.size(); ++i) {
+                const std::uint64_t k = frontier[i];
+                CubeState st = cube_states[i];
+                if (st.state == CubeState::serial) {  // a corner not evaluated (none, in practice): as before
+                    st = {0, 0, CubeState::none};
+                    float far = 0;
+                    for (int c = 0; c < 8; ++c) {
+                        const float d = field.dist(field.index(k + pack(c & 1, (c >> 1) & 1, (c >> 2) & 1)));
+                        if (d < 0) st.inside = static_cast<std::uint8_t>(st.inside | 1u << c);
+                        far = std::max(far, std::fabs(d));
+                    }
+                    if (st.inside != 0 && st.inside != 255) {
+                        st.state = far > cap ? CubeState::far : CubeState::kept;
+                        st.faces = crossed_faces(k, st.inside, [](std::uint64_t) { return true; });
+                    }
                 }
-                if (inside == 0 || inside == 255) continue;
-                if (far > cap) {
-                    ++result.dropped_far_cubes;
-                    continue;
-                }
+                if (st.state == CubeState::far) ++result.dropped_far_cubes;
+                if (st.state != CubeState::kept) continue;
                 const auto x = std::uint32_t(k & mc::max_lattice), y = std::uint32_t((k >> 17) & mc::max_lattice),
                            z = std::uint32_t((k >> 34) & mc::max_lattice);
-                leaves.push_back({morton(x, y, z), x, y, z, inside});
+                leaves.push_back({morton(x, y, z), x, y, z, st.inside});
                 for (int f = 0; f < 6; ++f) {
-                    const int a = f / 2, side = f & 1;
-                    std::uint32_t fm = 0, count = 0;
-                    for (int c = 0; c < 8; ++c)
-                        if (((c >> a) & 1) == side) fm |= ((inside >> c) & 1u) << count++;
-                    if (fm == 0 || fm == 15) continue;  // the surface does not cross this face
-                    std::int64_t n[3] = {x, y, z};
-                    n[a] += side ? 1 : -1;
-                    if (n[a] < 0 || n[a] >= std::int64_t(grid)) continue;
-                    const std::uint64_t nk = pack(std::uint32_t(n[0]), std::uint32_t(n[1]), std::uint32_t(n[2]));
+                    if (!(st.faces & (1u << f))) continue;
+                    const std::uint64_t nk = face_neighbour(k, f);
                     if (visited.insert(nk)) next.push_back(nk);
                 }
             }
