@@ -21,6 +21,7 @@
 
 #include "lodforge/error.h"
 #include "lodforge/quadric.h"
+#include "huge_pages.h"
 
 #include <algorithm>
 #include <array>
@@ -474,18 +475,20 @@ private:
         std::uint32_t lock = 0;        // pass schedule: the round that locked it
         std::uint32_t seen = 0;        // stamp of neighbours() / plain_valid() / classify_points()
         std::uint32_t ring = 0;        // stamp of valid() / plain_valid(): in v's ring
+        std::uint32_t wedge = 0;       // its first wedge (the only one when one_wedge): the plain paths'
+                                       // mapping without two dependent loads from the wedge CSR
     };
     static_assert(sizeof(PointRec) == 64);
-    std::vector<Quadric> geo_;
-    std::vector<PointRec> pts_;
+    HugeVector<Quadric> geo_;
+    HugeVector<PointRec> pts_;
     Vec3d centre_;
     double scale_ = 1;                        // model units per normalised unit (the diagonal)
     std::vector<std::uint32_t> corners_;      // per face, wedges
-    std::vector<std::uint32_t> fpt_;          // per face, points (pid_ of corners_, kept in step)
+    HugeVector<std::uint32_t> fpt_;          // per face, points (pid_ of corners_, kept in step)
     std::vector<std::uint8_t> face_alive_;
     bool greedy_ = false;
     std::vector<std::vector<std::uint32_t>> pfaces_;          // greedy schedule
-    std::vector<std::uint32_t> csr_begin_, csr_faces_;         // pass schedule
+    HugeVector<std::uint32_t> csr_begin_, csr_faces_;         // pass schedule
     std::vector<std::uint32_t> live_faces_;                    // ascending; compacted by build_csr()
     bool live_listed_ = false;
     std::vector<std::uint32_t> wedge_begin_, wedge_list_;  // point → its wedges (CSR)
@@ -549,7 +552,10 @@ void Simplifier::setup() {
         std::vector<std::uint32_t> fill(wedge_begin_.begin(), wedge_begin_.end() - 1);
         for (std::uint32_t w = 0; w < nv; ++w) wedge_list_[fill[pid_[w]]++] = w;
     }
-    for (std::size_t p = 0; p < points_; ++p) pts_[p].one_wedge = wedge_begin_[p + 1] - wedge_begin_[p] == 1;
+    for (std::size_t p = 0; p < points_; ++p) {
+        pts_[p].one_wedge = wedge_begin_[p + 1] - wedge_begin_[p] == 1;
+        pts_[p].wedge = wedge_list_[wedge_begin_[p]];
+    }
 
     // Faces: drop those degenerate on points.
     const std::size_t nf = mesh_.triangle_count();
@@ -567,7 +573,7 @@ void Simplifier::setup() {
             pfaces_[p].assign(fs.begin(), fs.end());
         }
         greedy_ = true;
-        std::vector<std::uint32_t>().swap(csr_faces_);
+        HugeVector<std::uint32_t>().swap(csr_faces_);
     }
 
     // Attributes, weighted so a difference of 1 costs like a deviation of `weight` diagonals.
@@ -867,8 +873,8 @@ double Simplifier::evaluate(std::uint32_t u, std::uint32_t v, Plan& plan, bool f
         plan.count = 1;
         plan.material[0] = 0;
         // Only attribute costs read the wedges (0 stands in for geometry-only runs: unused, not kNone).
-        plan.wedge[0] = dims_ > 0 ? wedge_list_[wedge_begin_[u]] : 0;
-        plan.target[0] = dims_ > 0 ? wedge_list_[wedge_begin_[v]] : 0;
+        plan.wedge[0] = dims_ > 0 ? pts_[u].wedge : 0;
+        plan.target[0] = dims_ > 0 ? pts_[v].wedge : 0;
         plan.edge_faces = -1;  // not counted
     }
     if (plan.count == 0) for (std::uint32_t f : faces_of(u)) {
@@ -1015,8 +1021,8 @@ bool Simplifier::for_each_cost(std::uint32_t p, F&& f) {
         if (rp.kind == Kind::interior && one_material_ && rp.one_wedge && pts_[v].one_wedge) {
             plan.count = 1;
             plan.material[0] = 0;
-            plan.wedge[0] = dims_ > 0 ? wedge_list_[wedge_begin_[p]] : 0;
-            plan.target[0] = dims_ > 0 ? wedge_list_[wedge_begin_[v]] : 0;
+            plan.wedge[0] = dims_ > 0 ? pts_[p].wedge : 0;
+            plan.target[0] = dims_ > 0 ? pts_[v].wedge : 0;
             plan.edge_faces = -1;
         } else {
             if (split[j]) {
@@ -1099,8 +1105,8 @@ bool Simplifier::valid(std::uint32_t u, std::uint32_t v, const Plan& plan) {
 double Simplifier::plain_plan(std::uint32_t u, std::uint32_t v, Plan& plan) const {
     plan.count = 1;
     plan.material[0] = 0;
-    plan.wedge[0] = wedge_list_[wedge_begin_[u]];
-    plan.target[0] = wedge_list_[wedge_begin_[v]];
+    plan.wedge[0] = pts_[u].wedge;
+    plan.target[0] = pts_[v].wedge;
     plan.position = pts_[v].pos;
     plan.edge_faces = -1;  // plain_valid() counts them
     const Quadric& q = geo_[u];
@@ -1111,8 +1117,8 @@ double Simplifier::plain_plan(std::uint32_t u, std::uint32_t v, Plan& plan) cons
 double Simplifier::fused_plan(std::uint32_t u, std::uint32_t v, Plan& plan) {
     plan.count = 1;
     plan.material[0] = 0;
-    plan.wedge[0] = wedge_list_[wedge_begin_[u]];
-    plan.target[0] = wedge_list_[wedge_begin_[v]];
+    plan.wedge[0] = pts_[u].wedge;
+    plan.target[0] = pts_[v].wedge;
     plan.edge_faces = 1;  // plain_valid() counts them
     return plan_cost(u, v, plan);
 }
@@ -1238,8 +1244,9 @@ void Simplifier::collapse(std::uint32_t u, std::uint32_t v, const Plan& plan) {
     rec.from_point = u;
     rec.to_point = v;
     rec.moves_begin = static_cast<std::uint32_t>(result_.moves.size());
-    for (std::uint32_t k = wedge_begin_[u]; k < wedge_begin_[u + 1]; ++k) {
-        const std::uint32_t w = wedge_list_[k];
+    const bool one = pts_[u].one_wedge;
+    for (std::uint32_t k = one ? 0 : wedge_begin_[u], e = one ? 1 : wedge_begin_[u + 1]; k < e; ++k) {
+        const std::uint32_t w = one ? pts_[u].wedge : wedge_list_[k];
         const std::uint32_t t = target_of(w);
         if (dims_ > 0) aq_.accumulate(t, w);
         result_.moves.push_back({w, t});
@@ -1310,7 +1317,7 @@ std::uint32_t Simplifier::cheapest(std::uint32_t p, double& best) {
         // same order, the same plans), without its per-neighbour class table: a one-wedge neighbour
         // has the trivial mapping, a seam neighbour's is evaluate()'s.
         Plan plan;
-        const std::uint32_t wedge = wedge_list_[wedge_begin_[p]];
+        const std::uint32_t wedge = pts_[p].wedge;
         const std::uint32_t stamp = next_seen();
         pts_[p].seen = stamp;
         for (std::uint32_t f : faces_of(p)) {
@@ -1325,7 +1332,7 @@ std::uint32_t Simplifier::cheapest(std::uint32_t p, double& best) {
                     plan.count = 1;
                     plan.material[0] = 0;
                     plan.wedge[0] = wedge;
-                    plan.target[0] = wedge_list_[wedge_begin_[n]];
+                    plan.target[0] = pts_[n].wedge;
                     plan.edge_faces = -1;
                     c = plan_cost(p, n, plan);
                 } else {
@@ -1531,7 +1538,7 @@ void Simplifier::run_passes(std::size_t target, double limit, double& max_cost) 
     for (PointRec& r : pts_) r.dirty = 1;
     std::vector<std::uint32_t> alive(points_);
     std::iota(alive.begin(), alive.end(), 0u);
-    std::vector<std::uint64_t> order, tmp;
+    HugeVector<std::uint64_t> order, tmp;
     order.reserve(points_);
     Plan plan;
     const bool moves_kept = params_.placement == Placement::optimal;
