@@ -18,6 +18,7 @@
 // point has a list of its faces that grows by merging on collapse and one entry in an indexed binary heap;
 // a collapse u → v re-evaluates v and, around v, only what changed.
 #include "lodforge/simplify.h"
+#include "lodforge/identical_vertices.h"
 
 #include "lodforge/error.h"
 #include "lodforge/quadric.h"
@@ -1777,7 +1778,57 @@ SimplifyResult Simplifier::run() {
 
 }  // namespace
 
+namespace {
+
+// A triangle soup (a quarter or more of the vertices repeat an earlier one in every attribute) is run on
+// its merged vertices and the result is told in the input's numbering: every copy of a removed vertex
+// moves with it. Indexed meshes with a few coincident vertices (the dragon's scan cracks) keep them as
+// wedges (the welding decision of docs/simplification.md).
+bool soup_worth_merging(const Mesh& mesh, const SimplifyParams& params, IdenticalVertices& iv) {
+    if (!params.weld || !params.extra_frames.empty() || mesh.vertex_count() == 0) return false;
+    for (std::uint32_t i : mesh.indices)
+        if (i >= mesh.vertex_count()) return false;  // the engine reports it
+    iv = find_identical_vertices(mesh);
+    return iv.duplicates * 4 >= mesh.vertex_count();
+}
+
+void to_input_numbering(SimplifyResult& r, const IdenticalVertices& iv) {
+    const std::size_t n = iv.merged_of.size(), k = iv.first_of.size();
+    std::vector<std::uint32_t> start(k + 1, 0), copies(n);  // merged vertex -> its input vertices (CSR)
+    for (std::uint32_t m : iv.merged_of) ++start[m + 1];
+    for (std::size_t i = 0; i < k; ++i) start[i + 1] += start[i];
+    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+    for (std::uint32_t v = 0; v < n; ++v) copies[fill[iv.merged_of[v]]++] = v;
+    std::vector<VertexMove> moves;
+    moves.reserve(r.moves.size() * (n + k - 1) / k);
+    for (Collapse& c : r.collapses) {
+        const auto begin = static_cast<std::uint32_t>(moves.size());
+        for (std::uint32_t m = c.moves_begin; m < c.moves_end; ++m) {
+            const VertexMove mv = r.moves[m];
+            for (std::uint32_t j = start[mv.from]; j < start[mv.from + 1]; ++j)
+                moves.push_back({copies[j], iv.first_of[mv.to]});
+        }
+        c.moves_begin = begin;
+        c.moves_end = static_cast<std::uint32_t>(moves.size());
+    }
+    r.moves = std::move(moves);
+    for (std::uint32_t& v : r.vertex_map) v = iv.first_of[v];
+    std::vector<std::uint32_t> points(n);
+    for (std::uint32_t v = 0; v < n; ++v) points[v] = r.input_points[iv.merged_of[v]];
+    r.input_points = std::move(points);
+}
+
+}  // namespace
+
 SimplifyResult simplify(const Mesh& mesh, const SimplifyParams& params, Progress* progress) {
+    IdenticalVertices iv;
+    if (soup_worth_merging(mesh, params, iv)) {
+        const Mesh merged = iv.merged(mesh);
+        Simplifier s(merged, params, progress);
+        SimplifyResult r = s.run();
+        to_input_numbering(r, iv);
+        return r;
+    }
     Simplifier s(mesh, params, progress);
     return s.run();
 }
