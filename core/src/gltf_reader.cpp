@@ -230,9 +230,19 @@ public:
         : path_(std::move(path)), model_(model), progress_(progress), options_(options) {}
 
     Mesh run() {
+        check_version();
         check_required_extensions();
         collect_instances();
         collect_primitives();
+        if (jobs_.empty()) {
+            // Nothing to import would give an empty mesh that every command then fails on far from
+            // the cause (or writes an empty file); say here why there is no surface.
+            std::size_t skipped = 0;
+            for (const std::string& w : mesh_.warnings) skipped += w.find("points/lines skipped") != std::string::npos;
+            fail(Error::Kind::invalid, skipped ? "no triangle primitives (" + std::to_string(skipped) +
+                                                     " POINTS/LINES primitives skipped; point and line data is not imported)"
+                                               : "no triangle geometry: the scene instances no mesh primitive");
+        }
         convert_materials();
         build();
         if (options_.morph_targets) read_weights_animation();
@@ -246,6 +256,13 @@ private:
         const auto& m = model_.meshes[static_cast<std::size_t>(job.mesh)];
         return "mesh " + std::to_string(job.mesh) + (m.name.empty() ? "" : " '" + m.name + "'") + " primitive " +
                std::to_string(job.primitive);
+    }
+
+    void check_version() const {
+        // tinygltf reads a 1.0 file as an empty 2.0 model; refuse it instead of importing nothing.
+        const std::string& v = model_.asset.version;
+        if (v.empty() || v[0] != '2')
+            fail(Error::Kind::unsupported, "glTF version '" + v + "' is not supported (only glTF 2.0)");
     }
 
     void check_required_extensions() const {
@@ -346,6 +363,7 @@ private:
                 const int position = attribute(prim, "POSITION");
                 if (position < 0) fail(Error::Kind::format, where(job) + " has no POSITION attribute");
                 job.count = accessor(position, where(job) + " POSITION").count;
+                check_extent(position, where(job) + " POSITION");
                 if (auto it = owner_of_accessor.find(position); it != owner_of_accessor.end()) {
                     const PrimitiveJob& owner = jobs_[it->second];
                     const auto& owner_prim = gm.primitives[static_cast<std::size_t>(owner.primitive)];
@@ -414,6 +432,27 @@ private:
         return data.data() + view.byteOffset + offset;
     }
 
+    // Checks that an accessor's elements lie inside its data before anything is allocated for it, so a
+    // lying `count` is an error, not a huge allocation. An accessor without a bufferView (all zeros, plus
+    // sparse values) has no data to bound it: it may not have more elements than its sparse part or
+    // the largest accessor that has data.
+    void check_extent(int index, const std::string& what) const {
+        const tinygltf::Accessor& a = accessor(index, what);
+        const std::size_t element = component_size(a.componentType) * component_count(a.type);
+        if (element == 0) return;  // reported with its reason when read
+        if (a.bufferView >= 0) {
+            std::size_t stride = 0;
+            view_data(a.bufferView, a.byteOffset, element, a.count, stride, what);
+            return;
+        }
+        std::size_t limit = a.sparse.isSparse ? static_cast<std::size_t>(std::max(a.sparse.count, 0)) : 0;
+        for (const auto& other : model_.accessors)
+            if (other.bufferView >= 0) limit = std::max(limit, other.count);
+        if (a.count > limit)
+            fail(Error::Kind::format, what + ": " + std::to_string(a.count) + " elements without a bufferView exceed "
+                                          "every accessor with data (at most " + std::to_string(limit) + ")");
+    }
+
     // All components of an accessor as floats (normalized integers mapped to [0,1] / [-1,1]),
     // sparse substitution applied. `allowed` lists the accepted component counts.
     std::vector<float> read_floats(int index, std::initializer_list<std::size_t> allowed, std::size_t& components,
@@ -427,6 +466,7 @@ private:
         const std::size_t element = csize * components;
         if (a.count > std::numeric_limits<std::uint32_t>::max())
             fail(Error::Kind::unsupported, what + ": accessor with " + std::to_string(a.count) + " elements");
+        check_extent(index, what);
         std::vector<float> out(a.count * components, 0.f);
         if (a.bufferView >= 0) {
             std::size_t stride = 0;
@@ -501,6 +541,8 @@ private:
         d.positions.resize(job.count);
         for (std::size_t i = 0; i < job.count; ++i) {
             const double x = pos[3 * i], y = pos[3 * i + 1], z = pos[3 * i + 2];
+            if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z))
+                fail(Error::Kind::invalid, at + " POSITION: vertex " + std::to_string(i) + " is not finite (NaN or infinity)");
             d.positions[i] = {static_cast<float>(m[0] * x + m[4] * y + m[8] * z + m[12]),
                               static_cast<float>(m[1] * x + m[5] * y + m[9] * z + m[13]),
                               static_cast<float>(m[2] * x + m[6] * y + m[10] * z + m[14])};

@@ -15,6 +15,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <set>
 #include <tuple>
@@ -441,6 +442,62 @@ TEST(GltfReader, CorruptedGlbBytesNeverCrash) {
         } catch (const Error&) {
         }
     }
+}
+
+
+// Found by the format-variant matrix (tests/formats/): each was a crash, a silent empty import or a
+// silently accepted defect before.
+TEST(GltfReader, LyingAccessorCountIsFormatErrorNotAnAllocation) {
+    test::ScratchDir dir("gltf-lying-count");
+    GltfBuilder b;
+    const int pos = b.floats(kQuad, "VEC3", 3);
+    b.primitive({{"POSITION", pos}}, b.indices({0, 1, 2}));
+    b.doc()["accessors"][pos]["count"] = 4000000000u;  // was std::bad_alloc (exit 3), 48 GB asked for
+    const std::string path = b.write(dir, "lying");
+    expect_error([&] { read_gltf(path); }, Error::Kind::format, {"lying.gltf", "POSITION", "4000000000", "exceed"});
+}
+
+TEST(GltfReader, SparseOnlyAccessorCannotOutgrowTheData) {
+    test::ScratchDir dir("gltf-sparse-huge");
+    GltfBuilder b;
+    const int idx = b.accessor(std::vector<std::uint8_t>{0, 0, 0, 0}, 5121, "SCALAR", 1);
+    const int val = b.floats({1, 2, 3}, "VEC3", 3);
+    json& doc = b.doc();
+    doc["accessors"].push_back({{"componentType", 5126}, {"count", 3000000000u}, {"type", "VEC3"},
+                                {"sparse", {{"count", 1},
+                                            {"indices", {{"bufferView", doc["accessors"][idx]["bufferView"]}, {"componentType", 5121}}},
+                                            {"values", {{"bufferView", doc["accessors"][val]["bufferView"]}}}}}});
+    b.primitive({{"POSITION", static_cast<int>(doc["accessors"].size() - 1)}});
+    const std::string path = b.write(dir, "sparse");
+    expect_error([&] { read_gltf(path); }, Error::Kind::format, {"sparse.gltf", "without a bufferView"});
+}
+
+TEST(GltfReader, NonFinitePositionIsInvalidNamingTheVertex) {
+    test::ScratchDir dir("gltf-nan");
+    GltfBuilder b;
+    std::vector<float> quad = kQuad;
+    quad[7] = std::numeric_limits<float>::quiet_NaN();  // vertex 2, y
+    const int pos = b.floats(quad, "VEC3", 3);
+    b.primitive({{"POSITION", pos}}, b.indices({0, 1, 2, 0, 2, 3}));
+    const std::string path = b.write(dir, "nan");
+    // read_gltf itself refuses it (before, only read_mesh's validation did, and `info` showed the mesh).
+    expect_error([&] { read_gltf(path); }, Error::Kind::invalid, {"nan.gltf", "POSITION", "vertex 2", "not finite"});
+}
+
+TEST(GltfReader, NothingToImportIsAClearError) {
+    test::ScratchDir dir("gltf-nothing");
+    {
+        GltfBuilder b;  // only POINTS and LINES: was an empty mesh that `convert` wrote as an unreadable OBJ
+        b.primitive({{"POSITION", b.floats(kQuad, "VEC3", 3)}}, -1, 0);
+        b.primitive({{"POSITION", b.floats(kQuad, "VEC3", 3)}}, -1, 1);
+        const std::string path = b.write(dir, "points");
+        expect_error([&] { read_gltf(path); }, Error::Kind::invalid, {"points.gltf", "no triangle primitives", "2 POINTS/LINES"});
+    }
+    test::write_text(dir.file("nomesh.gltf"), R"({"asset": {"version": "2.0"}})");
+    expect_error([&] { read_gltf(dir.file("nomesh.gltf")); }, Error::Kind::invalid, {"nomesh.gltf", "no triangle geometry"});
+    // glTF 1.0 parsed as an empty 2.0 model before.
+    test::write_text(dir.file("v1.gltf"), R"({"asset": {"version": "1.0"}, "meshes": {}})");
+    expect_error([&] { read_gltf(dir.file("v1.gltf")); }, Error::Kind::unsupported, {"v1.gltf", "'1.0'", "glTF 2.0"});
 }
 
 }  // namespace
