@@ -224,6 +224,22 @@ struct PrimitiveData {
     std::vector<std::vector<Vec3f>> target_positions, target_normals;  // [target][vertex], morph only
 };
 
+// KHR_texture_transform in glTF's UV space (origin top left): uv' = T R S uv, i.e.
+// u' = a u + b v + c, v' = d u + e v + f.
+struct UvTransform {
+    double a = 1, b = 0, c = 0, d = 0, e = 1, f = 0;
+    bool operator==(const UvTransform&) const = default;
+    bool identity() const { return *this == UvTransform{}; }
+};
+
+double number_at(const tinygltf::Value& object, const char* key, int index, double fallback) {
+    if (!object.Has(key)) return fallback;
+    const tinygltf::Value& v = object.Get(key);
+    if (index < 0) return v.IsNumber() ? v.GetNumberAsDouble() : fallback;
+    if (!v.IsArray() || static_cast<int>(v.ArrayLen()) <= index || !v.Get(index).IsNumber()) return fallback;
+    return v.Get(index).GetNumberAsDouble();
+}
+
 class GltfImporter {
 public:
     GltfImporter(std::string path, const tinygltf::Model& model, Progress* progress, const GltfReadOptions& options)
@@ -267,7 +283,8 @@ private:
 
     void check_required_extensions() const {
         for (const std::string& ext : model_.extensionsRequired) {
-            if (ext == "KHR_mesh_quantization" || ext.rfind("KHR_materials_", 0) == 0) continue;
+            if (ext == "KHR_mesh_quantization" || ext == "KHR_texture_transform" || ext.rfind("KHR_materials_", 0) == 0)
+                continue;
             if (ext == "KHR_draco_mesh_compression" || ext == "EXT_meshopt_compression")
                 fail(Error::Kind::unsupported, "compressed geometry (" + ext + ") is not supported; decompress it first "
                                                "(e.g. gltf-transform decompress)");
@@ -586,7 +603,18 @@ private:
             const std::vector<float> v = read_floats(t, {2}, comps, at + " " + name);
             check_count(v, 2, name.c_str());
             d.texcoords[set].resize(job.count);
-            for (std::size_t i = 0; i < job.count; ++i) d.texcoords[set][i] = {v[2 * i], 1.f - v[2 * i + 1]};
+            const UvTransform tf = prim.material >= 0 && static_cast<std::size_t>(prim.material) < material_uv_.size() && set < 2
+                                      ? material_uv_[static_cast<std::size_t>(prim.material)][set]
+                                      : UvTransform{};
+            if (tf.identity()) {
+                for (std::size_t i = 0; i < job.count; ++i) d.texcoords[set][i] = {v[2 * i], 1.f - v[2 * i + 1]};
+            } else {
+                for (std::size_t i = 0; i < job.count; ++i) {
+                    const double u = v[2 * i], w = v[2 * i + 1];
+                    d.texcoords[set][i] = {static_cast<float>(tf.a * u + tf.b * w + tf.c),
+                                           static_cast<float>(1.0 - (tf.d * u + tf.e * w + tf.f))};
+                }
+            }
         }
         if (options_.morph_targets) load_targets(prim, job, at, d);
         return d;
@@ -790,6 +818,44 @@ private:
         return ref;
     }
 
+    // KHR_texture_transform is baked into the texture coordinates of the primitives using the material
+    // (the Mesh and the writers have no per-texture transform). One transform per UV set: when the
+    // textures sampling a set disagree, the base colour texture's (first in this order) wins, with a
+    // warning. Its `texCoord` override moves the texture to that set.
+    void bake_texture_transforms(const tinygltf::Material& g, Material& m, const std::string& what) {
+        const auto& pbr = g.pbrMetallicRoughness;
+        const std::array<std::pair<const tinygltf::ExtensionMap*, TextureRef*>, 5> infos = {{
+            {&pbr.baseColorTexture.extensions, &m.base_color_texture},
+            {&pbr.metallicRoughnessTexture.extensions, &m.metallic_roughness_texture},
+            {&g.normalTexture.extensions, &m.normal_texture},
+            {&g.occlusionTexture.extensions, &m.occlusion_texture},
+            {&g.emissiveTexture.extensions, &m.emissive_texture}}};
+        std::array<UvTransform, 2> per_set{};
+        std::array<bool, 2> claimed{false, false};
+        for (const auto& [extensions, ref] : infos) {
+            if (ref->empty()) continue;
+            UvTransform t;
+            if (const auto it = extensions->find("KHR_texture_transform"); it != extensions->end() && it->second.IsObject()) {
+                const tinygltf::Value& x = it->second;
+                const double r = number_at(x, "rotation", -1, 0), cs = std::cos(r), sn = std::sin(r);
+                const double sx = number_at(x, "scale", 0, 1), sy = number_at(x, "scale", 1, 1);
+                t = {cs * sx, sn * sy, number_at(x, "offset", 0, 0), -sn * sx, cs * sy, number_at(x, "offset", 1, 0)};
+                const double set = number_at(x, "texCoord", -1, ref->texcoord_set);
+                if (set >= 0 && set <= 1) ref->texcoord_set = static_cast<int>(set);
+            }
+            if (ref->texcoord_set < 0 || ref->texcoord_set > 1) continue;
+            const auto set = static_cast<std::size_t>(ref->texcoord_set);
+            if (!claimed[set]) {
+                claimed[set] = true;
+                per_set[set] = t;
+            } else if (!(per_set[set] == t)) {
+                mesh_.warnings.push_back(what + ": textures sampling TEXCOORD_" + std::to_string(set) +
+                                         " have different KHR_texture_transforms; the first is applied to all");
+            }
+        }
+        material_uv_.push_back(per_set);
+    }
+
     void convert_materials() {
         for (std::size_t i = 0; i < model_.materials.size(); ++i) {
             const tinygltf::Material& g = model_.materials[i];
@@ -808,6 +874,7 @@ private:
             m.normal_texture = texture_ref(g.normalTexture.index, g.normalTexture.texCoord, what);
             m.occlusion_texture = texture_ref(g.occlusionTexture.index, g.occlusionTexture.texCoord, what);
             m.emissive_texture = texture_ref(g.emissiveTexture.index, g.emissiveTexture.texCoord, what);
+            bake_texture_transforms(g, m, what);
             if (g.emissiveFactor.size() == 3)
                 m.emissive = {static_cast<float>(g.emissiveFactor[0]), static_cast<float>(g.emissiveFactor[1]),
                               static_cast<float>(g.emissiveFactor[2])};
@@ -904,6 +971,7 @@ private:
     bool has_normals_ = false;
     bool has_colors_ = false;
     std::size_t texcoord_sets_ = 0;
+    std::vector<std::array<UvTransform, 2>> material_uv_;  // [material][set], baked into the UVs
     std::size_t morph_count_ = 0;
     bool morph_normals_ = false;
     bool needs_default_material_ = false;

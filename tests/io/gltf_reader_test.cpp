@@ -500,6 +500,36 @@ TEST(GltfReader, NothingToImportIsAClearError) {
     expect_error([&] { read_gltf(dir.file("v1.gltf")); }, Error::Kind::unsupported, {"v1.gltf", "'1.0'", "glTF 2.0"});
 }
 
+
+TEST(GltfReader, TextureTransformIsBakedIntoTheUvs) {
+    test::ScratchDir dir("gltf-ktt");
+    GltfBuilder b;
+    const int pos = b.floats({0, 0, 0, 1, 0, 0, 0, 1, 0}, "VEC3", 3);
+    const int uv = b.floats({0, 0, 1, 0, 0.5f, 0.25f}, "VEC2", 2);
+    b.primitive({{"POSITION", pos}, {"TEXCOORD_0", uv}})["material"] = 0;
+    json& doc = b.doc();
+    doc["images"] = json::array({{{"uri", "t.png"}}});
+    doc["textures"] = json::array({{{"source", 0}}});
+    // Rotation by 90°, scale 2 x 0.5, offset (0.25, 0.5): u' = 0.5 v + 0.25, v' = -2 u + 0.5.
+    doc["materials"] = json::array({{{"pbrMetallicRoughness",
+                                      {{"baseColorTexture",
+                                        {{"index", 0},
+                                         {"extensions", {{"KHR_texture_transform",
+                                                          {{"offset", {0.25, 0.5}}, {"rotation", 1.5707963267948966},
+                                                           {"scale", {2, 0.5}}}}}}}}}}}});
+    doc["extensionsUsed"] = {"KHR_texture_transform"};
+    doc["extensionsRequired"] = {"KHR_texture_transform"};  // refused before; applied now
+    const Mesh mesh = read_gltf(b.write(dir, "ktt"));
+    ASSERT_EQ(mesh.texcoords.size(), 1u);
+    // Stored v-up: v_stored = 1 - v'. Corner 1 (1, 0): u' = 0.25, v' = -1.5. Corner 2 (0.5, 0.25): u' = 0.375, v' = -0.5.
+    EXPECT_NEAR(mesh.texcoords[0][0].x, 0.25f, 1e-6f);
+    EXPECT_NEAR(mesh.texcoords[0][0].y, 0.5f, 1e-6f);
+    EXPECT_NEAR(mesh.texcoords[0][1].x, 0.25f, 1e-6f);
+    EXPECT_NEAR(mesh.texcoords[0][1].y, 2.5f, 1e-6f);
+    EXPECT_NEAR(mesh.texcoords[0][2].x, 0.375f, 1e-6f);
+    EXPECT_NEAR(mesh.texcoords[0][2].y, 1.5f, 1e-6f);
+}
+
 }  // namespace
 }  // namespace lodforge
 
