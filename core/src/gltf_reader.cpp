@@ -100,10 +100,13 @@ std::string lower(std::string s) {
     return s;
 }
 
+// tinygltf quotes a data URI it cannot decode in full (megabytes of base64 in one error line): the
+// payload of every `data:…;base64,` is cut to its first 16 characters.
 std::string one_line(const std::string& text) {
     std::string out;
     bool pending = false;
-    for (char c : text) {
+    for (std::size_t i = 0; i < text.size(); ++i) {
+        const char c = text[i];
         if (c == '\n' || c == '\r') {
             pending = !out.empty();
             continue;
@@ -111,6 +114,16 @@ std::string one_line(const std::string& text) {
         if (pending) out += "; ";
         pending = false;
         out += c;
+        if (c == ',' && out.size() >= 7 && out.compare(out.size() - 7, 7, "base64,") == 0) {
+            std::size_t end = i + 1;
+            while (end < text.size() && (std::isalnum(static_cast<unsigned char>(text[end])) || text[end] == '+' ||
+                                         text[end] == '/' || text[end] == '='))
+                ++end;
+            if (end - (i + 1) > 16) {
+                out += text.substr(i + 1, 16) + "… (" + std::to_string(end - (i + 1)) + " characters)";
+                i = end - 1;
+            }
+        }
     }
     return out;
 }

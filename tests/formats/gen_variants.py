@@ -382,6 +382,22 @@ d = vdir("g_pos_int_nonquant"); g = G(); prim, pa = duck_base(g); copy_png(d); g
 g.node(mesh=g.mesh([prim])); g.write_gltf(os.path.join(d, "duck.gltf")); add("g_pos_int_nonquant", "duck.gltf", None, {"error_or_ok": True})  # read leniently
 def idx_float(g, p, pa): g.j["accessors"][p["indices"]]["componentType"] = FLOAT; g.j["accessors"][p["indices"]]["count"] //= 2
 bad("g_idx_float", idx_float)
+# malformed data URIs, an unaligned bufferView (in bounds), and a 2-element-wide stride
+d = vdir("g_bad_base64_image"); g = G(); prim, _ = duck_base(g, image={"uri": "data:image/png;base64,!!!not base64!!!"})
+g.node(mesh=g.mesh([prim])); g.write_gltf(os.path.join(d, "duck.gltf")); add("g_bad_base64_image", "duck.gltf", None, {"error_or_ok": True})
+d = vdir("g_bad_base64_buffer"); g = G(); prim, _ = duck_base(g, textured=False); g.node(mesh=g.mesh([prim]))
+g.write_gltf(os.path.join(d, "duck.gltf"), embed=True); g.j["buffers"][0]["uri"] = g.j["buffers"][0]["uri"][:-40] + "*&^%"
+json.dump(g.j, open(os.path.join(d, "duck.gltf"), "w")); add("g_bad_base64_buffer", "duck.gltf", None, {"error": True})
+d = vdir("g_unaligned_view"); g = G(); g.bin += b"\0\0"
+raw = b"".join(struct.pack("<3f", *p) for p in duck["pos"]); g.j["bufferViews"].append({"buffer": 0, "byteOffset": 2, "byteLength": len(raw)}); g.bin += raw
+g.j["accessors"].append({"bufferView": 0, "componentType": FLOAT, "count": NV, "type": "VEC3", "min": lo, "max": hi})
+ia = g.acc(duck["idx"], USHORT, "SCALAR"); g.node(mesh=g.mesh([{"attributes": {"POSITION": 0}, "indices": ia}]))
+g.write_gltf(os.path.join(d, "duck.gltf")); add("g_unaligned_view", "duck.gltf", None, {"error_or_ok": True, "triangles": NT})
+d = vdir("g_wide_stride"); g = G()
+raw = b"".join(struct.pack("<3f", *p) + b"\0" * 20 for p in duck["pos"]); bv = g.view(raw, stride=32)
+g.j["accessors"].append({"bufferView": bv, "componentType": FLOAT, "count": NV, "type": "VEC3", "min": lo, "max": hi})
+ia = g.acc(duck["idx"], USHORT, "SCALAR"); g.node(mesh=g.mesh([{"attributes": {"POSITION": 0}, "indices": ia}]))
+g.write_gltf(os.path.join(d, "duck.gltf")); add("g_wide_stride", "duck.gltf", ORIG_DUCK, {"triangles": NT, "vertices": NV, "attributes": []})
 d = vdir("g_missing_bin"); g = G(); prim, _ = duck_base(g); g.node(mesh=g.mesh([prim])); g.write_gltf(os.path.join(d, "duck.gltf"))
 os.remove(os.path.join(d, "duck.bin")); add("g_missing_bin", "duck.gltf", None, {"error": True})
 d = vdir("g_short_bin"); g = G(); prim, _ = duck_base(g); g.node(mesh=g.mesh([prim])); g.write_gltf(os.path.join(d, "duck.gltf"))

@@ -501,6 +501,25 @@ TEST(GltfReader, NothingToImportIsAClearError) {
 }
 
 
+TEST(GltfReader, UndecodableDataUriErrorStaysShort) {
+    test::ScratchDir dir("gltf-bad-uri");
+    // A 30,000-character base64 payload broken at its end: tinygltf quotes all of it in its error.
+    GltfBuilder b;
+    const int pos = b.floats(std::vector<float>(7500, 0.f), "VEC3", 3);
+    b.primitive({{"POSITION", pos}});
+    json doc = load_json(b.write(dir, "uri"));
+    doc["buffers"][0]["uri"] = "data:application/octet-stream;base64," + std::string(40000, 'A') + "*&^%";
+    test::write_text(dir.file("uri.gltf"), doc.dump());
+    try {
+        read_gltf(dir.file("uri.gltf"));
+        ADD_FAILURE() << "no error";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.kind(), Error::Kind::format) << e.what();
+        EXPECT_NE(std::string(e.what()).find("uri.gltf"), std::string::npos) << e.what();
+        EXPECT_LT(std::string(e.what()).size(), 400u) << e.what();
+    }
+}
+
 TEST(GltfReader, TextureTransformIsBakedIntoTheUvs) {
     test::ScratchDir dir("gltf-ktt");
     GltfBuilder b;
