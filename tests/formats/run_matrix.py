@@ -2,6 +2,8 @@
 """Runs every CLI command on every variant of gen_variants.py and checks the result (QA matrix).
 
 Usage: run_matrix.py LODFORGE_BIN VARIANT_DIR [--only PREFIX] [--commands info,convert_ply,...]
+Environment: GLTF_VALIDATOR=tests/gltf_validator/validate.js validates every .glb written;
+FORMAT_DRIVER=build-asan/bin/format_driver runs the sanitizer driver on every variant first.
 Checks: no signal, no hang (timeout), no sanitizer report; good input exits 0 with the expected counts
 and attributes (outputs re-read with `info`); bad input exits 1 with `lodforge: error: <file>: ...` and
 leaves no output behind. Prints one line per failure and a variant x command matrix.
@@ -79,6 +81,19 @@ def count_check(v, j, what, strict_vertices=True, one_uv_set=False):
         if one_uv_set and a == "texcoord1": continue  # PLY/OBJ hold one set (the one the texture samples)
         if a not in j["attributes"]: probs.append("attribute %s missing (has %s)" % (a, j["attributes"]))
     return (what + ": " + "; ".join(probs)) if probs else ""
+
+# FORMAT_DRIVER: a sanitizer build's format_driver (tests/formats/format_driver.cpp), run on each variant.
+DRIVER = os.environ.get("FORMAT_DRIVER")
+if DRIVER:
+    for v in manifest:
+        try:
+            p = subprocess.run([DRIVER, os.path.join(work, "driver"), v["file"]], capture_output=True, text=True,
+                               errors="replace", timeout=TIMEOUT)
+            if p.returncode != 0 or sanitizer(p.stderr):
+                failures.append("%s / format_driver: rc=%d %s" % (v["name"], p.returncode, p.stderr[:400]))
+        except subprocess.TimeoutExpired:
+            failures.append("%s / format_driver: timeout" % v["name"])
+    print("format_driver: %d variants, %d failures" % (len(manifest), len(failures)), flush=True)
 
 orig_info = {}
 for v in manifest:
