@@ -1,4 +1,5 @@
 #include "commands.h"
+#include "mesh_output.h"
 #include "terminal_progress.h"
 
 #include "lodforge/error.h"
@@ -50,8 +51,8 @@ void add_compare_command(CLI::App& app, const GlobalOptions& global) {
         if (!o.heatmap.empty() && format_from_extension(o.heatmap) != FileFormat::ply)
             throw Error(Error::Kind::argument, "compare: --heatmap writes PLY; give a .ply file name");
         TerminalProgress progress(!global.quiet && stderr_is_terminal());
-        const Mesh reference = read_mesh(o.reference, {}, &progress);
-        const Mesh test = read_mesh(o.test, {}, &progress);
+        const Mesh reference = read_triangle_mesh("compare", o.reference, &progress);
+        const Mesh test = read_triangle_mesh("compare", o.test, &progress);
         DistanceParams params;
         params.samples = static_cast<std::size_t>(o.samples);
         const bool on_reference = o.heatmap_on == "reference";

@@ -104,14 +104,14 @@ void add_lod_command(CLI::App& app, const GlobalOptions& global) {
         params.distance.samples = static_cast<std::size_t>(o.samples);
 
         namespace fs = std::filesystem;
+        TerminalProgress progress(!global.quiet && stderr_is_terminal());
+        // Read first: bad input must not leave an empty output directory behind.
+        const Mesh mesh = read_triangle_mesh("lod", o.input, &progress);
         std::error_code ec;
         fs::create_directories(o.output_dir, ec);
         if (ec || !fs::is_directory(o.output_dir))
             throw_error(Error::Kind::io, o.output_dir,
                         "cannot create output directory" + (ec ? ": " + ec.message() : std::string()));
-
-        TerminalProgress progress(!global.quiet && stderr_is_terminal());
-        const Mesh mesh = read_mesh(o.input, {}, &progress);
         const LodChainResult chain = build_lod_chain(mesh, params, &progress);
 
         nlohmann::ordered_json doc;

@@ -138,7 +138,7 @@ void add_strips_command(CLI::App& app, const GlobalOptions& global) {
         params.lock_border = o->lock_border;
         params.strip_order = o->strip_order == "cache" ? StripOrder::cache : StripOrder::run_off;
         TerminalProgress progress(!global.quiet && stderr_is_terminal());
-        const Mesh mesh = read_mesh(o->input, {}, &progress);
+        const Mesh mesh = read_triangle_mesh("strips", o->input, &progress);
         const LodStripsBuild b = build_lodstrips(mesh, params, &progress);
         write_lodstrips(b.data, o->output);
         progress.finish();

@@ -19,4 +19,9 @@ void check_mesh_output(const std::string& command, const std::string& path);
 void write_mesh_output(const Mesh& mesh, const std::string& path, WriteOptions options = {},
                        Progress* progress = nullptr);
 
+// read_mesh(), refusing a mesh without triangles (a point cloud, an empty file) with the file's name:
+// "<path>: no triangles (N points): `<command>` needs a triangle mesh". The algorithms' own checks do not
+// know the file, so their messages ("build_lod_chain: the mesh has no triangles") did not name it.
+Mesh read_triangle_mesh(const std::string& command, const std::string& path, Progress* progress);
+
 }  // namespace lodforge::cli

@@ -100,10 +100,13 @@ std::string lower(std::string s) {
     return s;
 }
 
+// tinygltf quotes a data URI it cannot decode in full (megabytes of base64 in one error line): the
+// payload of every `data:…;base64,` is cut to its first 16 characters.
 std::string one_line(const std::string& text) {
     std::string out;
     bool pending = false;
-    for (char c : text) {
+    for (std::size_t i = 0; i < text.size(); ++i) {
+        const char c = text[i];
         if (c == '\n' || c == '\r') {
             pending = !out.empty();
             continue;
@@ -111,6 +114,16 @@ std::string one_line(const std::string& text) {
         if (pending) out += "; ";
         pending = false;
         out += c;
+        if (c == ',' && out.size() >= 7 && out.compare(out.size() - 7, 7, "base64,") == 0) {
+            std::size_t end = i + 1;
+            while (end < text.size() && (std::isalnum(static_cast<unsigned char>(text[end])) || text[end] == '+' ||
+                                         text[end] == '/' || text[end] == '='))
+                ++end;
+            if (end - (i + 1) > 16) {
+                out += text.substr(i + 1, 16) + "… (" + std::to_string(end - (i + 1)) + " characters)";
+                i = end - 1;
+            }
+        }
     }
     return out;
 }
@@ -224,15 +237,41 @@ struct PrimitiveData {
     std::vector<std::vector<Vec3f>> target_positions, target_normals;  // [target][vertex], morph only
 };
 
+// KHR_texture_transform in glTF's UV space (origin top left): uv' = T R S uv, i.e.
+// u' = a u + b v + c, v' = d u + e v + f.
+struct UvTransform {
+    double a = 1, b = 0, c = 0, d = 0, e = 1, f = 0;
+    bool operator==(const UvTransform&) const = default;
+    bool identity() const { return *this == UvTransform{}; }
+};
+
+double number_at(const tinygltf::Value& object, const char* key, int index, double fallback) {
+    if (!object.Has(key)) return fallback;
+    const tinygltf::Value& v = object.Get(key);
+    if (index < 0) return v.IsNumber() ? v.GetNumberAsDouble() : fallback;
+    if (!v.IsArray() || static_cast<int>(v.ArrayLen()) <= index || !v.Get(index).IsNumber()) return fallback;
+    return v.Get(index).GetNumberAsDouble();
+}
+
 class GltfImporter {
 public:
     GltfImporter(std::string path, const tinygltf::Model& model, Progress* progress, const GltfReadOptions& options)
         : path_(std::move(path)), model_(model), progress_(progress), options_(options) {}
 
     Mesh run() {
+        check_version();
         check_required_extensions();
         collect_instances();
         collect_primitives();
+        if (jobs_.empty()) {
+            // Nothing to import would give an empty mesh that every command then fails on far from
+            // the cause (or writes an empty file); say here why there is no surface.
+            std::size_t skipped = 0;
+            for (const std::string& w : mesh_.warnings) skipped += w.find("points/lines skipped") != std::string::npos;
+            fail(Error::Kind::invalid, skipped ? "no triangle primitives (" + std::to_string(skipped) +
+                                                     " POINTS/LINES primitives skipped; point and line data is not imported)"
+                                               : "no triangle geometry: the scene instances no mesh primitive");
+        }
         convert_materials();
         build();
         if (options_.morph_targets) read_weights_animation();
@@ -248,9 +287,17 @@ private:
                std::to_string(job.primitive);
     }
 
+    void check_version() const {
+        // tinygltf reads a 1.0 file as an empty 2.0 model; refuse it instead of importing nothing.
+        const std::string& v = model_.asset.version;
+        if (v.empty() || v[0] != '2')
+            fail(Error::Kind::unsupported, "glTF version '" + v + "' is not supported (only glTF 2.0)");
+    }
+
     void check_required_extensions() const {
         for (const std::string& ext : model_.extensionsRequired) {
-            if (ext == "KHR_mesh_quantization" || ext.rfind("KHR_materials_", 0) == 0) continue;
+            if (ext == "KHR_mesh_quantization" || ext == "KHR_texture_transform" || ext.rfind("KHR_materials_", 0) == 0)
+                continue;
             if (ext == "KHR_draco_mesh_compression" || ext == "EXT_meshopt_compression")
                 fail(Error::Kind::unsupported, "compressed geometry (" + ext + ") is not supported; decompress it first "
                                                "(e.g. gltf-transform decompress)");
@@ -346,6 +393,7 @@ private:
                 const int position = attribute(prim, "POSITION");
                 if (position < 0) fail(Error::Kind::format, where(job) + " has no POSITION attribute");
                 job.count = accessor(position, where(job) + " POSITION").count;
+                check_extent(position, where(job) + " POSITION");
                 if (auto it = owner_of_accessor.find(position); it != owner_of_accessor.end()) {
                     const PrimitiveJob& owner = jobs_[it->second];
                     const auto& owner_prim = gm.primitives[static_cast<std::size_t>(owner.primitive)];
@@ -414,6 +462,27 @@ private:
         return data.data() + view.byteOffset + offset;
     }
 
+    // Checks that an accessor's elements lie inside its data before anything is allocated for it, so a
+    // lying `count` is an error, not a huge allocation. An accessor without a bufferView (all zeros, plus
+    // sparse values) has no data to bound it: it may not have more elements than its sparse part or
+    // the largest accessor that has data.
+    void check_extent(int index, const std::string& what) const {
+        const tinygltf::Accessor& a = accessor(index, what);
+        const std::size_t element = component_size(a.componentType) * component_count(a.type);
+        if (element == 0) return;  // reported with its reason when read
+        if (a.bufferView >= 0) {
+            std::size_t stride = 0;
+            view_data(a.bufferView, a.byteOffset, element, a.count, stride, what);
+            return;
+        }
+        std::size_t limit = a.sparse.isSparse ? static_cast<std::size_t>(std::max(a.sparse.count, 0)) : 0;
+        for (const auto& other : model_.accessors)
+            if (other.bufferView >= 0) limit = std::max(limit, other.count);
+        if (a.count > limit)
+            fail(Error::Kind::format, what + ": " + std::to_string(a.count) + " elements without a bufferView exceed "
+                                          "every accessor with data (at most " + std::to_string(limit) + ")");
+    }
+
     // All components of an accessor as floats (normalized integers mapped to [0,1] / [-1,1]),
     // sparse substitution applied. `allowed` lists the accepted component counts.
     std::vector<float> read_floats(int index, std::initializer_list<std::size_t> allowed, std::size_t& components,
@@ -427,6 +496,7 @@ private:
         const std::size_t element = csize * components;
         if (a.count > std::numeric_limits<std::uint32_t>::max())
             fail(Error::Kind::unsupported, what + ": accessor with " + std::to_string(a.count) + " elements");
+        check_extent(index, what);
         std::vector<float> out(a.count * components, 0.f);
         if (a.bufferView >= 0) {
             std::size_t stride = 0;
@@ -501,6 +571,8 @@ private:
         d.positions.resize(job.count);
         for (std::size_t i = 0; i < job.count; ++i) {
             const double x = pos[3 * i], y = pos[3 * i + 1], z = pos[3 * i + 2];
+            if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z))
+                fail(Error::Kind::invalid, at + " POSITION: vertex " + std::to_string(i) + " is not finite (NaN or infinity)");
             d.positions[i] = {static_cast<float>(m[0] * x + m[4] * y + m[8] * z + m[12]),
                               static_cast<float>(m[1] * x + m[5] * y + m[9] * z + m[13]),
                               static_cast<float>(m[2] * x + m[6] * y + m[10] * z + m[14])};
@@ -544,7 +616,18 @@ private:
             const std::vector<float> v = read_floats(t, {2}, comps, at + " " + name);
             check_count(v, 2, name.c_str());
             d.texcoords[set].resize(job.count);
-            for (std::size_t i = 0; i < job.count; ++i) d.texcoords[set][i] = {v[2 * i], 1.f - v[2 * i + 1]};
+            const UvTransform tf = prim.material >= 0 && static_cast<std::size_t>(prim.material) < material_uv_.size() && set < 2
+                                      ? material_uv_[static_cast<std::size_t>(prim.material)][set]
+                                      : UvTransform{};
+            if (tf.identity()) {
+                for (std::size_t i = 0; i < job.count; ++i) d.texcoords[set][i] = {v[2 * i], 1.f - v[2 * i + 1]};
+            } else {
+                for (std::size_t i = 0; i < job.count; ++i) {
+                    const double u = v[2 * i], w = v[2 * i + 1];
+                    d.texcoords[set][i] = {static_cast<float>(tf.a * u + tf.b * w + tf.c),
+                                           static_cast<float>(1.0 - (tf.d * u + tf.e * w + tf.f))};
+                }
+            }
         }
         if (options_.morph_targets) load_targets(prim, job, at, d);
         return d;
@@ -748,6 +831,44 @@ private:
         return ref;
     }
 
+    // KHR_texture_transform is baked into the texture coordinates of the primitives using the material
+    // (the Mesh and the writers have no per-texture transform). One transform per UV set: when the
+    // textures sampling a set disagree, the base colour texture's (first in this order) wins, with a
+    // warning. Its `texCoord` override moves the texture to that set.
+    void bake_texture_transforms(const tinygltf::Material& g, Material& m, const std::string& what) {
+        const auto& pbr = g.pbrMetallicRoughness;
+        const std::array<std::pair<const tinygltf::ExtensionMap*, TextureRef*>, 5> infos = {{
+            {&pbr.baseColorTexture.extensions, &m.base_color_texture},
+            {&pbr.metallicRoughnessTexture.extensions, &m.metallic_roughness_texture},
+            {&g.normalTexture.extensions, &m.normal_texture},
+            {&g.occlusionTexture.extensions, &m.occlusion_texture},
+            {&g.emissiveTexture.extensions, &m.emissive_texture}}};
+        std::array<UvTransform, 2> per_set{};
+        std::array<bool, 2> claimed{false, false};
+        for (const auto& [extensions, ref] : infos) {
+            if (ref->empty()) continue;
+            UvTransform t;
+            if (const auto it = extensions->find("KHR_texture_transform"); it != extensions->end() && it->second.IsObject()) {
+                const tinygltf::Value& x = it->second;
+                const double r = number_at(x, "rotation", -1, 0), cs = std::cos(r), sn = std::sin(r);
+                const double sx = number_at(x, "scale", 0, 1), sy = number_at(x, "scale", 1, 1);
+                t = {cs * sx, sn * sy, number_at(x, "offset", 0, 0), -sn * sx, cs * sy, number_at(x, "offset", 1, 0)};
+                const double set = number_at(x, "texCoord", -1, ref->texcoord_set);
+                if (set >= 0 && set <= 1) ref->texcoord_set = static_cast<int>(set);
+            }
+            if (ref->texcoord_set < 0 || ref->texcoord_set > 1) continue;
+            const auto set = static_cast<std::size_t>(ref->texcoord_set);
+            if (!claimed[set]) {
+                claimed[set] = true;
+                per_set[set] = t;
+            } else if (!(per_set[set] == t)) {
+                mesh_.warnings.push_back(what + ": textures sampling TEXCOORD_" + std::to_string(set) +
+                                         " have different KHR_texture_transforms; the first is applied to all");
+            }
+        }
+        material_uv_.push_back(per_set);
+    }
+
     void convert_materials() {
         for (std::size_t i = 0; i < model_.materials.size(); ++i) {
             const tinygltf::Material& g = model_.materials[i];
@@ -766,6 +887,7 @@ private:
             m.normal_texture = texture_ref(g.normalTexture.index, g.normalTexture.texCoord, what);
             m.occlusion_texture = texture_ref(g.occlusionTexture.index, g.occlusionTexture.texCoord, what);
             m.emissive_texture = texture_ref(g.emissiveTexture.index, g.emissiveTexture.texCoord, what);
+            bake_texture_transforms(g, m, what);
             if (g.emissiveFactor.size() == 3)
                 m.emissive = {static_cast<float>(g.emissiveFactor[0]), static_cast<float>(g.emissiveFactor[1]),
                               static_cast<float>(g.emissiveFactor[2])};
@@ -862,6 +984,7 @@ private:
     bool has_normals_ = false;
     bool has_colors_ = false;
     std::size_t texcoord_sets_ = 0;
+    std::vector<std::array<UvTransform, 2>> material_uv_;  // [material][set], baked into the UVs
     std::size_t morph_count_ = 0;
     bool morph_normals_ = false;
     bool needs_default_material_ = false;

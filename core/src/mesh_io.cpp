@@ -35,6 +35,31 @@ void check_readable(const std::string& path) {
     if (!probe) throw_error(Error::Kind::io, path, std::string("cannot open: ") + std::strerror(errno));
 }
 
+// The texture-coordinate set a one-set format (PLY, OBJ) should keep: the set the first base colour
+// texture samples (glTF `texCoord`), else set 0.
+int single_texcoord_set(const Mesh& mesh) {
+    for (const Material& m : mesh.materials)
+        if (!m.base_color_texture.empty())
+            return m.base_color_texture.texcoord_set >= 0 &&
+                           static_cast<std::size_t>(m.base_color_texture.texcoord_set) < mesh.texcoords.size()
+                       ? m.base_color_texture.texcoord_set
+                       : 0;
+    return 0;
+}
+
+// A copy with texture-coordinate set `set` moved to the front; textures sampling it now say set 0.
+Mesh with_texcoord_set_first(const Mesh& mesh, int set) {
+    Mesh copy = mesh;
+    std::swap(copy.texcoords[0], copy.texcoords[static_cast<std::size_t>(set)]);
+    for (Material& m : copy.materials)
+        for (TextureRef* t : {&m.base_color_texture, &m.normal_texture, &m.metallic_roughness_texture,
+                              &m.occlusion_texture, &m.emissive_texture}) {
+            if (t->texcoord_set == set) t->texcoord_set = 0;
+            else if (t->texcoord_set == 0) t->texcoord_set = set;
+        }
+    return copy;
+}
+
 }  // namespace
 
 FileFormat format_from_extension(const std::string& path) {
@@ -96,7 +121,19 @@ Mesh read_mesh(const std::string& path, const ReadOptions& options, Progress* pr
 }
 
 void write_mesh(const Mesh& mesh, const std::string& path, const WriteOptions& options, Progress* progress) {
-    switch (format_from_extension(path)) {
+    const FileFormat format = format_from_extension(path);
+    if (format == FileFormat::ply || format == FileFormat::obj) {
+        if (format == FileFormat::obj && mesh.point_count() == 0)
+            throw_error(Error::Kind::invalid, path, "no vertices to write to an .obj (an OBJ needs at least one 'v' line)");
+        // PLY and OBJ store one texture-coordinate set; write the one the textures sample.
+        if (const int set = single_texcoord_set(mesh); set > 0 && options.write_texcoords) {
+            const Mesh one_set = with_texcoord_set_first(mesh, set);
+            if (format == FileFormat::ply) write_ply(one_set, path, options, progress);
+            else write_obj(one_set, path, options, progress);
+            return;
+        }
+    }
+    switch (format) {
         case FileFormat::ply: write_ply(mesh, path, options, progress); return;
         case FileFormat::obj: write_obj(mesh, path, options, progress); return;
         case FileFormat::glb: {

@@ -15,10 +15,13 @@
 #include <array>
 #include <cctype>
 #include <cerrno>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
+#include <sstream>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -170,6 +173,70 @@ void check_text(const std::string& path, std::istream& in) {
     in.seekg(bom ? 3 : 0);
 }
 
+// One pass over the text before tinyobjloader sees it, for what tinyobjloader gets silently wrong:
+// a `\` at the end of a line continues it (tinyobjloader does not join lines), and `nan`/`inf` in a
+// `v`/`vt`/`vn` line (tinyobjloader reads them as 0, which would move the vertex without a word).
+struct TextScan {
+    bool continuation = false;
+    std::size_t non_finite_line = 0;  // 1-based; 0 = none
+    std::string non_finite_token;
+};
+
+TextScan scan_text(std::istream& in) {
+    const auto start = in.tellg();
+    TextScan scan;
+    std::string line;
+    for (std::size_t number = 1; std::getline(in, line); ++number) {
+        if (!line.empty() && line.back() == '\r') line.pop_back();
+        if (!line.empty() && line.back() == '\\') scan.continuation = true;
+        std::size_t i = line.find_first_not_of(" \t");
+        if (scan.non_finite_line || i == std::string::npos || line[i] != 'v') continue;
+        std::istringstream words(line.substr(i));
+        std::string word;
+        words >> word;
+        if (word != "v" && word != "vt" && word != "vn") continue;
+        while (words >> word) {
+            const char c = static_cast<char>(std::tolower(static_cast<unsigned char>(word[word[0] == '-' || word[0] == '+'])));
+            if (c == 'n' || c == 'i') {
+                scan.non_finite_line = number;
+                scan.non_finite_token = word;
+                break;
+            }
+        }
+    }
+    in.clear();
+    in.seekg(start);
+    return scan;
+}
+
+std::string join_continued_lines(std::istream& in) {
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::string out;
+    out.reserve(text.size());
+    for (std::size_t i = 0; i < text.size(); ++i) {
+        if (text[i] == '\\') {
+            std::size_t j = i + 1;
+            if (j < text.size() && text[j] == '\r') ++j;
+            if (j < text.size() && text[j] == '\n') {
+                out += ' ';
+                i = j;
+                continue;
+            }
+        }
+        out += text[i];
+    }
+    return out;
+}
+
+// NaN or infinite numbers make every later step meaningless (docs/decisions.md): refused at import.
+void check_finite(const std::string& path, const std::vector<tinyobj::real_t>& values, std::size_t per_item,
+                  const char* what) {
+    for (std::size_t i = 0; i < values.size(); ++i)
+        if (!std::isfinite(values[i]))
+            throw_error(Error::Kind::invalid, path, std::string(what) + " " + std::to_string(i / per_item + 1) +
+                                                        " is not finite (NaN or infinity)");
+}
+
 }  // namespace
 
 Mesh read_obj(const std::string& path, Progress* progress) {
@@ -189,9 +256,20 @@ Mesh read_obj(const std::string& path, Progress* progress) {
     std::vector<tinyobj::material_t> obj_materials;
     std::string warn, err;
     MtlReader mtl_reader(dir);
+    // tinyobjloader does not join `\` line continuations; files that use them are joined in memory.
+    std::istringstream joined;
+    std::istream* source = &in;
+    const TextScan scan = scan_text(in);
+    if (scan.non_finite_line)
+        throw_error(Error::Kind::invalid, path, "line " + std::to_string(scan.non_finite_line) + ": '" +
+                                                    scan.non_finite_token + "' is not a finite number");
+    if (scan.continuation) {
+        joined.str(join_continued_lines(in));
+        source = &joined;
+    }
     bool ok = false;
     try {
-        ok = tinyobj::LoadObj(&attrib, &shapes, &obj_materials, &warn, &err, &in, &mtl_reader,
+        ok = tinyobj::LoadObj(&attrib, &shapes, &obj_materials, &warn, &err, source, &mtl_reader,
                               /*triangulate=*/false, /*default_vcols_fallback=*/false);
     } catch (const std::exception& e) {  // allocation failure on absurd input
         throw_error(Error::Kind::format, path, std::string("cannot parse OBJ: ") + e.what());
@@ -207,6 +285,10 @@ Mesh read_obj(const std::string& path, Progress* progress) {
         throw_error(Error::Kind::format, path,
                     "no vertices ('v' lines) found; not an OBJ file" + (warn.empty() ? "" : " (" + one_line(warn) + ")"));
     if (point_count > 0xFFFFFFFEull) throw_error(Error::Kind::unsupported, path, "more than 4 billion vertices");
+    check_finite(path, attrib.vertices, 3, "vertex ('v')");
+    check_finite(path, attrib.texcoords, 2, "texture coordinate ('vt')");
+    check_finite(path, attrib.normals, 3, "normal ('vn')");
+    check_finite(path, attrib.colors, 3, "vertex colour ('v')");
 
     // Which attributes exist: any corner referencing a vt / vn. Colours only when every `v` has them.
     bool any_uv = false, any_normal = false;
@@ -255,6 +337,13 @@ Mesh read_obj(const std::string& path, Progress* progress) {
             mesh.colors[i] = {attrib.colors[3 * i], attrib.colors[3 * i + 1], attrib.colors[3 * i + 2], 1.f};
     }
     if (any_normal) mesh.normals.assign(point_count, Vec3f{});
+    // A point cloud (no faces) with one `vn` per `v`, as MeshLab and our writer store it: normal i
+    // belongs to vertex i (faces are the only other way OBJ ties a normal to a vertex).
+    if (face_total == 0 && normal_count == point_count) {
+        mesh.normals.resize(point_count);
+        for (std::size_t i = 0; i < point_count; ++i)
+            mesh.normals[i] = {attrib.normals[3 * i], attrib.normals[3 * i + 1], attrib.normals[3 * i + 2]};
+    }
     if (any_uv) mesh.texcoords.assign(1, std::vector<Vec2f>(point_count));
     mesh.position_ids.resize(point_count);
     for (std::size_t i = 0; i < point_count; ++i) mesh.position_ids[i] = static_cast<std::uint32_t>(i);

@@ -15,6 +15,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <set>
 #include <tuple>
@@ -441,6 +442,111 @@ TEST(GltfReader, CorruptedGlbBytesNeverCrash) {
         } catch (const Error&) {
         }
     }
+}
+
+
+// Found by the format-variant matrix (tests/formats/): each was a crash, a silent empty import or a
+// silently accepted defect before.
+TEST(GltfReader, LyingAccessorCountIsFormatErrorNotAnAllocation) {
+    test::ScratchDir dir("gltf-lying-count");
+    GltfBuilder b;
+    const int pos = b.floats(kQuad, "VEC3", 3);
+    b.primitive({{"POSITION", pos}}, b.indices({0, 1, 2}));
+    b.doc()["accessors"][pos]["count"] = 4000000000u;  // was std::bad_alloc (exit 3), 48 GB asked for
+    const std::string path = b.write(dir, "lying");
+    expect_error([&] { read_gltf(path); }, Error::Kind::format, {"lying.gltf", "POSITION", "4000000000", "exceed"});
+}
+
+TEST(GltfReader, SparseOnlyAccessorCannotOutgrowTheData) {
+    test::ScratchDir dir("gltf-sparse-huge");
+    GltfBuilder b;
+    const int idx = b.accessor(std::vector<std::uint8_t>{0, 0, 0, 0}, 5121, "SCALAR", 1);
+    const int val = b.floats({1, 2, 3}, "VEC3", 3);
+    json& doc = b.doc();
+    doc["accessors"].push_back({{"componentType", 5126}, {"count", 3000000000u}, {"type", "VEC3"},
+                                {"sparse", {{"count", 1},
+                                            {"indices", {{"bufferView", doc["accessors"][idx]["bufferView"]}, {"componentType", 5121}}},
+                                            {"values", {{"bufferView", doc["accessors"][val]["bufferView"]}}}}}});
+    b.primitive({{"POSITION", static_cast<int>(doc["accessors"].size() - 1)}});
+    const std::string path = b.write(dir, "sparse");
+    expect_error([&] { read_gltf(path); }, Error::Kind::format, {"sparse.gltf", "without a bufferView"});
+}
+
+TEST(GltfReader, NonFinitePositionIsInvalidNamingTheVertex) {
+    test::ScratchDir dir("gltf-nan");
+    GltfBuilder b;
+    std::vector<float> quad = kQuad;
+    quad[7] = std::numeric_limits<float>::quiet_NaN();  // vertex 2, y
+    const int pos = b.floats(quad, "VEC3", 3);
+    b.primitive({{"POSITION", pos}}, b.indices({0, 1, 2, 0, 2, 3}));
+    const std::string path = b.write(dir, "nan");
+    // read_gltf itself refuses it (before, only read_mesh's validation did, and `info` showed the mesh).
+    expect_error([&] { read_gltf(path); }, Error::Kind::invalid, {"nan.gltf", "POSITION", "vertex 2", "not finite"});
+}
+
+TEST(GltfReader, NothingToImportIsAClearError) {
+    test::ScratchDir dir("gltf-nothing");
+    {
+        GltfBuilder b;  // only POINTS and LINES: was an empty mesh that `convert` wrote as an unreadable OBJ
+        b.primitive({{"POSITION", b.floats(kQuad, "VEC3", 3)}}, -1, 0);
+        b.primitive({{"POSITION", b.floats(kQuad, "VEC3", 3)}}, -1, 1);
+        const std::string path = b.write(dir, "points");
+        expect_error([&] { read_gltf(path); }, Error::Kind::invalid, {"points.gltf", "no triangle primitives", "2 POINTS/LINES"});
+    }
+    test::write_text(dir.file("nomesh.gltf"), R"({"asset": {"version": "2.0"}})");
+    expect_error([&] { read_gltf(dir.file("nomesh.gltf")); }, Error::Kind::invalid, {"nomesh.gltf", "no triangle geometry"});
+    // glTF 1.0 parsed as an empty 2.0 model before.
+    test::write_text(dir.file("v1.gltf"), R"({"asset": {"version": "1.0"}, "meshes": {}})");
+    expect_error([&] { read_gltf(dir.file("v1.gltf")); }, Error::Kind::unsupported, {"v1.gltf", "'1.0'", "glTF 2.0"});
+}
+
+
+TEST(GltfReader, UndecodableDataUriErrorStaysShort) {
+    test::ScratchDir dir("gltf-bad-uri");
+    // A 30,000-character base64 payload broken at its end: tinygltf quotes all of it in its error.
+    GltfBuilder b;
+    const int pos = b.floats(std::vector<float>(7500, 0.f), "VEC3", 3);
+    b.primitive({{"POSITION", pos}});
+    json doc = load_json(b.write(dir, "uri"));
+    doc["buffers"][0]["uri"] = "data:application/octet-stream;base64," + std::string(40000, 'A') + "*&^%";
+    test::write_text(dir.file("uri.gltf"), doc.dump());
+    try {
+        read_gltf(dir.file("uri.gltf"));
+        ADD_FAILURE() << "no error";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.kind(), Error::Kind::format) << e.what();
+        EXPECT_NE(std::string(e.what()).find("uri.gltf"), std::string::npos) << e.what();
+        EXPECT_LT(std::string(e.what()).size(), 400u) << e.what();
+    }
+}
+
+TEST(GltfReader, TextureTransformIsBakedIntoTheUvs) {
+    test::ScratchDir dir("gltf-ktt");
+    GltfBuilder b;
+    const int pos = b.floats({0, 0, 0, 1, 0, 0, 0, 1, 0}, "VEC3", 3);
+    const int uv = b.floats({0, 0, 1, 0, 0.5f, 0.25f}, "VEC2", 2);
+    b.primitive({{"POSITION", pos}, {"TEXCOORD_0", uv}})["material"] = 0;
+    json& doc = b.doc();
+    doc["images"] = json::array({{{"uri", "t.png"}}});
+    doc["textures"] = json::array({{{"source", 0}}});
+    // Rotation by 90°, scale 2 x 0.5, offset (0.25, 0.5): u' = 0.5 v + 0.25, v' = -2 u + 0.5.
+    doc["materials"] = json::array({{{"pbrMetallicRoughness",
+                                      {{"baseColorTexture",
+                                        {{"index", 0},
+                                         {"extensions", {{"KHR_texture_transform",
+                                                          {{"offset", {0.25, 0.5}}, {"rotation", 1.5707963267948966},
+                                                           {"scale", {2, 0.5}}}}}}}}}}}});
+    doc["extensionsUsed"] = {"KHR_texture_transform"};
+    doc["extensionsRequired"] = {"KHR_texture_transform"};  // refused before; applied now
+    const Mesh mesh = read_gltf(b.write(dir, "ktt"));
+    ASSERT_EQ(mesh.texcoords.size(), 1u);
+    // Stored v-up: v_stored = 1 - v'. Corner 1 (1, 0): u' = 0.25, v' = -1.5. Corner 2 (0.5, 0.25): u' = 0.375, v' = -0.5.
+    EXPECT_NEAR(mesh.texcoords[0][0].x, 0.25f, 1e-6f);
+    EXPECT_NEAR(mesh.texcoords[0][0].y, 0.5f, 1e-6f);
+    EXPECT_NEAR(mesh.texcoords[0][1].x, 0.25f, 1e-6f);
+    EXPECT_NEAR(mesh.texcoords[0][1].y, 2.5f, 1e-6f);
+    EXPECT_NEAR(mesh.texcoords[0][2].x, 0.375f, 1e-6f);
+    EXPECT_NEAR(mesh.texcoords[0][2].y, 1.5f, 1e-6f);
 }
 
 }  // namespace

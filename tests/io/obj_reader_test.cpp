@@ -315,6 +315,44 @@ TEST(ObjReader, TruncatedPrefixesNeverCrash) {
     }
 }
 
+
+// Found by the format-variant matrix (tests/formats/).
+TEST(ObjReader, NanAndInfinityAreInvalidNamingTheLine) {
+    test::ScratchDir dir("obj-nan");
+    // tinyobjloader reads `nan` and `inf` as 0: the vertex moved silently and every command exited 0.
+    write_text(dir.file("nan.obj"), "v 0 0 0\nv 1 0 0\nv nan 1 0\nf 1 2 3\n");
+    expect_error([&] { read_obj(dir.file("nan.obj")); }, Error::Kind::invalid, {"nan.obj", "line 3", "'nan'"});
+    write_text(dir.file("inf.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 -INF 1\nf 1//1 2//1 3//1\n");
+    expect_error([&] { read_obj(dir.file("inf.obj")); }, Error::Kind::invalid, {"inf.obj", "line 4", "'-INF'"});
+    write_text(dir.file("big.obj"), "v 0 0 0\nv 1 0 0\nv 0 1e999 0\nf 1 2 3\n");
+    expect_error([&] { read_obj(dir.file("big.obj")); }, Error::Kind::invalid, {"big.obj", "vertex ('v') 3", "not finite"});
+}
+
+TEST(ObjReader, BackslashContinuesALine) {
+    test::ScratchDir dir("obj-continuation");
+    // Was "cannot parse OBJ: Failed parse `f' line": tinyobjloader does not join continued lines.
+    write_text(dir.file("c.obj"), "v 0 0 \\\n 0\r\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\n"
+                                  "f 1/1 2/2 \\\r\n 3/3 \\\n 4/1\n");
+    const Mesh mesh = read_obj(dir.file("c.obj"));
+    expect_well_formed(mesh);
+    EXPECT_EQ(mesh.point_count(), 4u);
+    EXPECT_EQ(mesh.triangle_count(), 2u);
+    EXPECT_EQ(mesh.positions[0], (Vec3f{0, 0, 0}));
+    ASSERT_TRUE(mesh.has_texcoords());
+    EXPECT_EQ(mesh.texcoords[0][2], (Vec2f{1, 1}));
+}
+
+TEST(ObjReader, PointCloudNormalsPairWithVertices) {
+    test::ScratchDir dir("obj-cloud-normals");
+    // Our writer (and MeshLab) store a point cloud's normals as one `vn` per `v`; they were dropped.
+    write_text(dir.file("pc.obj"), "v 0 0 0\nv 1 0 0\nvn 0 0 1\nvn 0 1 0\n");
+    const Mesh mesh = read_obj(dir.file("pc.obj"));
+    ASSERT_TRUE(mesh.has_normals());
+    EXPECT_EQ(mesh.normals[1], (Vec3f{0, 1, 0}));
+    write_text(dir.file("odd.obj"), "v 0 0 0\nv 1 0 0\nvn 0 0 1\n");  // counts differ: no pairing
+    EXPECT_FALSE(read_obj(dir.file("odd.obj")).has_normals());
+}
+
 }  // namespace
 }  // namespace lodforge
 

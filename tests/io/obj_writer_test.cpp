@@ -4,6 +4,7 @@
 
 #include "lodforge/gltf_io.h"
 #include "lodforge/image_decode.h"
+#include "lodforge/mesh_io.h"
 #include "lodforge/obj_io.h"
 
 #include <gtest/gtest.h>
@@ -181,6 +182,40 @@ TEST(ObjWriter, FailuresLeaveNoFileBehind) {
     expect_error([&] { write_obj(mesh, dir.file("bad.obj")); }, Error::Kind::invalid, {"bad.obj"});
     EXPECT_FALSE(fs::exists(dir.file("bad.obj")));
     EXPECT_TRUE(fs::is_empty(dir.path()));
+}
+
+
+// Found by the format-variant matrix (tests/formats/).
+TEST(ObjWriter, EmptyMeshIsRefusedInsteadOfWritingAnUnreadableObj) {
+    test::ScratchDir dir("objw-empty");
+    // An OBJ without `v` lines is one our reader (rightly) refuses; `convert empty.ply x.obj` wrote one.
+    expect_error([&] { write_mesh(Mesh{}, dir.file("e.obj")); }, Error::Kind::invalid, {"e.obj", "no vertices"});
+    EXPECT_TRUE(fs::is_empty(dir.path()));
+}
+
+TEST(ObjWriter, OneSetFormatsKeepTheSetTheTextureSamples) {
+    Mesh mesh;
+    mesh.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    mesh.position_ids = {0, 1, 2};
+    mesh.indices = {0, 1, 2};
+    mesh.texcoords = {{{0, 0}, {0, 0}, {0, 0}}, {{0.25f, 0.5f}, {0.75f, 0.5f}, {0.25f, 1}}};
+    Material m;
+    m.name = "m";
+    m.base_color_texture.path = "tex.png";
+    m.base_color_texture.texcoord_set = 1;  // glTF baseColorTexture.texCoord = 1
+    mesh.materials = {m};
+    mesh.face_materials = {0};
+    test::ScratchDir dir("objw-set1");
+    WriteOptions options;
+    options.copy_textures = false;
+    for (const char* name : {"t.obj", "t.ply"}) {
+        SCOPED_TRACE(name);
+        write_mesh(mesh, dir.file(name), options);  // wrote set 0, so the texture was sampled at (0, 0)
+        const Mesh again = read_mesh(dir.file(name));
+        ASSERT_TRUE(again.has_texcoords());
+        EXPECT_EQ(again.texcoords[0][1], (Vec2f{0.75f, 0.5f}));
+        EXPECT_EQ(again.texcoords[0][2], (Vec2f{0.25f, 1}));
+    }
 }
 
 }  // namespace
