@@ -1786,6 +1786,9 @@ namespace {
 // wedges (the welding decision of docs/simplification.md).
 bool soup_worth_merging(const Mesh& mesh, const SimplifyParams& params, IdenticalVertices& iv) {
     if (!params.weld || !params.extra_frames.empty() || mesh.vertex_count() == 0) return false;
+    // An indexed surface has about half a vertex per triangle (a little more with seams), a soup three:
+    // below three quarters the hash pass is not worth its time.
+    if (4 * mesh.vertex_count() < mesh.indices.size()) return false;
     for (std::uint32_t i : mesh.indices)
         if (i >= mesh.vertex_count()) return false;  // the engine reports it
     iv = find_identical_vertices(mesh);
