@@ -5,6 +5,7 @@
 // Where transparent huge pages are `madvise` (the common default) a region only gets them when asked,
 // so blocks of at least 2 MiB are 2 MiB-aligned and marked MADV_HUGEPAGE. Elsewhere, and for small
 // blocks, this is the ordinary allocator; the advice is only a hint (no error if the kernel declines).
+// lodstrips_runtime.h has its own copy on purpose: that header is shipped alone to engines.
 #pragma once
 
 #include <cstddef>
@@ -29,8 +30,11 @@ struct HugePageAllocator {
     static bool huge(std::size_t n) { return n * sizeof(T) >= kHuge; }
     static std::size_t rounded(std::size_t n) { return (n * sizeof(T) + kHuge - 1) / kHuge * kHuge; }
 
+    // Small blocks: one cache line's alignment, so 64-byte records never straddle two lines.
+    static constexpr std::align_val_t kSmall{alignof(T) < 64 ? 64 : alignof(T)};
+
     T* allocate(std::size_t n) {
-        if (!huge(n)) return static_cast<T*>(::operator new(n * sizeof(T), std::align_val_t(alignof(T) < 64 ? 64 : alignof(T))));
+        if (!huge(n)) return static_cast<T*>(::operator new(n * sizeof(T), kSmall));
         void* p = ::operator new(rounded(n), std::align_val_t(kHuge));
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
         madvise(p, rounded(n), MADV_HUGEPAGE);
@@ -38,7 +42,7 @@ struct HugePageAllocator {
         return static_cast<T*>(p);
     }
     void deallocate(T* p, std::size_t n) {
-        if (!huge(n)) ::operator delete(p, std::align_val_t(alignof(T) < 64 ? 64 : alignof(T)));
+        if (!huge(n)) ::operator delete(p, kSmall);
         else ::operator delete(p, std::align_val_t(kHuge));
     }
     template <class U>

@@ -1,69 +1,34 @@
 // Joining identical vertices (what glTF tools call "indexing" a non-indexed primitive, assimp's
-// JoinIdenticalVertices): an open-addressing hash over the bits of every attribute.
+// JoinIdenticalVertices) with meshoptimizer's multi-stream remap: binary equality of every stream.
 #include "lodforge/identical_vertices.h"
 
-#include <bit>
-#include <cstring>
+#include <meshoptimizer.h>
 
 namespace lodforge {
 
-namespace {
-
-std::uint32_t bits_of(float f) { return f == 0.f ? 0u : std::bit_cast<std::uint32_t>(f); }  // -0 as +0
-
-struct Key {
-    const Mesh& m;
-    void append(std::vector<std::uint32_t>& out, std::uint32_t v) const {
-        out.clear();
-        const Vec3f& p = m.positions[v];
-        out.insert(out.end(), {bits_of(p.x), bits_of(p.y), bits_of(p.z)});
-        if (m.has_normals()) {
-            const Vec3f& n = m.normals[v];
-            out.insert(out.end(), {bits_of(n.x), bits_of(n.y), bits_of(n.z)});
-        }
-        if (m.has_colors()) {
-            const Vec4f& c = m.colors[v];
-            out.insert(out.end(), {bits_of(c.x), bits_of(c.y), bits_of(c.z), bits_of(c.w)});
-        }
-        for (const auto& set : m.texcoords) out.insert(out.end(), {bits_of(set[v].x), bits_of(set[v].y)});
-    }
-};
-
-std::uint64_t hash_words(const std::vector<std::uint32_t>& w) {
-    std::uint64_t h = 0x9E3779B97F4A7C15ull;
-    for (std::uint32_t x : w) h = (h ^ x) * 0xFF51AFD7ED558CCDull, h ^= h >> 29;
-    return h;
-}
-
-}  // namespace
+// Binary equality reads padding too: the vector types have none.
+static_assert(sizeof(Vec3f) == 12 && sizeof(Vec4f) == 16 && sizeof(Vec2f) == 8);
 
 IdenticalVertices find_identical_vertices(const Mesh& mesh) {
     const std::size_t n = mesh.vertex_count();
+    std::vector<meshopt_Stream> streams{{mesh.positions.data(), sizeof(Vec3f), sizeof(Vec3f)}};
+    if (mesh.has_normals()) streams.push_back({mesh.normals.data(), sizeof(Vec3f), sizeof(Vec3f)});
+    if (mesh.has_colors()) streams.push_back({mesh.colors.data(), sizeof(Vec4f), sizeof(Vec4f)});
+    for (const auto& set : mesh.texcoords) streams.push_back({set.data(), sizeof(Vec2f), sizeof(Vec2f)});
     IdenticalVertices r;
     r.merged_of.resize(n);
-    std::size_t cap = 16;
-    while (cap < 2 * n) cap *= 2;
-    std::vector<std::uint32_t> slot(cap, UINT32_MAX);  // merged vertex in the slot
-    const Key key{mesh};
-    std::vector<std::uint32_t> a, b;
-    for (std::uint32_t v = 0; v < n; ++v) {
-        key.append(a, v);
-        std::size_t s = hash_words(a) & (cap - 1);
-        for (;; s = (s + 1) & (cap - 1)) {
-            if (slot[s] == UINT32_MAX) {
-                slot[s] = static_cast<std::uint32_t>(r.first_of.size());
-                r.merged_of[v] = slot[s];
-                r.first_of.push_back(v);
-                break;
-            }
-            key.append(b, r.first_of[slot[s]]);
-            if (a == b) {
-                r.merged_of[v] = slot[s];
-                ++r.duplicates;
-                break;
-            }
-        }
-    }
+    if (n == 0) return r;
+    // The identity as index buffer: every stored vertex counts (unused ones too) and is numbered in vertex
+    // order, so a merged vertex's number follows its first input vertex. meshopt wants whole triangles:
+    // the last vertex repeats to fill the final one.
+    std::vector<std::uint32_t> order((n + 2) / 3 * 3, static_cast<std::uint32_t>(n - 1));
+    for (std::uint32_t v = 0; v < n; ++v) order[v] = v;
+    const std::size_t unique = meshopt_generateVertexRemapMulti(r.merged_of.data(), order.data(), order.size(), n,
+                                                                streams.data(), streams.size());
+    r.first_of.assign(unique, UINT32_MAX);
+    for (std::uint32_t v = 0; v < n; ++v)
+        if (r.first_of[r.merged_of[v]] == UINT32_MAX) r.first_of[r.merged_of[v]] = v;
+    r.duplicates = n - unique;
     return r;
 }
 

@@ -124,7 +124,8 @@ void write_mesh(const Mesh& mesh, const std::string& path, const WriteOptions& o
     const FileFormat format = format_from_extension(path);
     if (format == FileFormat::ply || format == FileFormat::obj) {
         if (format == FileFormat::obj && mesh.point_count() == 0)
-            throw_error(Error::Kind::invalid, path, "no vertices to write to an .obj (an OBJ needs at least one 'v' line)");
+            throw_error(Error::Kind::invalid, path,
+                        "no vertices to write to an .obj (an OBJ needs at least one 'v' line)");
         // PLY and OBJ store one texture-coordinate set; write the one the textures sample.
         if (const int set = single_texcoord_set(mesh); set > 0 && options.write_texcoords) {
             const Mesh one_set = with_texcoord_set_first(mesh, set);

@@ -25,7 +25,8 @@ struct IdenticalVertices {
     Mesh merged(const Mesh& mesh) const;
 };
 
-// Bit-identical position, normal, colour and every texture-coordinate set (-0 equal to +0). O(n).
+// Bit-identical position, normal, colour and every texture-coordinate set (meshopt_generateVertexRemapMulti;
+// -0 and +0 differ, as any other bits do). O(n).
 IdenticalVertices find_identical_vertices(const Mesh& mesh);
 
 }  // namespace lodforge
