@@ -492,15 +492,24 @@ public:
         }
         return i;
     }
-    // Memo of the vertex on the leaf edge from `key` along `axis` (none = not made yet), kept with the
-    // field's blocks: neighbouring cubes share edges and read their memos from the same block.
-    std::uint32_t leaf_edge_vertex(std::uint64_t key, int axis) {
-        return edge_vertex_[std::size_t(block_of(key)) * 192 + local(key) * 3 + std::size_t(axis)];
+    // Memo of the vertex on each leaf edge (none = not made yet), kept with the field's blocks:
+    // neighbouring cubes share edges and read their memos from the same block.
+    void clear_leaf_edge_vertices(unsigned threads) {
+        parallel_for(edge_vertex_.size(), threads, [&](std::size_t b, std::size_t e) {
+            std::fill(edge_vertex_.begin() + std::ptrdiff_t(b), edge_vertex_.begin() + std::ptrdiff_t(e), none);
+        });
     }
-    void set_leaf_edge_vertex(std::uint64_t key, int axis, std::uint32_t v) {
-        edge_vertex_[std::size_t(block_of(key)) * 192 + local(key) * 3 + std::size_t(axis)] = v;
+    // Where the memo of the leaf edge (key, axis) lives: an index for leaf_edge_vertex_at, stable while
+    // blocks are added; the peek form gives npos when the block does not exist (several threads at once).
+    static constexpr std::size_t npos = ~std::size_t(0);
+    std::size_t leaf_edge_slot(std::uint64_t key, int axis) {
+        return std::size_t(block_of(key)) * 192 + local(key) * 3 + std::size_t(axis);
     }
-    void clear_leaf_edge_vertices() { std::fill(edge_vertex_.begin(), edge_vertex_.end(), none); }
+    std::size_t peek_leaf_edge_slot(std::uint64_t key, int axis, Blocks::Cached* cache) const {
+        const std::uint32_t b = blocks_.find(key, cache);
+        return b == none ? npos : std::size_t(b) * 192 + local(key) * 3 + std::size_t(axis);
+    }
+    std::uint32_t& leaf_edge_vertex_at(std::size_t slot) { return edge_vertex_[slot]; }
     float dist(std::uint32_t i) const { return dist_[i]; }  // signed: < 0 inside
     std::uint32_t nearest(std::uint32_t i) const { return nearest_[i]; }
     bool inside(std::uint64_t key) { return dist_[index(key)] < 0; }
@@ -1206,6 +1215,8 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
         // The leaf edge of each crossing, by the edge-ratio extension's descent (both threads, reading the
         // field only; a value not evaluated yet leaves the slot to the serial pass).
         std::vector<std::uint64_t> slot_edge(slots);
+        std::vector<std::size_t> memo_of(slots);  // each slot's leaf-edge memo (Field::npos: find it serially)
+        field.clear_leaf_edge_vertices(threads);
         auto descend = [&](const McNode& n, const mc::SubEdge& se, auto&& inside_at) -> std::uint64_t {
             std::uint64_t a = sample_key(n, se.a);
             const int a_inside = inside_at(a);
@@ -1223,15 +1234,17 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
             auto peek = [&](std::uint64_t k) { return field.peek_inside(k, cache.data()); };
             for (std::size_t ni = b; ni < e; ++ni) {
                 const McNode& n = tree.nodes[ni];
-                std::uint64_t* out = slot_edge.data() + n.first_vertex;
-                for (std::uint64_t c = n.crossings; c; c &= c - 1) *out++ = descend(n, subs[std::size_t(std::countr_zero(c))], peek);
+                for (std::uint64_t c = n.crossings, sl = n.first_vertex; c; c &= c - 1, ++sl) {
+                    const std::uint64_t ek = descend(n, subs[std::size_t(std::countr_zero(c))], peek);
+                    slot_edge[sl] = ek;
+                    memo_of[sl] = ek == unknown ? Field::npos : field.peek_leaf_edge_slot(ek & key_bits, int(ek >> 51), cache.data());
+                }
             }
         });
         // Vertex ids in the order the leaves (Morton order), then the coarser nodes, first use them, so an
         // extraction reads vertex data nearly sequentially (serial: the leaf-edge memo is shared; the
         // neighbour table is made beside it).
         detail::run_beside(threads, [&] {
-            field.clear_leaf_edge_vertices();
             tree.vertex_ids.assign(slots, none);
             auto number = [&](std::size_t ni) {
                 const McNode& n = tree.nodes[ni];
@@ -1241,13 +1254,12 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
                     if (ek == unknown)
                         slot_edge[sl] = ek = descend(n, subs[std::size_t(std::countr_zero(c))],
                                                      [&](std::uint64_t k) { return int(field.inside(k)); });
-                    const std::uint64_t a_key = ek & key_bits;
-                    const int axis = int(ek >> 51);
-                    std::uint32_t v = field.leaf_edge_vertex(a_key, axis);
+                    std::size_t memo = memo_of[sl];
+                    if (memo == Field::npos) memo = field.leaf_edge_slot(ek & key_bits, int(ek >> 51));
+                    std::uint32_t& v = field.leaf_edge_vertex_at(memo);
                     if (v == none) {
                         v = static_cast<std::uint32_t>(vertex_edge.size());
                         vertex_edge.push_back(ek);
-                        field.set_leaf_edge_vertex(a_key, axis, v);
                     }
                     tree.vertex_ids[sl] = v;
                 }
