@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
+#include <bit>
 #include <cmath>
 #include <cstring>
 #include <chrono>
@@ -491,15 +492,24 @@ public:
         }
         return i;
     }
-    // Memo of the vertex on the leaf edge from `key` along `axis` (none = not made yet), kept with the
-    // field's blocks: neighbouring cubes share edges and read their memos from the same block.
-    std::uint32_t leaf_edge_vertex(std::uint64_t key, int axis) {
-        return edge_vertex_[std::size_t(block_of(key)) * 192 + local(key) * 3 + std::size_t(axis)];
+    // Memo of the vertex on each leaf edge (none = not made yet), kept with the field's blocks:
+    // neighbouring cubes share edges and read their memos from the same block.
+    void clear_leaf_edge_vertices(unsigned threads) {
+        parallel_for(edge_vertex_.size(), threads, [&](std::size_t b, std::size_t e) {
+            std::fill(edge_vertex_.begin() + std::ptrdiff_t(b), edge_vertex_.begin() + std::ptrdiff_t(e), none);
+        });
     }
-    void set_leaf_edge_vertex(std::uint64_t key, int axis, std::uint32_t v) {
-        edge_vertex_[std::size_t(block_of(key)) * 192 + local(key) * 3 + std::size_t(axis)] = v;
+    // Where the memo of the leaf edge (key, axis) lives: an index for leaf_edge_vertex_at, stable while
+    // blocks are added; the peek form gives npos when the block does not exist (several threads at once).
+    static constexpr std::size_t npos = ~std::size_t(0);
+    std::size_t leaf_edge_slot(std::uint64_t key, int axis) {
+        return std::size_t(block_of(key)) * 192 + local(key) * 3 + std::size_t(axis);
     }
-    void clear_leaf_edge_vertices() { std::fill(edge_vertex_.begin(), edge_vertex_.end(), none); }
+    std::size_t peek_leaf_edge_slot(std::uint64_t key, int axis, Blocks::Cached* cache) const {
+        const std::uint32_t b = blocks_.find(key, cache);
+        return b == none ? npos : std::size_t(b) * 192 + local(key) * 3 + std::size_t(axis);
+    }
+    std::uint32_t& leaf_edge_vertex_at(std::size_t slot) { return edge_vertex_[slot]; }
     float dist(std::uint32_t i) const { return dist_[i]; }  // signed: < 0 inside
     std::uint32_t nearest(std::uint32_t i) const { return nearest_[i]; }
     bool inside(std::uint64_t key) { return dist_[index(key)] < 0; }
@@ -509,6 +519,12 @@ public:
         const std::uint32_t b = blocks_.find(key, cache);
         if (b == none || !(valid_[b] & (std::uint64_t(1) << local(key)))) return -1;
         return dist_[b * 64 + local(key)] < 0;
+    }
+    // Index of the value at `key` if it is evaluated, else none (like peek_inside: several threads at once).
+    std::uint32_t peek_index(std::uint64_t key, Blocks::Cached* cache) const {
+        const std::uint32_t b = blocks_.find(key, cache);
+        if (b == none || !(valid_[b] & (std::uint64_t(1) << local(key)))) return none;
+        return b * 64 + local(key);
     }
     // The signed distance at `key` if it is evaluated (like peek_inside: several threads at once).
     bool peek_dist(std::uint64_t key, Blocks::Cached* cache, float& d) const {
@@ -1031,7 +1047,7 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
     const bool colors = !pc.colors.empty();
     std::vector<std::uint64_t> vertex_edge;  // leaf edge of each vertex: lattice key | axis << 51
     // Same-level neighbours (faces and edges) for the seams: they depend on the octree only, and are
-    // made on a second thread while this one makes the vertices.
+    // made on a second thread while this one numbers the vertices.
     auto build_neighbours = [&] {
         tree.neighbours.assign(node_count * mc::neighbour_slots, none);
         // Top-down, from the parents' neighbours: the cube next to a child across a face or edge is a sibling
@@ -1177,92 +1193,156 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
         // Vertices: the crossing of an edge at any level is the crossing of the one leaf edge the recursive
         // edge-ratio extension lands on, so all levels share vertices by index.
         clock.mark("octree, samples");
-        detail::run_beside(threads, [&] {
-            check_progress(progress, 0.65, "mcoctree: vertices");
-            KeyMap edge_vertex(offset[0] * 4);  // coarse edges; leaf edges are memoised in the field's blocks
-            field.clear_leaf_edge_vertices();
-            auto leaf_vertex = [&](std::uint64_t a_key, int axis) -> std::uint32_t {
-                const std::uint64_t ekey = a_key | (std::uint64_t(axis) << 51);
-                std::uint32_t v = field.leaf_edge_vertex(a_key, axis);
-                if (v != none) return v;
-                const std::uint64_t b_key = a_key + (std::uint64_t(1) << (17 * axis));
-                const std::uint32_t ia = field.index(a_key), ib = field.index(b_key);
-                const float da = std::fabs(field.dist(ia)), db = std::fabs(field.dist(ib));
-                const float t = da + db > 0 ? da / (da + db) : 0.5f;
-                Vec3f p = field.world(a_key);
-                if (axis == 0) p.x += t * float(h);
-                else if (axis == 1) p.y += t * float(h);
-                else p.z += t * float(h);
-                const std::uint32_t pa = field.nearest(ia), pb = field.nearest(ib);
-                Vec3f nrm = pc.normals[pa] * (1 - t) + pc.normals[pb] * t;
-                const float len = length(nrm);
-                if (len > 1e-12f) {
-                    nrm = nrm * (1.f / len);
-                } else {  // opposite normals (a thin sheet): point from the inside corner to the outside one
-                    nrm = Vec3f{};
-                    const float dir = field.dist(ia) < 0 ? 1.f : -1.f;
-                    if (axis == 0) nrm.x = dir;
-                    else if (axis == 1) nrm.y = dir;
-                    else nrm.z = dir;
-                }
-                v = static_cast<std::uint32_t>(tree.positions.size());
-                tree.positions.push_back(p);
-                vertex_edge.push_back(ekey);
-                tree.normals.push_back(nrm);
-                if (colors) {
-                    const Vec4f ca = pc.colors[pa], cb = pc.colors[pb];
-                    tree.colors.push_back({ca.x + (cb.x - ca.x) * t, ca.y + (cb.y - ca.y) * t, ca.z + (cb.z - ca.z) * t,
-                                           ca.w + (cb.w - ca.w) * t});
-                }
-                field.set_leaf_edge_vertex(a_key, axis, v);
-                return v;
-            };
-            auto edge_vertex_of = [&](std::uint64_t a_key, int axis, std::uint32_t level) -> std::uint32_t {
-                const std::uint64_t top = a_key | (std::uint64_t(axis) << 51) | (std::uint64_t(level) << 53);
-                if (level > 0) {
-                    const std::uint32_t known = edge_vertex.find(top);
-                    if (known != none) return known;
-                }
-                std::uint64_t a = a_key;
-                const bool a_inside = field.inside(a);
-                for (std::uint32_t l = level; l > 0; --l) {
-                    const std::uint64_t mid = a + (std::uint64_t(1u << (l - 1)) << (17 * axis));
-                    if (field.inside(mid) == a_inside) a = mid;  // the crossing is in the upper half
-                    if (l > 1) {
-                        const std::uint32_t known = edge_vertex.find(a | (std::uint64_t(axis) << 51) | (std::uint64_t(l - 1) << 53));
-                        if (known != none) {
-                            edge_vertex.insert(top, known);
-                            return known;
-                        }
-                    }
-                }
-                const std::uint32_t v = leaf_vertex(a, axis);
-                if (level > 0) edge_vertex.insert(top, v);
-                return v;
-            };
-            const auto& subs = mc::sub_edges();
-            // Leaves first: a coarser edge then descends onto edges whose vertex is already known.
-            for (std::size_t ni = node_count; ni-- > 0;) {
-                if ((ni & 0xffff) == 0)
-                    check_progress(progress, 0.65 + 0.15 * double(node_count - ni) / double(node_count), "mcoctree: vertices");
+        check_progress(progress, 0.65, "mcoctree: vertices");
+        const auto& subs = mc::sub_edges();
+        constexpr std::uint64_t key_bits = (std::uint64_t(1) << 51) - 1, unknown = ~std::uint64_t(0);
+        // Each node's crossings (both threads); its slots in vertex_ids follow from the last node to the first.
+        parallel_for(node_count, threads, [&](std::size_t b, std::size_t e) {
+            for (std::size_t ni = b; ni < e; ++ni) {
                 McNode& n = tree.nodes[ni];
-                n.first_vertex = static_cast<std::uint32_t>(tree.vertex_ids.size());
                 const int count = n.level == 0 ? mc::full_edges : mc::sub_edge_count;
-                for (int e = 0; e < count; ++e) {
-                    const mc::SubEdge& se = subs[e];
-                    if (((n.inside >> se.a) & 1u) == ((n.inside >> se.b) & 1u)) continue;
-                    n.crossings |= std::uint64_t(1) << e;
-                    const std::uint32_t lev = n.level == 0 ? 0 : (se.length == 2 ? n.level : n.level - 1u);
-                    tree.vertex_ids.push_back(edge_vertex_of(sample_key(n, se.a), se.axis, lev));
+                std::uint64_t crossings = 0;
+                for (int se = 0; se < count; ++se)
+                    if (((n.inside >> subs[se].a) & 1u) != ((n.inside >> subs[se].b) & 1u)) crossings |= std::uint64_t(1) << se;
+                n.crossings = crossings;
+            }
+        });
+        std::size_t slots = 0;
+        for (std::size_t ni = node_count; ni-- > 0;) {
+            tree.nodes[ni].first_vertex = static_cast<std::uint32_t>(slots);
+            slots += std::size_t(std::popcount(tree.nodes[ni].crossings));
+        }
+        // The leaf edge of each crossing, by the edge-ratio extension's descent (both threads, reading the
+        // field only; a value not evaluated yet leaves the slot to the serial pass).
+        std::vector<std::uint64_t> slot_edge(slots);
+        std::vector<std::size_t> memo_of(slots);  // each slot's leaf-edge memo (Field::npos: find it serially)
+        field.clear_leaf_edge_vertices(threads);
+        auto descend = [&](const McNode& n, const mc::SubEdge& se, auto&& inside_at) -> std::uint64_t {
+            std::uint64_t a = sample_key(n, se.a);
+            const int a_inside = inside_at(a);
+            if (a_inside < 0) return unknown;
+            for (std::uint32_t l = n.level == 0 ? 0 : (se.length == 2 ? n.level : n.level - 1u); l > 0; --l) {
+                const std::uint64_t mid = a + (std::uint64_t(1u << (l - 1)) << (17 * se.axis));
+                const int in = inside_at(mid);
+                if (in < 0) return unknown;
+                if (in == a_inside) a = mid;  // the crossing is in the upper half
+            }
+            return a | std::uint64_t(se.axis) << 51;
+        };
+        parallel_for(node_count, threads, [&](std::size_t b, std::size_t e) {
+            std::vector<Blocks::Cached> cache(Blocks::cache_size);
+            auto peek = [&](std::uint64_t k) { return field.peek_inside(k, cache.data()); };
+            for (std::size_t ni = b; ni < e; ++ni) {
+                const McNode& n = tree.nodes[ni];
+                for (std::uint64_t c = n.crossings, sl = n.first_vertex; c; c &= c - 1, ++sl) {
+                    const std::uint64_t ek = descend(n, subs[std::size_t(std::countr_zero(c))], peek);
+                    slot_edge[sl] = ek;
+                    memo_of[sl] = ek == unknown ? Field::npos : field.peek_leaf_edge_slot(ek & key_bits, int(ek >> 51), cache.data());
                 }
             }
+        });
+        // Vertex ids in the order the leaves (Morton order), then the coarser nodes, first use them, so an
+        // extraction reads vertex data nearly sequentially (serial: the leaf-edge memo is shared; the
+        // neighbour table is made beside it).
+        detail::run_beside(threads, [&] {
+            tree.vertex_ids.assign(slots, none);
+            auto number = [&](std::size_t ni) {
+                const McNode& n = tree.nodes[ni];
+                std::size_t sl = n.first_vertex;
+                for (std::uint64_t c = n.crossings; c; c &= c - 1, ++sl) {
+                    std::uint64_t ek = slot_edge[sl];
+                    if (ek == unknown)
+                        slot_edge[sl] = ek = descend(n, subs[std::size_t(std::countr_zero(c))],
+                                                     [&](std::uint64_t k) { return int(field.inside(k)); });
+                    std::size_t memo = memo_of[sl];
+                    if (memo == Field::npos) memo = field.leaf_edge_slot(ek & key_bits, int(ek >> 51));
+                    std::uint32_t& v = field.leaf_edge_vertex_at(memo);
+                    if (v == none) {
+                        v = static_cast<std::uint32_t>(vertex_edge.size());
+                        vertex_edge.push_back(ek);
+                    }
+                    tree.vertex_ids[sl] = v;
+                }
+            };
+            for (std::size_t ni = offset[0]; ni < node_count; ++ni) number(ni);
+            for (std::size_t ni = 0; ni < offset[0]; ++ni) number(ni);
         }, build_neighbours);
+        // Position, normal and colour of each vertex (both threads; a value not evaluated yet, serially).
+        const std::size_t vcount = vertex_edge.size();
+        tree.positions.resize(vcount);
+        tree.normals.resize(vcount);
+        if (colors) tree.colors.resize(vcount);
+        auto make_vertex = [&](std::size_t v, std::uint32_t ia, std::uint32_t ib) {
+            const std::uint64_t a_key = vertex_edge[v] & key_bits;
+            const int axis = int(vertex_edge[v] >> 51);
+            const float da = std::fabs(field.dist(ia)), db = std::fabs(field.dist(ib));
+            const float t = da + db > 0 ? da / (da + db) : 0.5f;
+            Vec3f p = field.world(a_key);
+            if (axis == 0) p.x += t * float(h);
+            else if (axis == 1) p.y += t * float(h);
+            else p.z += t * float(h);
+            const std::uint32_t pa = field.nearest(ia), pb = field.nearest(ib);
+            Vec3f nrm = pc.normals[pa] * (1 - t) + pc.normals[pb] * t;
+            const float len = length(nrm);
+            if (len > 1e-12f) {
+                nrm = nrm * (1.f / len);
+            } else {  // opposite normals (a thin sheet): point from the inside corner to the outside one
+                nrm = Vec3f{};
+                const float dir = field.dist(ia) < 0 ? 1.f : -1.f;
+                if (axis == 0) nrm.x = dir;
+                else if (axis == 1) nrm.y = dir;
+                else nrm.z = dir;
+            }
+            tree.positions[v] = p;
+            tree.normals[v] = nrm;
+            if (colors) {
+                const Vec4f ca = pc.colors[pa], cb = pc.colors[pb];
+                tree.colors[v] = {ca.x + (cb.x - ca.x) * t, ca.y + (cb.y - ca.y) * t, ca.z + (cb.z - ca.z) * t,
+                                  ca.w + (cb.w - ca.w) * t};
+            }
+        };
+        auto b_of = [&](std::size_t v) {
+            return (vertex_edge[v] & key_bits) + (std::uint64_t(1) << (17 * int(vertex_edge[v] >> 51)));
+        };
+        std::vector<std::uint8_t> later(vcount, 0);
+        parallel_for(vcount, threads, [&](std::size_t b, std::size_t e) {
+            std::vector<Blocks::Cached> cache(Blocks::cache_size);
+            for (std::size_t v = b; v < e; ++v) {
+                const std::uint32_t ia = field.peek_index(vertex_edge[v] & key_bits, cache.data());
+                const std::uint32_t ib = field.peek_index(b_of(v), cache.data());
+                if (ia == none || ib == none) later[v] = 1;
+                else make_vertex(v, ia, ib);
+            }
+        });
+        for (std::size_t v = 0; v < vcount; ++v)
+            if (later[v]) {
+                const std::uint32_t ia = field.index(vertex_edge[v] & key_bits);
+                make_vertex(v, ia, field.index(b_of(v)));
+            }
         clock.mark("vertices, neighbours");
         frontier.clear();
-        for (const std::uint64_t ek : vertex_edge)
-            for_cubes_around(ek & ((std::uint64_t(1) << 51) - 1), int(ek >> 51), [&](std::uint64_t cube) {
-                if (visited.insert(cube)) frontier.push_back(cube);
-            });
+        // Cubes around a vertex's leaf edge not examined yet (none, in practice; both threads), then
+        // added in the order the vertices were first met from the last node to the first.
+        std::atomic<bool> unexamined{false};
+        parallel_for(vertex_edge.size(), threads, [&](std::size_t b, std::size_t e) {
+            std::vector<Blocks::Cached> cache(Blocks::cache_size);
+            bool found = false;
+            for (std::size_t v = b; v < e && !found; ++v)
+                for_cubes_around(vertex_edge[v] & ((std::uint64_t(1) << 51) - 1), int(vertex_edge[v] >> 51),
+                                 [&](std::uint64_t cube) { found = found || !visited.contains(cube, cache.data()); });
+            if (found) unexamined = true;
+        });
+        if (unexamined) {
+            std::vector<std::uint8_t> met(vertex_edge.size(), 0);
+            for (const std::uint32_t v : tree.vertex_ids) {
+                if (met[v]) continue;
+                met[v] = 1;
+                const std::uint64_t ek = vertex_edge[v];
+                for_cubes_around(ek & ((std::uint64_t(1) << 51) - 1), int(ek >> 51), [&](std::uint64_t cube) {
+                    if (visited.insert(cube)) frontier.push_back(cube);
+                });
+            }
+        }
         if (frontier.empty() || pass >= 32) break;
         // With a band, the cube diagonal to a kept one across a crossing edge may sit behind a dropped
         // face neighbour and was never examined; it is usually dropped too, and then the tree stands.
@@ -1271,34 +1351,7 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
         if (leaves.size() == kept) break;
     }
 
-    // Renumber the vertices in the order the leaves (Morton order) first use them, so an extraction reads
-    // vertex data nearly sequentially; coarser nodes reuse leaf vertices anyway.
-    {
-        std::vector<std::uint32_t> renum(tree.positions.size(), none);
-        std::uint32_t next_id = 0;
-        for (std::size_t pass = 0; pass < 2; ++pass)
-            for (std::size_t ni = pass == 0 ? offset[0] : 0; ni < (pass == 0 ? node_count : offset[0]); ++ni) {
-                const McNode& n = tree.nodes[ni];
-                const int crossings = std::popcount(n.crossings);
-                for (int k = 0; k < crossings; ++k) {
-                    std::uint32_t& id = tree.vertex_ids[n.first_vertex + std::uint32_t(k)];
-                    if (renum[id] == none) renum[id] = next_id++;
-                }
-            }
-        for (std::uint32_t& id : tree.vertex_ids) id = renum[id];
-        auto permute = [&](auto& values) {
-            std::remove_reference_t<decltype(values)> out(values.size());
-            for (std::size_t v = 0; v < values.size(); ++v)
-                if (renum[v] != none) out[renum[v]] = values[v];
-            out.resize(next_id);
-            values.swap(out);
-        };
-        permute(tree.positions);
-        permute(tree.normals);
-        if (colors) permute(tree.colors);
-    }
-
-    clock.mark("check, renumbering");
+    clock.mark("check");
     // Area-difference metric: area of the children's triangles minus the node's own.
     check_progress(progress, 0.8, "mcoctree: priorities");
     std::vector<float> area(node_count, 0.f);
