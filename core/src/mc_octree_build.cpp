@@ -1267,6 +1267,8 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
             for (std::size_t ni = offset[0]; ni < node_count; ++ni) number(ni);
             for (std::size_t ni = 0; ni < offset[0]; ++ni) number(ni);
         }, build_neighbours);
+        // The stage's parallel loops do not report; a cancel is seen here, between them.
+        check_progress(progress, 0.72, "mcoctree: vertices");
         // Position, normal and colour of each vertex (both threads; a value not evaluated yet, serially).
         const std::size_t vcount = vertex_edge.size();
         tree.positions.resize(vcount);
