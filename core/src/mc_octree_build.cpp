@@ -695,6 +695,10 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
     for (const Vec3f& p : pc.points) bounds.add(p);
     const Vec3f ext = bounds.size();
     const double longest = std::max({double(ext.x), double(ext.y), double(ext.z)});
+    // Coordinates whose extent overflows float (read_mesh's validation refuses them; this guards other
+    // callers): the cube count below would be NaN, and casting it was a wild grid size and a crash.
+    if (!std::isfinite(longest) || !std::isfinite(bounds.diagonal()))
+        throw_error(Error::Kind::invalid, input_name, "coordinates too large: the points' extent overflows float");
     double h = params.cube_size > 0 ? params.cube_size : longest / double(params.resolution);
     if (!(h > 0)) {
         if (params.cube_size > 0) h = params.cube_size;

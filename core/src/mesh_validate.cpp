@@ -21,6 +21,7 @@ public:
         ++finding_.count;
     }
     void add_many(std::size_t count) { finding_.count += count; }
+    std::size_t count() const { return finding_.count; }
     // `what` is the plural noun phrase, `item`/`items` name the example kind ("face"/"faces").
     void emit(ValidationReport& report, const std::string& what, const std::string& item,
               const std::string& items) {
@@ -78,6 +79,26 @@ ValidationReport validate(const Mesh& mesh, const ValidationParams& params) {
     for (std::size_t v = 0; v < n; ++v)
         if (!is_finite(mesh.positions[v])) nan_pos.add(v);
     nan_pos.emit(report, "vertices with NaN or infinite coordinates", "vertex", "vertices");
+
+    // Finite coordinates whose bounding-box diagonal overflows float (extent beyond ~1.8e19): every
+    // command measures in fractions of that diagonal, so they all went wrong without a word (errors
+    // "-nan of the diagonal inf", cluster simplification to 0 triangles, a crash in mcoctree build).
+    if (nan_pos.count() == 0 && n > 0) {
+        Bounds b;
+        for (const Vec3f& p : mesh.positions) b.add(p);
+        if (!std::isfinite(b.diagonal())) {
+            ValidationFinding f;
+            f.severity = Severity::error;
+            f.code = "extent_overflow";
+            f.count = 1;
+            std::ostringstream s;
+            s << "coordinates too large: the bounding box (" << b.min.x << ", " << b.min.y << ", " << b.min.z
+              << ") .. (" << b.max.x << ", " << b.max.y << ", " << b.max.z
+              << ") has a diagonal beyond the float range; scale the model down";
+            f.message = s.str();
+            report.findings.push_back(std::move(f));
+        }
+    }
 
     FindingBuilder nan_attr(Severity::error, "non_finite_attribute", max_ex);
     for (std::size_t v = 0; v < n; ++v) {

@@ -16,6 +16,7 @@
 #include <cctype>
 #include <cerrno>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -175,12 +176,36 @@ void check_text(const std::string& path, std::istream& in) {
 
 // One pass over the text before tinyobjloader sees it, for what tinyobjloader gets silently wrong:
 // a `\` at the end of a line continues it (tinyobjloader does not join lines), and `nan`/`inf` in a
-// `v`/`vt`/`vn` line (tinyobjloader reads them as 0, which would move the vertex without a word).
+// `v`/`vt`/`vn` line (tinyobjloader reads them as 0, which would move the vertex without a word), and
+// face indices beyond the int range (tinyobjloader's atoi wraps them: `f 1 2 4294967299` became a
+// triangle on vertex 3, accepted as valid).
 struct TextScan {
     bool continuation = false;
     std::size_t non_finite_line = 0;  // 1-based; 0 = none
     std::string non_finite_token;
+    std::size_t overflow_line = 0;  // 1-based; 0 = none
+    std::string overflow_token;
 };
+
+// True when one `f` corner (`v`, `v/vt`, `v//vn`, `v/vt/vn`, signs allowed) has an index whose
+// magnitude does not fit tinyobjloader's int.
+bool index_overflows(const std::string& corner) {
+    std::size_t start = 0;
+    while (start <= corner.size()) {
+        std::size_t end = corner.find('/', start);
+        if (end == std::string::npos) end = corner.size();
+        std::size_t i = start;
+        if (i < end && (corner[i] == '-' || corner[i] == '+')) ++i;
+        while (i < end && corner[i] == '0') ++i;  // leading zeros do not overflow
+        std::size_t digits = 0;
+        std::uint64_t value = 0;
+        for (; i < end && std::isdigit(static_cast<unsigned char>(corner[i])); ++i, ++digits)
+            if (digits < 11) value = value * 10 + static_cast<std::uint64_t>(corner[i] - '0');
+        if (digits > 10 || value > 2147483647ull) return true;
+        start = end + 1;
+    }
+    return false;
+}
 
 TextScan scan_text(std::istream& in) {
     const auto start = in.tellg();
@@ -190,11 +215,20 @@ TextScan scan_text(std::istream& in) {
         if (!line.empty() && line.back() == '\r') line.pop_back();
         if (!line.empty() && line.back() == '\\') scan.continuation = true;
         std::size_t i = line.find_first_not_of(" \t");
-        if (scan.non_finite_line || i == std::string::npos || line[i] != 'v') continue;
+        if (i == std::string::npos || (line[i] != 'v' && line[i] != 'f')) continue;
         std::istringstream words(line.substr(i));
         std::string word;
         words >> word;
-        if (word != "v" && word != "vt" && word != "vn") continue;
+        if (word == "f" && !scan.overflow_line) {
+            while (words >> word)
+                if (index_overflows(word)) {
+                    scan.overflow_line = number;
+                    scan.overflow_token = word;
+                    break;
+                }
+            continue;
+        }
+        if (scan.non_finite_line || (word != "v" && word != "vt" && word != "vn")) continue;
         while (words >> word) {
             const char c = static_cast<char>(std::tolower(static_cast<unsigned char>(word[word[0] == '-' || word[0] == '+'])));
             if (c == 'n' || c == 'i') {
@@ -263,6 +297,9 @@ Mesh read_obj(const std::string& path, Progress* progress) {
     if (scan.non_finite_line)
         throw_error(Error::Kind::invalid, path, "line " + std::to_string(scan.non_finite_line) + ": '" +
                                                     scan.non_finite_token + "' is not a finite number");
+    if (scan.overflow_line)
+        throw_error(Error::Kind::invalid, path, "line " + std::to_string(scan.overflow_line) + ": face corner '" +
+                                                    scan.overflow_token + "' has an index out of range");
     if (scan.continuation) {
         joined.str(join_continued_lines(in));
         source = &joined;

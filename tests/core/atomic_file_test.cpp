@@ -8,6 +8,8 @@
 #include <filesystem>
 #include <fstream>
 #include <sys/resource.h>
+#include <sys/stat.h>
+#include <thread>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -97,4 +99,56 @@ TEST(AtomicFile, FullDiskIsReportedAndLeavesNothingBehind) {
     EXPECT_EQ(WEXITSTATUS(status), 0) << "10 = no exception, 11 = commit succeeded, 12 = wrong error";
     EXPECT_FALSE(fs::exists(target));
     EXPECT_EQ(entries(dir.path()), 0u) << "the temporary file must be removed";
+}
+
+// A user who points an output at a full device (`ln -s /dev/full out.ply`) must get an error: the
+// temporary-and-rename used to replace the link with a regular file and report success.
+TEST(AtomicFile, LinkToAFullDeviceIsAWriteErrorAndTheLinkSurvives) {
+    test::ScratchDir dir("atomic-devfull");
+    const std::string link = dir.file("out.ply");
+    fs::create_symlink("/dev/full", link);
+    try {
+        AtomicFile f(link);
+        f.stream() << std::string(1 << 16, 'x');
+        f.commit();
+        FAIL() << "writing to /dev/full succeeded";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.kind(), Error::Kind::io);
+        EXPECT_NE(std::string(e.what()).find(link), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("write failed"), std::string::npos) << e.what();
+    }
+    EXPECT_TRUE(fs::is_symlink(link)) << "the link was replaced";
+    EXPECT_EQ(entries(dir.path()), 1u) << "no temporary may be left";
+}
+
+TEST(AtomicFile, SymbolicLinkIsWrittenThrough) {
+    test::ScratchDir dir("atomic-symlink");
+    const std::string real = dir.file("real.txt"), link = dir.file("link.txt");
+    { std::ofstream(real) << "old"; }
+    fs::create_symlink(real, link);
+    {
+        AtomicFile f(link);
+        f.stream() << "new";
+        f.commit();
+    }
+    EXPECT_TRUE(fs::is_symlink(link));
+    EXPECT_EQ(slurp(real), "new");
+    EXPECT_EQ(entries(dir.path()), 2u);
+}
+
+TEST(AtomicFile, FifoIsWrittenInPlace) {
+    test::ScratchDir dir("atomic-fifo");
+    const std::string fifo = dir.file("pipe.ply");
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    std::string received;
+    std::thread reader([&] { received = slurp(fifo); });
+    {
+        AtomicFile f(fifo);
+        f.stream() << "through the pipe";
+        f.commit();
+    }
+    reader.join();
+    EXPECT_EQ(received, "through the pipe");
+    EXPECT_EQ(fs::status(fifo).type(), fs::file_type::fifo) << "the FIFO was replaced by a file";
+    EXPECT_EQ(entries(dir.path()), 1u);
 }

@@ -94,3 +94,21 @@ TEST(Validate, UnreferencedVerticesAreWarningsButNotForPointClouds) {
     m.indices.clear();
     EXPECT_EQ(validate(m).find("unreferenced_vertex"), nullptr);
 }
+
+// Finite coordinates whose bounding-box diagonal overflows float (1e21 here) made every command's
+// measurements NaN/inf and crashed mcoctree build; they are now a validation error. 1e18 is fine.
+TEST(Validate, BoundingBoxDiagonalBeyondFloatIsAnError) {
+    for (float scale : {1e18f, 1e21f}) {
+        Mesh m;
+        m.positions = {{0, 0, 0}, {scale, 0, 0}, {0, scale, 0}};
+        m.indices = {0, 1, 2};
+        const ValidationReport r = validate(m);
+        if (scale < 1e19f) {
+            EXPECT_FALSE(r.has_errors()) << scale;
+        } else {
+            ASSERT_NE(r.find("extent_overflow"), nullptr);
+            EXPECT_TRUE(r.has_errors());
+            EXPECT_NE(r.find("extent_overflow")->message.find("coordinates too large"), std::string::npos);
+        }
+    }
+}

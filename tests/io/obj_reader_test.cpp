@@ -328,6 +328,23 @@ TEST(ObjReader, NanAndInfinityAreInvalidNamingTheLine) {
     expect_error([&] { read_obj(dir.file("big.obj")); }, Error::Kind::invalid, {"big.obj", "vertex ('v') 3", "not finite"});
 }
 
+TEST(ObjReader, IndicesBeyondTheIntRangeAreInvalidNotWrapped) {
+    test::ScratchDir dir("obj-overflow");
+    // tinyobjloader's atoi wrapped these: 4294967299 became vertex 3 and -4294967293 vertex 3 too, so a
+    // corrupt face silently became a valid triangle on the wrong vertex.
+    const std::string head = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\n";
+    for (const char* face : {"f 1 2 4294967299", "f 1 2 -4294967293", "f 1/1 2/4294967297 3/1",
+                             "f 1 2 99999999999999999999", "f 1//2147483648 2 3"}) {
+        write_text(dir.file("o.obj"), head + face + "\n");
+        expect_error([&] { read_obj(dir.file("o.obj")); }, Error::Kind::invalid, {"o.obj", "line 5", "out of range"});
+    }
+    // The largest int and leading zeros are not overflows (the first is then out of range as usual).
+    write_text(dir.file("max.obj"), head + "f 1 2 2147483647\n");
+    expect_error([&] { read_obj(dir.file("max.obj")); }, Error::Kind::invalid, {"max.obj", "refers to vertex"});
+    write_text(dir.file("zeros.obj"), head + "f 000000000001/1 00000000000002/1 3\n");
+    EXPECT_EQ(read_obj(dir.file("zeros.obj")).triangle_count(), 1u);
+}
+
 TEST(ObjReader, BackslashContinuesALine) {
     test::ScratchDir dir("obj-continuation");
     // Was "cannot parse OBJ: Failed parse `f' line": tinyobjloader does not join continued lines.

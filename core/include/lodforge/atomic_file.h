@@ -1,6 +1,8 @@
 // Write-then-rename, so a crash, a full disk or a cancelled job never leaves a truncated output that
 // looks valid. Usage: AtomicFile f(path); write to f.stream(); f.commit(). Destruction without commit()
-// removes the temporary file.
+// removes the temporary file. A symbolic link is written through (its destination is replaced); a
+// target that exists and is not a regular file (/dev/full, a FIFO) is written in place, without
+// a temporary, so a full device is an error and the node survives.
 #pragma once
 
 #include <fstream>
@@ -23,8 +25,10 @@ public:
 
 private:
     std::string target_path_;
-    std::string temp_path_;
+    std::string final_path_;  // target_path_ with a symbolic link resolved; empty when direct_
+    std::string temp_path_;   // empty when direct_
     std::ofstream out_;
+    bool direct_ = false;
     bool committed_ = false;
 };
 
