@@ -1133,10 +1133,7 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
         for (std::uint32_t l = levels + 1; l-- > 0;) offset[l] = (l == levels ? 0 : offset[l + 1] + lv[l + 1].size());
         node_count = offset[0] + lv[0].size();
         tree.nodes.resize(node_count);
-        maps.clear();
-        maps.reserve(levels + 1);
         for (std::uint32_t l = 0; l <= levels; ++l) {
-            maps.emplace_back(lv[l].size());
             std::size_t child = 0;
             for (std::size_t i = 0; i < lv[l].size(); ++i) {
                 McNode& n = tree.nodes[offset[l] + i];
@@ -1145,7 +1142,6 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
                 if (l == 0)
                     for (int c = 0; c < 8; ++c)
                         if (lv[0][i].corners & (1u << c)) n.inside |= 1u << mc::corner_sample(c);
-                maps[l].insert(pack(n.x, n.y, n.z), static_cast<std::uint32_t>(offset[l] + i));
                 if (l == 0) continue;
                 n.first_child = static_cast<std::uint32_t>(offset[l - 1] + child);
                 while (child < lv[l - 1].size() && (lv[l - 1][child].code >> 3) == lv[l][i].code) {
@@ -1155,6 +1151,19 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
                 }
             }
         }
+
+        // Each level's nodes by position, for the priority numbering's corner neighbours only (D7), so they
+        // are made on this thread after the vertex numbering below, while the neighbour table still runs
+        // beside it, instead of here in the serial octree stage.
+        auto build_maps = [&] {
+            maps.clear();
+            maps.reserve(levels + 1);
+            for (std::uint32_t l = 0; l <= levels; ++l) {
+                maps.emplace_back(lv[l].size());
+                for (std::size_t ni = offset[l], e = offset[l] + lv[l].size(); ni < e; ++ni)
+                    maps[l].insert(pack(tree.nodes[ni].x, tree.nodes[ni].y, tree.nodes[ni].z), static_cast<std::uint32_t>(ni));
+            }
+        };
 
         // Samples of every node (corners of leaves; the 3x3x3 lattice of internal nodes, body centre aside).
         auto sample_key = [&](const McNode& n, int s) {
@@ -1298,6 +1307,7 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
             };
             for (std::size_t ni = offset[0]; ni < node_count; ++ni) number(ni);
             for (std::size_t ni = 0; ni < offset[0]; ++ni) number(ni);
+            build_maps();  // after the numbering: the neighbour table beside it takes longer
         }, build_neighbours);
         // The stage's parallel loops do not report; a cancel is seen here, between them.
         check_progress(progress, 0.72, "mcoctree: vertices");
