@@ -1051,35 +1051,67 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
     const bool colors = !pc.colors.empty();
     std::vector<std::uint64_t> vertex_edge;  // leaf edge of each vertex: lattice key | axis << 51
     // Same-level neighbours (faces and edges) for the seams: they depend on the octree only, and are
-    // made on a second thread while this one numbers the vertices.
+    // made on a second thread while this one numbers the vertices. Top-down, from the parents'
+    // neighbours: the cube next to a child across a face or edge is a sibling or a child of the parent's
+    // neighbour in the directions that leave the parent (a face or an edge slot too), so no look-up in the
+    // level maps is needed. Made per parent: its 18 neighbours' child masks are read once for all its
+    // children (instead of once per child and slot), and a table of (child octant, slot) → (parent-level
+    // direction, target octant) replaces the per-slot coordinate arithmetic. A target outside the grid
+    // needs no test: the parent's neighbour in that direction is outside too, so it is `none` (by induction
+    // from the root, whose row is all `none`). Each level reads only its parents' rows, so it could split
+    // over threads; measured no faster than beside the numbering (docs/mcoctree.md, seventh round).
     auto build_neighbours = [&] {
-        tree.neighbours.assign(node_count * mc::neighbour_slots, none);
-        // Top-down, from the parents' neighbours: the cube next to a child across a face or edge is a sibling
-        // or a child of the parent's neighbour in the directions that leave the parent (a face or an edge
-        // slot too), so no look-up in the level maps is needed. Nodes are stored parents first.
+        constexpr int ns = mc::neighbour_slots;
+        tree.neighbours.assign(node_count * ns, none);
         int slot_of[27];
         for (int& v : slot_of) v = -1;
-        for (int sl = 0; sl < mc::neighbour_slots; ++sl) {
+        for (int sl = 0; sl < ns; ++sl) {
             const auto o = mc::neighbour_offset(sl);
             slot_of[(o[0] + 1) + 3 * (o[1] + 1) + 9 * (o[2] + 1)] = sl;
         }
-        auto child_at = [&](std::uint32_t parent, int octant) { return mc::child_index(tree.nodes[parent], octant); };
-        for (std::size_t ni = 1; ni < node_count; ++ni) {  // every node below the root, parents first
-            const McNode& n = tree.nodes[ni];
-            const std::uint32_t* parent_nb = &tree.neighbours[std::size_t(n.parent) * mc::neighbour_slots];
-            const std::int64_t size = std::int64_t(grid >> n.level);
-            for (int sl = 0; sl < mc::neighbour_slots; ++sl) {
+        struct Step {
+            std::uint8_t dir, octant;  // dir: the parent-level cube, (dx + 1) + 3 (dy + 1) + 9 (dz + 1); 13 = the parent
+        };
+        std::array<std::array<Step, ns>, 8> step{};
+        for (int oc = 0; oc < 8; ++oc)
+            for (int sl = 0; sl < ns; ++sl) {
                 const auto o = mc::neighbour_offset(sl);
-                const std::int64_t t[3] = {std::int64_t(n.x) + o[0], std::int64_t(n.y) + o[1], std::int64_t(n.z) + o[2]};
-                if (t[0] < 0 || t[1] < 0 || t[2] < 0 || t[0] >= size || t[1] >= size || t[2] >= size) continue;
-                const int octant = int(t[0] & 1) | int(t[1] & 1) << 1 | int(t[2] & 1) << 2;
-                const int po[3] = {int((t[0] >> 1) - std::int64_t(n.x >> 1)), int((t[1] >> 1) - std::int64_t(n.y >> 1)),
-                                   int((t[2] >> 1) - std::int64_t(n.z >> 1))};
-                std::uint32_t up = n.parent;
-                if (po[0] || po[1] || po[2]) up = parent_nb[slot_of[(po[0] + 1) + 3 * (po[1] + 1) + 9 * (po[2] + 1)]];
-                if (up != none) tree.neighbours[ni * mc::neighbour_slots + std::size_t(sl)] = child_at(up, octant);
+                int dir = 0, octant = 0;
+                for (int a = 0, scale = 1; a < 3; ++a, scale *= 3) {
+                    const int c = ((oc >> a) & 1) + o[a];  // -1..2 in the parent's child coordinates
+                    dir += (c < 0 ? 0 : c < 2 ? 1 : 2) * scale;
+                    octant |= (c & 1) << a;  // -1 & 1 = 1: the far child of the lower neighbour
+                }
+                step[std::size_t(oc)][std::size_t(sl)] = {static_cast<std::uint8_t>(dir), static_cast<std::uint8_t>(octant)};
             }
-        }
+        static constexpr std::array<std::uint8_t, 256> below = [] {
+            std::array<std::uint8_t, 256> t{};
+            for (unsigned m = 0; m < 256; ++m) t[m] = static_cast<std::uint8_t>((m & 1) + t[m >> 1]);
+            return t;
+        }();
+        auto rows_of_children = [&](std::size_t b, std::size_t e) {
+            std::uint8_t mask[27];
+            std::uint32_t first[27];
+            for (std::size_t pi = b; pi < e; ++pi) {
+                const McNode& p = tree.nodes[pi];
+                const std::uint32_t* pnb = &tree.neighbours[pi * ns];
+                for (int d = 0; d < 27; ++d) {
+                    const std::uint32_t q = d == 13 ? std::uint32_t(pi) : slot_of[d] < 0 ? none : pnb[slot_of[d]];
+                    mask[d] = q == none ? 0 : tree.nodes[q].child_mask;
+                    first[d] = q == none ? 0 : tree.nodes[q].first_child;
+                }
+                for (std::uint32_t m = p.child_mask, ci = p.first_child; m; m &= m - 1, ++ci) {
+                    const auto& st = step[std::size_t(std::countr_zero(m))];
+                    std::uint32_t* row = &tree.neighbours[std::size_t(ci) * ns];
+                    for (int sl = 0; sl < ns; ++sl) {
+                        const unsigned d = st[std::size_t(sl)].dir, o = st[std::size_t(sl)].octant;
+                        if ((mask[d] >> o) & 1u) row[sl] = first[d] + below[mask[d] & ((1u << o) - 1u)];
+                    }
+                }
+            }
+        };
+        for (std::uint32_t l = levels; l >= 1; --l)  // parents of level l - 1, coarsest first
+            rows_of_children(offset[l], offset[l] + lv[l].size());
     };
     for (int pass = 0;; ++pass) {
         tree.nodes.clear();
@@ -1105,10 +1137,7 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
         for (std::uint32_t l = levels + 1; l-- > 0;) offset[l] = (l == levels ? 0 : offset[l + 1] + lv[l + 1].size());
         node_count = offset[0] + lv[0].size();
         tree.nodes.resize(node_count);
-        maps.clear();
-        maps.reserve(levels + 1);
         for (std::uint32_t l = 0; l <= levels; ++l) {
-            maps.emplace_back(lv[l].size());
             std::size_t child = 0;
             for (std::size_t i = 0; i < lv[l].size(); ++i) {
                 McNode& n = tree.nodes[offset[l] + i];
@@ -1117,7 +1146,6 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
                 if (l == 0)
                     for (int c = 0; c < 8; ++c)
                         if (lv[0][i].corners & (1u << c)) n.inside |= 1u << mc::corner_sample(c);
-                maps[l].insert(pack(n.x, n.y, n.z), static_cast<std::uint32_t>(offset[l] + i));
                 if (l == 0) continue;
                 n.first_child = static_cast<std::uint32_t>(offset[l - 1] + child);
                 while (child < lv[l - 1].size() && (lv[l - 1][child].code >> 3) == lv[l][i].code) {
@@ -1127,6 +1155,19 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
                 }
             }
         }
+
+        // Each level's nodes by position, for the priority numbering's corner neighbours only (D7), so they
+        // are made on this thread after the vertex numbering below, while the neighbour table still runs
+        // beside it, instead of here in the serial octree stage.
+        auto build_maps = [&] {
+            maps.clear();
+            maps.reserve(levels + 1);
+            for (std::uint32_t l = 0; l <= levels; ++l) {
+                maps.emplace_back(lv[l].size());
+                for (std::size_t ni = offset[l], e = offset[l] + lv[l].size(); ni < e; ++ni)
+                    maps[l].insert(pack(tree.nodes[ni].x, tree.nodes[ni].y, tree.nodes[ni].z), static_cast<std::uint32_t>(ni));
+            }
+        };
 
         // Samples of every node (corners of leaves; the 3x3x3 lattice of internal nodes, body centre aside).
         auto sample_key = [&](const McNode& n, int s) {
@@ -1270,6 +1311,7 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
             };
             for (std::size_t ni = offset[0]; ni < node_count; ++ni) number(ni);
             for (std::size_t ni = 0; ni < offset[0]; ++ni) number(ni);
+            build_maps();  // after the numbering: the neighbour table beside it takes longer
         }, build_neighbours);
         // The stage's parallel loops do not report; a cancel is seen here, between them.
         check_progress(progress, 0.72, "mcoctree: vertices");
