@@ -58,15 +58,18 @@ void AttributeQuadrics::add_triangle(const std::size_t* indices, std::size_t cou
         const double d1 = s1[j] - s0[j], d2 = s2[j] - s0[j];
         const Vec3d g{(d1 * u.x + d2 * v.x) / nn, (d1 * u.y + d2 * v.y) / nn, (d1 * u.z + d2 * v.z) / nn};
         const double d = s0[j] - dotd(g, p0);
-        const double r[14] = {weight * g.x * g.x, weight * g.x * g.y, weight * g.x * g.z, weight * g.y * g.y,
-                              weight * g.y * g.z, weight * g.z * g.z, weight * d * g.x,   weight * d * g.y,
-                              weight * d * g.z,   weight * d * d,     weight * g.x,       weight * g.y,
-                              weight * g.z,       weight * d};
-        std::copy(r, r + 14, t);
+        t[0] = weight * g.x * g.x; t[1] = weight * g.x * g.y; t[2] = weight * g.x * g.z;
+        t[3] = weight * g.y * g.y; t[4] = weight * g.y * g.z; t[5] = weight * g.z * g.z;
+        t[6] = weight * d * g.x;   t[7] = weight * d * g.y;   t[8] = weight * d * g.z;
+        t[9] = weight * d * d;     t[10] = weight * g.x;      t[11] = weight * g.y;
+        t[12] = weight * g.z;      t[13] = weight * d;
     };
     bool distinct = count <= kMaxCorners && m_ <= kMaxDimension;
-    for (std::size_t i = 0; distinct && i < count; ++i)
-        for (std::size_t k = i + 1; k < count; ++k) distinct = distinct && indices[i] != indices[k];
+    if (distinct && count == 3)  // a face's three corners (the simplifier's call)
+        distinct = indices[0] != indices[1] && indices[1] != indices[2] && indices[0] != indices[2];
+    else
+        for (std::size_t i = 0; distinct && i < count; ++i)
+            for (std::size_t k = i + 1; k < count; ++k) distinct = distinct && indices[i] != indices[k];
     if (distinct) {
         // Each quadric receives the same additions in the same order as below (attribute by attribute,
         // then the weight), so the sums are the same bits; but A, b and c (summed over all m attributes)

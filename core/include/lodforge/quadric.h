@@ -103,9 +103,20 @@ private:
         const double area = q[10];
         const double* G = q + 11;
         const double* D = q + 11 + 3 * m;
-        for (std::size_t j = 0; j < m; ++j) {
-            const double lin = G[j] * x + G[m + j] * y + G[2 * m + j] * z + D[j];
-            r += area * s[j] * s[j] - 2 * s[j] * lin;
+        if constexpr (M > 0) {
+            // The terms first (independent, contiguous per component: vectorised), then summed in
+            // attribute order, as the loop below does.
+            double term[M];
+            for (std::size_t j = 0; j < M; ++j) {
+                const double lin = G[j] * x + G[M + j] * y + G[2 * M + j] * z + D[j];
+                term[j] = area * s[j] * s[j] - 2 * s[j] * lin;
+            }
+            for (std::size_t j = 0; j < M; ++j) r += term[j];
+        } else {
+            for (std::size_t j = 0; j < m; ++j) {
+                const double lin = G[j] * x + G[m + j] * y + G[2 * m + j] * z + D[j];
+                r += area * s[j] * s[j] - 2 * s[j] * lin;
+            }
         }
         return r > 0 ? r : 0;
     }
