@@ -430,6 +430,18 @@ private:
     // evaluate(full) for a fused_pair(): the trivial mapping, attribute costs included (the edge count is
     // left to plain_valid<true>(), as for plain pairs).
     double fused_plan(std::uint32_t u, std::uint32_t v, Plan& plan);
+    // plan_cost() of the trivial plan (u's only wedge onto v's, one material, half-edge, no frames):
+    // the same arithmetic without the plan, the quadric copy and the class loops. Attribute runs cost
+    // most candidates this way (perf: plan_cost() and the two evaluations were the largest extra of an
+    // attribute-aware frag_115 run over a geometry-only one).
+    double fused_cost(std::uint32_t u, std::uint32_t v) const {
+        const Quadric& q = geo_[u];
+        const Vec3d pv = pts_[v].pos;
+        double cost = q.evaluate(pv);
+        if (dims_ > 0) cost += aq_.evaluate(pts_[u].wedge, pv, attr(pts_[v].wedge));
+        const double weight = q.weight;
+        return weight > 0 ? cost / weight : cost * 1e12;
+    }
     // kFaceOrder: the flip test computes the normals as valid() does (edges from the face's first
     // corner), so it decides exactly as valid(); without, from u (the fused geometry path's arithmetic).
     template <bool kFaceOrder = false>
@@ -1121,7 +1133,8 @@ double Simplifier::fused_plan(std::uint32_t u, std::uint32_t v, Plan& plan) {
     plan.wedge[0] = pts_[u].wedge;
     plan.target[0] = pts_[v].wedge;
     plan.edge_faces = 1;  // plain_valid() counts them
-    return plan_cost(u, v, plan);
+    plan.position = pts_[v].pos;
+    return fused_cost(u, v);
 }
 
 // valid() for a plain pair: v's ring is marked first, so u's neighbours, the common count, the faces
@@ -1318,27 +1331,20 @@ std::uint32_t Simplifier::cheapest(std::uint32_t p, double& best) {
         // same order, the same plans), without its per-neighbour class table: a one-wedge neighbour
         // has the trivial mapping, a seam neighbour's is evaluate()'s.
         Plan plan;
-        const std::uint32_t wedge = pts_[p].wedge;
+        const auto faces = faces_of(p);
+        for (std::uint32_t f : faces) prefetch(&fpt_[3 * f]);
+        for (std::uint32_t f : faces)
+            for (int k = 0; k < 3; ++k) prefetch_point(fpt_[3 * f + k]);
         const std::uint32_t stamp = next_seen();
         pts_[p].seen = stamp;
-        for (std::uint32_t f : faces_of(p)) {
+        for (std::uint32_t f : faces) {
             const std::uint32_t* fp = &fpt_[3 * f];
             if (killed(fp)) continue;
             for (int k = 0; k < 3; ++k) {
                 const std::uint32_t n = fp[k];
                 if (pts_[n].seen == stamp) continue;
                 pts_[n].seen = stamp;
-                double c;
-                if (pts_[n].one_wedge) {
-                    plan.count = 1;
-                    plan.material[0] = 0;
-                    plan.wedge[0] = wedge;
-                    plan.target[0] = pts_[n].wedge;
-                    plan.edge_faces = -1;
-                    c = plan_cost(p, n, plan);
-                } else {
-                    c = evaluate(p, n, plan, false);
-                }
+                const double c = pts_[n].one_wedge ? fused_cost(p, n) : evaluate(p, n, plan, false);
                 if (c < best) {
                     best = c;
                     to = n;
@@ -1566,7 +1572,10 @@ void Simplifier::run_passes(std::size_t target, double limit, double& max_cost) 
                 pts_[a].dirty = 0;
                 const std::uint32_t v = pts_[a].gained;
                 if (point_alive_[v]) {
-                    const double c = evaluate(a, v, plan, false);
+                    // (evaluate() takes the trivial plan for such a pair; fused_cost() is its arithmetic.)
+                    const bool trivial = fusable_ && pts_[a].kind == Kind::interior && pts_[a].one_wedge &&
+                                         pts_[v].one_wedge;
+                    const double c = trivial ? fused_cost(a, v) : evaluate(a, v, plan, false);
                     if (c < pts_[a].cost) {
                         pts_[a].cost = c;
                         pts_[a].best_to = v;

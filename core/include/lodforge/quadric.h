@@ -71,19 +71,19 @@ public:
     // Error of placing the vertex at p with attribute vector s. Inline: attribute-aware costing calls it
     // once per neighbour of every re-costed point.
     double evaluate(std::size_t index, Vec3d p, const double* s) const {
-        if (m_ == 0) return 0;
         const double* q = &data_[index * stride()];
-        const double x = p.x, y = p.y, z = p.z;
-        double r = q[0] * x * x + q[3] * y * y + q[5] * z * z + 2 * (q[1] * x * y + q[2] * x * z + q[4] * y * z) +
-                   2 * (q[6] * x + q[7] * y + q[8] * z) + q[9];
-        const double area = q[10];
-        const double* G = q + 11;
-        const double* D = q + 11 + 3 * m_;
-        for (std::size_t j = 0; j < m_; ++j) {
-            const double lin = G[3 * j] * x + G[3 * j + 1] * y + G[3 * j + 2] * z + D[j];
-            r += area * s[j] * s[j] - 2 * s[j] * lin;
+        // The usual dimensions (normal 3, colour 4, texcoord 2 per set) with the loop unrolled: the
+        // same arithmetic in the same order as the general loop, so the same bits.
+        switch (m_) {
+            case 0: return 0;
+            case 2: return evaluate_at<2>(q, p, s);
+            case 3: return evaluate_at<3>(q, p, s);
+            case 4: return evaluate_at<4>(q, p, s);
+            case 5: return evaluate_at<5>(q, p, s);
+            case 7: return evaluate_at<7>(q, p, s);
+            case 9: return evaluate_at<9>(q, p, s);
+            default: return evaluate_at<0>(q, p, s);
         }
-        return r > 0 ? r : 0;
     }
     // The attribute vector minimising the error at p (s_j = (G_j·p + D_j) / area); false when empty.
     bool optimal_attributes(std::size_t index, Vec3d p, double* s) const;
@@ -93,7 +93,34 @@ public:
     Quadric eliminated(std::size_t index) const;
 
 private:
-    // Layout per quadric: A (6), b (3), c, area, G (3m), D (m).
+    // evaluate() for dimension M (0: m_, a runtime loop).
+    template <std::size_t M>
+    double evaluate_at(const double* q, Vec3d p, const double* s) const {
+        const std::size_t m = M ? M : m_;
+        const double x = p.x, y = p.y, z = p.z;
+        double r = q[0] * x * x + q[3] * y * y + q[5] * z * z + 2 * (q[1] * x * y + q[2] * x * z + q[4] * y * z) +
+                   2 * (q[6] * x + q[7] * y + q[8] * z) + q[9];
+        const double area = q[10];
+        const double* G = q + 11;
+        const double* D = q + 11 + 3 * m;
+        if constexpr (M > 0) {
+            // The terms first (independent, contiguous per component: vectorised), then summed in
+            // attribute order, as the loop below does.
+            double term[M];
+            for (std::size_t j = 0; j < M; ++j) {
+                const double lin = G[j] * x + G[M + j] * y + G[2 * M + j] * z + D[j];
+                term[j] = area * s[j] * s[j] - 2 * s[j] * lin;
+            }
+            for (std::size_t j = 0; j < M; ++j) r += term[j];
+        } else {
+            for (std::size_t j = 0; j < m; ++j) {
+                const double lin = G[j] * x + G[m + j] * y + G[2 * m + j] * z + D[j];
+                r += area * s[j] * s[j] - 2 * s[j] * lin;
+            }
+        }
+        return r > 0 ? r : 0;
+    }
+    // Layout per quadric: A (6), b (3), c, area, G (3m, as Gx[m], Gy[m], Gz[m]), D (m).
     std::size_t stride() const { return 11 + 4 * m_; }
     std::size_t m_ = 0;
     std::vector<double> data_;
