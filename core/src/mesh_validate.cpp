@@ -84,8 +84,7 @@ ValidationReport validate(const Mesh& mesh, const ValidationParams& params) {
     // command measures in fractions of that diagonal, so they all went wrong without a word (errors
     // "-nan of the diagonal inf", cluster simplification to 0 triangles, a crash in mcoctree build).
     if (nan_pos.count() == 0 && n > 0) {
-        Bounds b;
-        for (const Vec3f& p : mesh.positions) b.add(p);
+        const Bounds b = mesh.bounds();
         if (!std::isfinite(b.diagonal())) {
             ValidationFinding f;
             f.severity = Severity::error;
