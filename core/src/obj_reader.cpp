@@ -18,6 +18,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <string_view>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -189,11 +190,11 @@ struct TextScan {
 
 // True when one `f` corner (`v`, `v/vt`, `v//vn`, `v/vt/vn`, signs allowed) has an index whose
 // magnitude does not fit tinyobjloader's int.
-bool index_overflows(const std::string& corner) {
+bool index_overflows(std::string_view corner) {
     std::size_t start = 0;
     while (start <= corner.size()) {
         std::size_t end = corner.find('/', start);
-        if (end == std::string::npos) end = corner.size();
+        if (end == std::string_view::npos) end = corner.size();
         std::size_t i = start;
         if (i < end && (corner[i] == '-' || corner[i] == '+')) ++i;
         while (i < end && corner[i] == '0') ++i;  // leading zeros do not overflow
@@ -207,34 +208,48 @@ bool index_overflows(const std::string& corner) {
     return false;
 }
 
+// The next space- or tab-separated word of `line` from `pos` (empty at the end); no copies, since
+// this runs on every line of files with millions of faces.
+std::string_view next_word(std::string_view line, std::size_t& pos) {
+    const std::size_t b = line.find_first_not_of(" \t", pos);
+    if (b == std::string_view::npos) {
+        pos = line.size();
+        return {};
+    }
+    std::size_t e = line.find_first_of(" \t", b);
+    if (e == std::string_view::npos) e = line.size();
+    pos = e;
+    return line.substr(b, e - b);
+}
+
 TextScan scan_text(std::istream& in) {
     const auto start = in.tellg();
     TextScan scan;
-    std::string line;
-    for (std::size_t number = 1; std::getline(in, line); ++number) {
-        if (!line.empty() && line.back() == '\r') line.pop_back();
+    std::string text_line;
+    for (std::size_t number = 1; std::getline(in, text_line); ++number) {
+        std::string_view line = text_line;
+        if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
         if (!line.empty() && line.back() == '\\') scan.continuation = true;
-        std::size_t i = line.find_first_not_of(" \t");
-        if (i == std::string::npos || (line[i] != 'v' && line[i] != 'f')) continue;
-        std::istringstream words(line.substr(i));
-        std::string word;
-        words >> word;
-        if (word == "f" && !scan.overflow_line) {
-            while (words >> word)
-                if (index_overflows(word)) {
+        std::size_t pos = 0;
+        const std::string_view key = next_word(line, pos);
+        if (key == "f") {
+            if (scan.overflow_line) continue;
+            for (std::string_view w = next_word(line, pos); !w.empty(); w = next_word(line, pos))
+                if (index_overflows(w)) {
                     scan.overflow_line = number;
-                    scan.overflow_token = word;
+                    scan.overflow_token = std::string(w);
                     break;
                 }
-            continue;
-        }
-        if (scan.non_finite_line || (word != "v" && word != "vt" && word != "vn")) continue;
-        while (words >> word) {
-            const char c = static_cast<char>(std::tolower(static_cast<unsigned char>(word[word[0] == '-' || word[0] == '+'])));
-            if (c == 'n' || c == 'i') {
-                scan.non_finite_line = number;
-                scan.non_finite_token = word;
-                break;
+        } else if (key == "v" || key == "vt" || key == "vn") {
+            if (scan.non_finite_line) continue;
+            for (std::string_view w = next_word(line, pos); !w.empty(); w = next_word(line, pos)) {
+                const std::size_t first = (w[0] == '-' || w[0] == '+') && w.size() > 1 ? 1 : 0;
+                const char c = static_cast<char>(std::tolower(static_cast<unsigned char>(w[first])));
+                if (c == 'n' || c == 'i') {
+                    scan.non_finite_line = number;
+                    scan.non_finite_token = std::string(w);
+                    break;
+                }
             }
         }
     }
