@@ -70,6 +70,19 @@ struct LowestNearest {
     float worstDist() const { return std::min(bound, best * (1 + 1e-5f) + 1e-30f); }
 };
 
+// A vertex's normal from its faces is an orientation only where the faces agree: its length at least a
+// tenth of the faces' summed area normals. Where they fold back onto each other or disagree in winding
+// (the same triangle listed with both windings, the folds of a badly oriented scan) the direction left is
+// rounding noise or a mix with an arbitrary sign, and the nearest point's sign decides the side of every
+// lattice point in its Voronoi cell: for a point on the hull that cell reaches the grid's edge, and so did
+// a sheet of zero set (docs/mcoctree.md, pipeline step 1). On the clean scans (dragon, bunny, Lucy) every
+// vertex keeps more than 0.3.
+constexpr float kFoldedFaces = 0.1f;
+// Copies of a point are merged with the sum of their normals unless that is only rounding noise (the
+// dragon's seam copies whose sides nearly oppose keep their small sum: it measured better than the first
+// copy's own normal, docs/mcoctree.md D1).
+constexpr float kCancelled = 1e-5f;
+
 PointCloud points_of(const Mesh& mesh, std::size_t& skipped, unsigned threads) {
     if (mesh.positions.empty()) throw_error(Error::Kind::invalid, input_name, "no points");
     for (std::size_t i = 0; i < mesh.positions.size(); ++i)
@@ -77,13 +90,18 @@ PointCloud points_of(const Mesh& mesh, std::size_t& skipped, unsigned threads) {
             throw_error(Error::Kind::invalid, input_name, "point " + std::to_string(i) + " is not finite");
     PointCloud pc;
     std::vector<Vec3f> normals;
+    std::vector<float> magnitude;  // per point: the summed length of what its normal adds up
     auto normals_of = [&] {
         normals = mesh.normals;
-        if (normals.size() != mesh.positions.size()) {
+        if (normals.size() == mesh.positions.size()) {
+            magnitude.resize(normals.size());
+            for (std::size_t i = 0; i < normals.size(); ++i) magnitude[i] = length(normals[i]);
+        } else {
             if (mesh.indices.empty())
                 throw_error(Error::Kind::invalid, input_name,
                             "the points have no normals and there are no faces to compute them from");
             normals.assign(mesh.positions.size(), Vec3f{});
+            magnitude.assign(mesh.positions.size(), 0.f);
             for (std::size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
                 const std::uint32_t a = mesh.indices[t], b = mesh.indices[t + 1], c = mesh.indices[t + 2];
                 if (a >= normals.size() || b >= normals.size() || c >= normals.size())
@@ -91,7 +109,11 @@ PointCloud points_of(const Mesh& mesh, std::size_t& skipped, unsigned threads) {
                 // cross product length = twice the area: area-weighted average of the adjacent face normals
                 const Vec3f n = cross(mesh.positions[b] - mesh.positions[a], mesh.positions[c] - mesh.positions[a]);
                 normals[a] = normals[a] + n, normals[b] = normals[b] + n, normals[c] = normals[c] + n;
+                const float m = length(n);
+                magnitude[a] += m, magnitude[b] += m, magnitude[c] += m;
             }
+            for (std::size_t i = 0; i < normals.size(); ++i)
+                if (length(normals[i]) < kFoldedFaces * magnitude[i]) normals[i] = Vec3f{}, magnitude[i] = 0;
         }
         for (std::size_t i = 0; i < mesh.positions.size(); ++i)
             if (!is_finite(normals[i]))
@@ -125,17 +147,20 @@ PointCloud points_of(const Mesh& mesh, std::size_t& skipped, unsigned threads) {
     if (!firsts.empty()) {
         std::vector<std::uint32_t> group(mesh.positions.size(), none);
         std::vector<Vec3f> sums;  // per group: the sum of its normals, in point order
+        std::vector<float> sum_magnitudes;
         for (std::size_t g = 0; g < firsts.size(); ++g) {
             group[firsts[g]] = static_cast<std::uint32_t>(g);
             sums.push_back(normals[firsts[g]]);
+            sum_magnitudes.push_back(magnitude[firsts[g]]);
         }
         for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
             if (merged[i] != 1) continue;
-            Vec3f& sum = sums[group[first.find(key_of(mesh.positions[i]))]];
-            sum = sum + normals[i];
+            const std::uint32_t g = group[first.find(key_of(mesh.positions[i]))];
+            sums[g] = sums[g] + normals[i];
+            sum_magnitudes[g] += magnitude[i];
         }
         for (std::size_t g = 0; g < firsts.size(); ++g)
-            if (length(sums[g]) > 0) normals[firsts[g]] = sums[g];
+            if (length(sums[g]) > kCancelled * sum_magnitudes[g]) normals[firsts[g]] = sums[g];
     }
     pc.points.reserve(mesh.positions.size());
     pc.normals.reserve(mesh.positions.size());
@@ -144,7 +169,8 @@ PointCloud points_of(const Mesh& mesh, std::size_t& skipped, unsigned threads) {
         if (merged[i] == 1) continue;
         const Vec3f n = normals[i];
         const float len = length(n);
-        if (!(len > 0)) {  // unreferenced vertex or degenerate faces only: no orientation, skip
+        // unreferenced vertex, degenerate faces only, or faces that cancel: no orientation, skip
+        if (!(len > 0)) {
             ++skipped;
             continue;
         }
@@ -778,7 +804,8 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
     }
     if (skipped > 0)
         tree.warnings.push_back(std::to_string(skipped) + " of " + std::to_string(input.positions.size()) +
-                                " points have no usable normal (zero, or no face uses them) and were skipped");
+                                " points have no usable normal (zero, no face uses them, or their faces cancel: the "
+                                "same triangle with both windings, or folded back) and were skipped");
     clock.mark(scattering ? "points, kd-tree + scatter" : "points, kd-tree");
     std::vector<TmpNode> leaves;
     std::vector<std::uint64_t> corner_keys, next;

@@ -108,6 +108,52 @@ TEST(McOctreeBuild, SkippedPointsAreReported) {
     EXPECT_EQ(r.tree.input_points, 3998u);
 }
 
+TEST(McOctreeBuild, FacesThatCancelGiveNoNormal) {
+    // A triangle listed twice with opposite windings, starting at different corners: the two cross
+    // products round differently, and their sum used to be noise with an arbitrary direction, used as
+    // the point's orientation. Its three points must be skipped like points without faces.
+    Mesh m = read_mesh(lodforge::test::shared_data("scan-bunny/bun_zipper.ply"));
+    McOctreeParams p;
+    p.resolution = 32;
+    const auto base = build_mc_octree(m, p);
+    // Just outside the bunny's box; the second copy starts at the second corner.
+    const auto n = static_cast<std::uint32_t>(m.positions.size());
+    const Vec3f a{0.0733091012f, 0.191891015f, 0.0619096979f}, b{0.0827091038f, 0.200421005f, 0.0658297017f},
+        c{0.0769091025f, 0.206621006f, 0.0758996978f};
+    m.positions.insert(m.positions.end(), {a, b, c});
+    for (std::uint32_t i : {n, n + 1, n + 2, n + 1, n, n + 2}) m.indices.push_back(i);
+    const Vec3f sum = cross(b - a, c - a) + cross(a - b, c - b);  // as the build sums them
+    ASSERT_GT(length(sum), 0.f) << "the fixture must leave rounding noise, not an exact zero";
+    const auto r = build_mc_octree(m, p);
+    EXPECT_EQ(r.tree.input_points, base.tree.input_points);
+    ASSERT_FALSE(r.warnings.empty());
+    const std::string skipped = std::to_string(n - base.tree.input_points + 3) + " of " + std::to_string(n + 3);
+    EXPECT_NE(r.warnings.back().find(skipped + " points have no usable normal"), std::string::npos)
+        << r.warnings.back();
+}
+
+TEST(McOctreeBuild, BadlyOrientedScanStaysWithinItsBounds) {
+    // The happy Buddha's res3 scan repeats triangles with both windings and has folds whose faces
+    // disagree in orientation. The nearest point's normal decides the side of far lattice points, so one
+    // such point on the hull used to put a sheet of surface out to the grid's edge (at 128: x up to 0.34
+    // for a model ending at 0.035). Every extracted vertex lies within a few cubes of the input's box.
+    const Mesh buddha = read_mesh(lodforge::test::shared_data("scan-happy-buddha/happy_vrip_res3.ply"));
+    const Bounds in = buddha.bounds();
+    for (const std::size_t resolution : {64u, 128u}) {
+        McOctreeParams p;
+        p.resolution = resolution;
+        const McOctree t = build_mc_octree(buddha, p).tree;
+        const Mesh leaves = McOctreeExtractor(t).extract(t.max_priority()).mesh;
+        ASSERT_FALSE(leaves.positions.empty());
+        const Bounds out = leaves.bounds();
+        const float slack = 3 * t.cube_size;
+        for (int a = 0; a < 3; ++a) {
+            EXPECT_GE(out.min[a], in.min[a] - slack) << "resolution " << resolution << ", axis " << a;
+            EXPECT_LE(out.max[a], in.max[a] + slack) << "resolution " << resolution << ", axis " << a;
+        }
+    }
+}
+
 TEST(McOctreeBuild, DragonScanWithHolesIsClosedAtEveryPriority) {
     // Bridges across the scan's holes reach coarse levels the first flood did not: the build floods them
     // too (docs/mcoctree.md, D2), or coarse cuts would have holes here.
