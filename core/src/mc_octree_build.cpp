@@ -1068,6 +1068,30 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
                                                                                                  double(leaves.size()))))));
         tree.warnings.push_back(buf);
     }
+    // An open input: the zero set runs on past the input's border (an open scan, or a hole too wide for
+    // the field to bridge) until the grid's boundary, which counts as outside (D2), closes it there, far
+    // from any point. Nothing is wrong with the tree, but a user sees a skirt or sheet that is not in the
+    // input: say where, and what ends the surface near the border instead.
+    if (params.band == 0) {
+        std::uint32_t sides = 0;  // bit 2 * axis + (1 for the high side)
+        for (const TmpNode& leaf : leaves) {
+            const std::uint32_t c[3] = {leaf.x, leaf.y, leaf.z};
+            for (int a = 0; a < 3; ++a) {
+                if (c[a] == 0) sides |= 1u << (2 * a);
+                if (c[a] + 1 >= grid) sides |= 2u << (2 * a);
+            }
+        }
+        if (sides) {
+            std::string where;
+            for (int f = 0; f < 6; ++f)
+                if (sides & (1u << f)) where += std::string(where.empty() ? "" : ", ") + (f & 1 ? "+" : "-") + "xyz"[f / 2];
+            result.reaches_grid_edge = true;
+            tree.warnings.push_back("the surface runs to the grid's edge (" + where +
+                                    "): the input is open there (an open scan, or a hole too wide to bridge), and the "
+                                    "surface is closed along the grid's boundary, far from the input; a band (--band "
+                                    "2.5) ends it near the input's border instead");
+        }
+    }
 
     // The octree and its vertices. The closing above makes the first pass the only one; the check at the
     // end of a pass stays as a safety net (it rebuilds only if a required leaf cube was never examined).

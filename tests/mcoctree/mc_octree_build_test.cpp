@@ -154,6 +154,29 @@ TEST(McOctreeBuild, BadlyOrientedScanStaysWithinItsBounds) {
     }
 }
 
+TEST(McOctreeBuild, AnOpenInputThatRunsToTheGridsEdgeIsWarnedAbout) {
+    // frag_115 is one side of a room: without a band its zero set runs on until the grid's boundary
+    // closes it. The build says so and names the fix; with the band, or on a closed input, it does not.
+    const Mesh frag = read_mesh(lodforge::test::shared_data("color-open3d-frag115/frag_115.ply"));
+    McOctreeParams p;
+    p.resolution = 32;
+    const auto open = build_mc_octree(frag, p);
+    EXPECT_TRUE(open.reaches_grid_edge);
+    ASSERT_FALSE(open.warnings.empty());
+    EXPECT_NE(open.warnings.back().find("the surface runs to the grid's edge ("), std::string::npos)
+        << open.warnings.back();
+    EXPECT_NE(open.warnings.back().find("--band"), std::string::npos);
+    p.band = 2.5;
+    const auto banded = build_mc_octree(frag, p);
+    EXPECT_FALSE(banded.reaches_grid_edge);
+    for (const std::string& w : banded.warnings) EXPECT_EQ(w.find("grid's edge"), std::string::npos) << w;
+    McOctreeParams q;
+    q.resolution = 32;
+    const auto sphere = build_mc_octree(lodforge::test::sphere_points(4000), q);
+    EXPECT_FALSE(sphere.reaches_grid_edge);
+    for (const std::string& w : sphere.warnings) EXPECT_EQ(w.find("grid's edge"), std::string::npos) << w;
+}
+
 TEST(McOctreeBuild, DragonScanWithHolesIsClosedAtEveryPriority) {
     // Bridges across the scan's holes reach coarse levels the first flood did not: the build floods them
     // too (docs/mcoctree.md, D2), or coarse cuts would have holes here.

@@ -111,6 +111,7 @@ struct McOctreeBuildResult {
     std::size_t field_samples = 0;     // distance-field values (lattice points)
     std::size_t scattered_samples = 0; // of which found by scattering the points (the rest: kd-tree queries)
     std::size_t dropped_far_cubes = 0; // crossing cubes dropped by the band rule (surface ends there)
+    bool reaches_grid_edge = false;    // band 0 and the surface runs to the grid's boundary (an open input; warned)
     double point_spacing = 0;          // median distance of an input point to its nearest neighbour
     std::size_t hidden_cuts = 0;       // cuts of the order that are not levels (a later cut has fewer triangles)
     std::vector<std::string> warnings; // same as tree.warnings
