@@ -43,7 +43,7 @@ void add_simplify_command(CLI::App& app, const GlobalOptions& global) {
         std::string weights;
         bool lock_border = false;
         std::string mode = "collapse";
-        std::string area_weight = "sqrt";
+        std::string area_weight = "area";
         double height_weight = SimplifyParams{}.height_weight;
     };
     auto options = std::make_shared<Options>();

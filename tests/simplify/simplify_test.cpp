@@ -407,6 +407,8 @@ TEST(Simplify, HeightBoundLowersTheMeanError) {
     for (float r : {0.02f, 0.01f}) {
         SimplifyParams with = ratio(r), without = ratio(r);
         with.weights.normal = without.weights.normal = 0;
+        with.area_weight = without.area_weight = SimplifyParams::AreaWeight::sqrt_area;
+        with.height_weight = 0.3f;
         without.height_weight = 0;
         const SimplifyResult a = simplify(in, with), b = simplify(in, without);
         const bool same_order = a.collapses.size() == b.collapses.size() &&
@@ -422,6 +424,7 @@ TEST(Simplify, HeightBoundLowersTheMeanError) {
         EXPECT_LT(ma, 0.97 * mb) << r;
     }
     SimplifyParams limited = ratio(0.01f);
+    limited.height_weight = 0.3f;
     limited.max_error = 2e-3f;
     const SimplifyResult l = simplify(in, limited);
     EXPECT_EQ(l.reason, SimplifyResult::StopReason::error_limit);
