@@ -9,7 +9,7 @@
 //
 //   lodforge_bench_simplify [--quick] [--models dragon,bunny,frag,duck,bottle] [--ratios 0.5,0.1,0.01]
 //                           [--reps N] [--samples N] [--no-vtk] [--no-openmesh] [--openmesh-dragon-all]
-//                           [--greedy] [--no-attributes] [--digest]
+//                           [--greedy] [--no-attributes] [--digest] [--area-weight area|sqrt] [--height-weight W]
 //
 // --quick: dragon and bunny at 10 % only, without OpenMesh. OpenMesh runs on the full dragon at 10 % only
 // (it takes ~20 s per level) unless --openmesh-dragon-all. With --reps N > 1 the time is the median of N
@@ -113,11 +113,21 @@ Mesh with_indices(const Mesh& in, std::vector<std::uint32_t> indices) {
     return m;
 }
 
+// --area-weight / --height-weight: lodforge's opt-in order terms (docs/simplification.md, "Hausdorff against
+// meshopt"), for every lodforge method of the run.
+struct OrderOptions {
+    SimplifyParams::AreaWeight area_weight = SimplifyParams::AreaWeight::area;
+    float height_weight = 0.f;
+};
+OrderOptions g_order;
+
 Outcome run_lodforge(const Mesh& in, float ratio, bool attributes,
                      SimplifyParams::Schedule schedule = SimplifyParams::Schedule::passes) {
     SimplifyParams p;
     p.target_ratio = ratio;
     p.schedule = schedule;
+    p.area_weight = g_order.area_weight;
+    p.height_weight = g_order.height_weight;
     if (!attributes) {
         p.weights.normal = 0;
         p.weights.color = 0;
@@ -300,11 +310,20 @@ int main(int argc, char** argv) {
             digest = true;
         } else if (a == "--openmesh-dragon-all") {
             openmesh_dragon_all = true;
+        } else if (a == "--area-weight") {
+            const std::string v = next();
+            if (v != "area" && v != "sqrt") {
+                std::fprintf(stderr, "--area-weight: area or sqrt, got %s\n", v.c_str());
+                return 2;
+            }
+            g_order.area_weight = v == "sqrt" ? SimplifyParams::AreaWeight::sqrt_area : SimplifyParams::AreaWeight::area;
+        } else if (a == "--height-weight") {
+            g_order.height_weight = static_cast<float>(std::atof(next().c_str()));
         } else {
             std::fprintf(stderr,
                          "usage: %s [--quick] [--models dragon,bunny,frag,duck,bottle] [--ratios 0.5,0.1,0.01] "
                          "[--reps N] [--samples N] [--no-vtk] [--no-openmesh] [--openmesh-dragon-all] [--greedy] "
-                         "[--no-attributes] [--digest]\n",
+                         "[--no-attributes] [--digest] [--area-weight area|sqrt] [--height-weight W]\n",
                          argv[0]);
             return 2;
         }

@@ -43,6 +43,8 @@ void add_simplify_command(CLI::App& app, const GlobalOptions& global) {
         std::string weights;
         bool lock_border = false;
         std::string mode = "collapse";
+        std::string area_weight = "area";
+        double height_weight = SimplifyParams{}.height_weight;
     };
     auto options = std::make_shared<Options>();
     CLI::App* cmd = app.add_subcommand("simplify", "Simplify a mesh to a triangle ratio, count or error bound");
@@ -57,7 +59,16 @@ void add_simplify_command(CLI::App& app, const GlobalOptions& global) {
     cmd->add_option("--mode", options->mode, "collapse: quadric edge collapse; cluster: vertex clustering (faster, coarser)")
         ->check(CLI::IsMember({"collapse", "cluster"}))
         ->capture_default_str();
-    cmd->callback([options, ratio, triangles, max_error, lock, &global] {
+    CLI::Option* area_weight =
+        cmd->add_option("--area-weight", options->area_weight,
+                        "Face weight in the quadrics: sqrt (square root of the area) or area (collapse mode)")
+            ->check(CLI::IsMember({"sqrt", "area"}))
+            ->capture_default_str();
+    CLI::Option* height_weight = cmd->add_option(
+        "--height-weight", options->height_weight,
+        "Weight of the accumulated height bound in the collapse order, >= 0; 0 = quadric order only (collapse mode)");
+    height_weight->capture_default_str();
+    cmd->callback([options, ratio, triangles, max_error, lock, area_weight, height_weight, &global] {
         const Options& o = *options;
         const int targets = static_cast<int>(ratio->count() > 0) + static_cast<int>(triangles->count() > 0) +
                             static_cast<int>(max_error->count() > 0);
@@ -74,6 +85,10 @@ void add_simplify_command(CLI::App& app, const GlobalOptions& global) {
             throw Error(Error::Kind::argument, "simplify: --max-error needs --mode collapse (clustering targets a triangle count)");
         if (cluster && lock->count())
             throw Error(Error::Kind::argument, "simplify: --lock-border needs --mode collapse");
+        if (cluster && (area_weight->count() || height_weight->count()))
+            throw Error(Error::Kind::argument, "simplify: --area-weight and --height-weight need --mode collapse");
+        if (!(o.height_weight >= 0 && std::isfinite(o.height_weight)))
+            throw Error(Error::Kind::argument, "simplify: --height-weight must be finite and >= 0");
         check_mesh_output("simplify", o.output);
         SimplifyWeights weights;
         if (!o.weights.empty()) parse_weights(o.weights, weights);
@@ -103,6 +118,8 @@ void add_simplify_command(CLI::App& app, const GlobalOptions& global) {
             if (max_error->count()) p.max_error = static_cast<float>(o.max_error);
             p.weights = weights;
             p.lock_border = o.lock_border;
+            p.area_weight = o.area_weight == "area" ? SimplifyParams::AreaWeight::area : SimplifyParams::AreaWeight::sqrt_area;
+            p.height_weight = static_cast<float>(o.height_weight);
             SimplifyResult r = simplify(mesh, p, &progress);
             if (!max_error->count())
                 target = o.triangles > 0 ? static_cast<std::size_t>(o.triangles)

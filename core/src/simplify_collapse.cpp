@@ -442,6 +442,45 @@ private:
         const double weight = q.weight;
         return weight > 0 ? cost / weight : cost * 1e12;
     }
+    // A face's quadric weight from its area (SimplifyParams::area_weight).
+    double face_weight(double area) const {
+        return params_.area_weight == SimplifyParams::AreaWeight::sqrt_area ? std::sqrt(area) : area;
+    }
+    // A constraint plane's weight: |e|² (GH97) scaled as its face's weight is scaled from the face's area
+    // (area > 0), so against that face it counts the same under either weighting.
+    double constraint_weight(double e2, double area) const {
+        return params_.area_weight == SimplifyParams::AreaWeight::area ? e2 : e2 * face_weight(area) / area;
+    }
+    // Height term of the pass schedule's order (SimplifyParams::height_weight; see penalty()).
+    // fan_normal(p): the unit area-weighted normal of p's live faces (their summed cross products; zero
+    // when they cancel).
+    Vec3d fan_normal(std::uint32_t p) const {
+        Vec3d s{0, 0, 0};
+        for (std::uint32_t f : faces_of(p)) {
+            const std::uint32_t* c = &fpt_[3 * f];
+            if (killed(c)) continue;
+            const Vec3d a = pts_[c[0]].pos;
+            const Vec3d n = crossd(sub(pts_[c[1]].pos, a), sub(pts_[c[2]].pos, a));
+            s = {s.x + n.x, s.y + n.y, s.z + n.z};
+        }
+        const double len = std::sqrt(dotd(s, s));
+        if (!(len > 0)) return {0, 0, 0};
+        return {s.x / len, s.y / len, s.z / len};
+    }
+    // The height of p_u over u's fan moved onto p_v: how far the removed point ends up from the surface
+    // that replaces it (exact for a flat fan), measured along the fan's unit normal `nb`.
+    double height(std::uint32_t u, std::uint32_t v, const Vec3d& nb) const {
+        return std::abs(dotd(nb, sub(pts_[u].pos, pts_[v].pos)));
+    }
+    // Added to the cost of u -> v for the order only: height_weight x (u's bound + the height of p_u)^2.
+    // The quadric's mean is diluted as a point's area grows, so a point that already stands for a region
+    // far from its faces (bumps bridged by large flat triangles) would keep collapsing cheaply; the bound
+    // carries that distance along undiluted (see PointRec::bound).
+    double penalty(std::uint32_t u, std::uint32_t v, const Vec3d& nb) const {
+        const double t = double(pts_[u].bound) + height(u, v, nb);
+        return height_weight_ * t * t;
+    }
+    double height_weight_ = 0;  // params_.height_weight where it applies (run()), else 0
     // kFaceOrder: the flip test computes the normals as valid() does (edges from the face's first
     // corner), so it decides exactly as valid(); without, from u (the fused geometry path's arithmetic).
     template <bool kFaceOrder = false>
@@ -488,6 +527,8 @@ private:
         std::uint32_t lock = 0;        // pass schedule: the round that locked it
         std::uint32_t seen = 0;        // stamp of neighbours() / plain_valid() / classify_points()
         std::uint32_t ring = 0;        // stamp of valid() / plain_valid(): in v's ring
+        float bound = 0;               // pass schedule with height_weight: how far the region this point
+                                       // stands for may be from its faces (grown by each collapse onto it)
         std::uint32_t wedge = 0;       // its first wedge (the only one when one_wedge): the plain paths'
                                        // mapping without two dependent loads from the wedge CSR
     };
@@ -622,7 +663,7 @@ void Simplifier::setup() {
         const Vec3d n = crossd(sub(p1, p0), sub(p2, p0));
         const double len = std::sqrt(dotd(n, n));
         if (!(len > 0)) continue;
-        const double area = 0.5 * len;
+        const double area = face_weight(0.5 * len);
         const Vec3d un{n.x / len, n.y / len, n.z / len};
         const Quadric q = Quadric::from_plane(un, -dotd(un, p0), area);
         for (int k = 0; k < 3; ++k) geo_[pid_[c[k]]] += q;
@@ -687,7 +728,7 @@ void Simplifier::setup_frames() {
             const double len = std::sqrt(dotd(n, n));
             if (!(len > 0)) continue;
             const Vec3d un{n.x / len, n.y / len, n.z / len};
-            const Quadric q = Quadric::from_plane(un, -dotd(un, p0), 0.5 * len);
+            const Quadric q = Quadric::from_plane(un, -dotd(un, p0), face_weight(0.5 * len));
             for (int k = 0; k < 3; ++k) frame_geo_[c[k] * frames_ + f] += q;
         }
     }
@@ -704,7 +745,7 @@ void Simplifier::add_frame_border_planes(std::uint32_t p, std::uint32_t q, std::
         const double len = std::sqrt(dotd(m, m));
         if (!(len > 0)) continue;
         m = {m.x / len, m.y / len, m.z / len};
-        Quadric bq = Quadric::from_plane(m, -dotd(m, at(p)), dotd(e, e));
+        Quadric bq = Quadric::from_plane(m, -dotd(m, at(p)), constraint_weight(dotd(e, e), 0.5 * std::sqrt(dotd(n, n))));
         bq.weight = 0;
         frame_geo_[p * frames_ + f] += bq;
         frame_geo_[q * frames_ + f] += bq;
@@ -775,7 +816,7 @@ void Simplifier::add_edge_plane(std::uint32_t p, std::uint32_t q) {
         const double len = std::sqrt(dotd(m, m));
         if (!(len > 0)) return;
         m = {m.x / len, m.y / len, m.z / len};
-        Quadric bq = Quadric::from_plane(m, -dotd(m, pts_[p].pos), dotd(e, e));
+        Quadric bq = Quadric::from_plane(m, -dotd(m, pts_[p].pos), constraint_weight(dotd(e, e), 0.5 * std::sqrt(dotd(n, n))));
         bq.weight = 0;  // a constraint, not surface: it must not dilute the mean
         geo_[p] += bq;
         geo_[q] += bq;
@@ -1275,6 +1316,8 @@ void Simplifier::collapse(std::uint32_t u, std::uint32_t v, const Plan& plan) {
 std::uint32_t Simplifier::cheapest(std::uint32_t p, double& best) {
     best = std::numeric_limits<double>::infinity();
     std::uint32_t to = kNone;
+    const bool pen = height_weight_ > 0;
+    const Vec3d nb = pen ? fan_normal(p) : Vec3d{0, 0, 0};
     if (plain_ && pts_[p].kind == Kind::interior && pts_[p].one_wedge) {
         // Geometry only, half-edge, one wedge: the cost is Q_p at the neighbour over p's area (what
         // evaluate() computes without a face walk). The neighbours are read straight off the faces.
@@ -1299,7 +1342,18 @@ std::uint32_t Simplifier::cheapest(std::uint32_t p, double& best) {
                 const std::uint32_t n = fpt_[3 * f + k];
                 if (pts_[n].seen == stamp) continue;
                 pts_[n].seen = stamp;
-                if (pts_[n].one_wedge) {
+                if (pen) {
+                    // The height term differs per neighbour, so each cost is complete (divided as evaluate()
+                    // divides, so the plain and general paths give the same costs).
+                    double c = pts_[n].one_wedge ? (q.weight > 0 ? q.evaluate(pts_[n].pos) / q.weight : q.evaluate(pts_[n].pos) * 1e12)
+                                                 : evaluate(p, n, plan, false);
+                    if (std::isfinite(c)) c += penalty(p, n, nb);
+                    if (c < best) {
+                        best = c;
+                        to = n;
+                        best_at = at;
+                    }
+                } else if (pts_[n].one_wedge) {
                     const double e = q.evaluate(pts_[n].pos);
                     if (e < least) {
                         least = e;
@@ -1324,7 +1378,7 @@ std::uint32_t Simplifier::cheapest(std::uint32_t p, double& best) {
         }
         return to;
     }
-    if (plain_ && pts_[p].kind == Kind::border && pts_[p].one_wedge && faces_of(p).size() <= kPlainBorderFaces)
+    if (plain_ && pts_[p].kind == Kind::border && pts_[p].one_wedge && faces_of(p).size() <= kPlainBorderFaces && !pen)
         return cheapest_plain_border(p, best);
     if (fusable_ && !greedy_ && pts_[p].kind == Kind::interior && pts_[p].one_wedge) {
         // Attribute run, one-wedge interior point: what for_each_cost() gives (the same neighbours in the
@@ -1344,7 +1398,8 @@ std::uint32_t Simplifier::cheapest(std::uint32_t p, double& best) {
                 const std::uint32_t n = fp[k];
                 if (pts_[n].seen == stamp) continue;
                 pts_[n].seen = stamp;
-                const double c = pts_[n].one_wedge ? fused_cost(p, n) : evaluate(p, n, plan, false);
+                double c = pts_[n].one_wedge ? fused_cost(p, n) : evaluate(p, n, plan, false);
+                if (pen && std::isfinite(c)) c += penalty(p, n, nb);
                 if (c < best) {
                     best = c;
                     to = n;
@@ -1354,6 +1409,7 @@ std::uint32_t Simplifier::cheapest(std::uint32_t p, double& best) {
         return to;
     }
     auto consider = [&](std::uint32_t n, double c) {
+        if (pen && std::isfinite(c)) c += penalty(p, n, nb);
         if (c < best) {
             best = c;
             to = n;
@@ -1408,8 +1464,10 @@ std::uint32_t Simplifier::cheapest_plain_border(std::uint32_t p, double& best) {
 std::uint32_t Simplifier::cheapest_valid(std::uint32_t u, std::uint32_t rejected, double& cost) {
     Plan plan;
     options_.clear();
+    const bool pen = height_weight_ > 0;
+    const Vec3d nb = pen ? fan_normal(u) : Vec3d{0, 0, 0};
     auto option = [&](std::uint32_t n, double c) {
-        if (n != rejected && std::isfinite(c)) options_.emplace_back(c, n);
+        if (n != rejected && std::isfinite(c)) options_.emplace_back(pen ? c + penalty(u, n, nb) : c, n);
     };
     if (greedy_ || !for_each_cost(u, option)) {
         neighbours(u, scratch_n_);
@@ -1419,7 +1477,7 @@ std::uint32_t Simplifier::cheapest_valid(std::uint32_t u, std::uint32_t rejected
     for (const auto& [estimate, n] : options_) {
         const double c = evaluate(u, n, plan, true);
         if (!std::isfinite(c) || !valid(u, n, plan)) continue;
-        cost = c;
+        cost = pen ? c + penalty(u, n, nb) : c;
         return n;
     }
     return kNone;
@@ -1575,7 +1633,8 @@ void Simplifier::run_passes(std::size_t target, double limit, double& max_cost) 
                     // (evaluate() takes the trivial plan for such a pair; fused_cost() is its arithmetic.)
                     const bool trivial = fusable_ && pts_[a].kind == Kind::interior && pts_[a].one_wedge &&
                                          pts_[v].one_wedge;
-                    const double c = trivial ? fused_cost(a, v) : evaluate(a, v, plan, false);
+                    double c = trivial ? fused_cost(a, v) : evaluate(a, v, plan, false);
+                    if (height_weight_ > 0 && std::isfinite(c)) c += penalty(a, v, fan_normal(a));
                     if (c < pts_[a].cost) {
                         pts_[a].cost = c;
                         pts_[a].best_to = v;
@@ -1698,7 +1757,13 @@ void Simplifier::run_passes(std::size_t target, double limit, double& max_cost) 
             if (moves_kept)
                 for (std::uint32_t n : scratch_b_) pts_[n].dirty = 1;  // v moved: their edges to it changed
             pts_[u].lock = pass;
-            max_cost = std::max(max_cost, c);
+            max_cost = std::max(max_cost, c);  // the quadric cost: the height term only orders
+            if (height_weight_ > 0) {
+                // u's region is now within its bound plus p_u's height of v's faces (u's fan, before the
+                // collapse renames it).
+                const double h = height(u, v, fan_normal(u));
+                pts_[v].bound = std::max(pts_[v].bound, static_cast<float>(double(pts_[u].bound) + h));
+            }
             collapse(u, v, plan);
             pts_[u].cost = std::numeric_limits<double>::infinity();
             changed = true;
@@ -1731,6 +1796,8 @@ SimplifyResult Simplifier::run() {
     if (!weights_ok) throw Error(Error::Kind::argument, "simplify: attribute weights must be finite and >= 0");
     if (!(p.min_normal_dot >= -1.f && p.min_normal_dot <= 1.f))
         throw Error(Error::Kind::argument, "simplify: min_normal_dot must be in [-1, 1]");
+    if (!(p.height_weight >= 0.f) || !std::isfinite(p.height_weight))
+        throw Error(Error::Kind::argument, "simplify: height_weight must be finite and >= 0");
     if (!p.extra_frames.empty() && p.placement != Placement::half_edge)
         throw Error(Error::Kind::argument, "simplify: extra_frames need Placement::half_edge");
     for (std::size_t f = 0; f < p.extra_frames.size(); ++f) {
@@ -1744,6 +1811,11 @@ SimplifyResult Simplifier::run() {
     }
 
     check_progress(progress_, 0.0, "simplify");
+    // The height term orders the pass schedule's half-edge collapses (with extra frames, frame 0's heights);
+    // the greedy schedule and optimal placement (the kept point moves, so the height over p_v is not the
+    // height over the result) keep the quadric order.
+    if (p.schedule == SimplifyParams::Schedule::passes && p.placement == Placement::half_edge)
+        height_weight_ = double(p.height_weight);
     setup();
     classify_points();
 

@@ -95,6 +95,8 @@ TEST(CliSimplify, BadTargetsExitNonZeroWithAMessage) {
         {" --max-error -1", "--max-error must be > 0"},
         {" --max-error 0.01 --mode cluster", "--max-error needs --mode collapse"},
         {" --ratio 0.5 --mode cluster --lock-border", "--lock-border needs --mode collapse"},
+        {" --ratio 0.5 --mode cluster --height-weight 0.1", "--height-weight need --mode collapse"},
+        {" --ratio 0.5 --height-weight -1", "--height-weight must be finite and >= 0"},
         {" --ratio 0.5 --weights normal", "expected name=value"},
         {" --ratio 0.5 --weights shininess=1", "unknown attribute 'shininess'"},
         {" --ratio 0.5 --weights color=-1", "must be >= 0"},
