@@ -1,6 +1,7 @@
 // `lodforge simplify`, `lod` and `compare` run as users run them: the real executable through popen.
 #include "lodforge/mesh_io.h"
 #include "lodforge/ply.h"
+#include "lodforge/simplify.h"
 
 #include "support/cli_run.h"
 #include "support/test_paths.h"
@@ -63,6 +64,25 @@ TEST(CliSimplify, TriangleCountAndErrorTargetsAndBorderLock) {
     EXPECT_LT(lodforge::read_mesh(dir.file("err.ply")).triangle_count(), 69451u);
 }
 
+TEST(CliSimplify, AreaAndHeightWeightsReachTheLibrary) {
+    // --area-weight sqrt --height-weight 0.3 give what simplify() gives with those parameters, and not
+    // the default result.
+    lodforge::test::ScratchDir dir("cli-simplify-order");
+    const std::string opt = dir.file("opt.ply"), plain = dir.file("plain.ply");
+    CliRun r = run("simplify " + q(bunny()) + " -o " + q(opt) + " --ratio 0.02 --area-weight sqrt --height-weight 0.3");
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    r = run("simplify " + q(bunny()) + " -o " + q(plain) + " --ratio 0.02");
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    lodforge::SimplifyParams p;
+    p.target_ratio = 0.02f;
+    p.area_weight = lodforge::SimplifyParams::AreaWeight::sqrt_area;
+    p.height_weight = 0.3f;
+    const lodforge::SimplifyResult lib = lodforge::simplify(lodforge::read_mesh(bunny()), p);
+    const lodforge::Mesh a = lodforge::read_mesh(opt), b = lodforge::read_mesh(plain);
+    EXPECT_EQ(a.positions, lib.mesh.positions);
+    EXPECT_EQ(a.indices, lib.mesh.indices);
+    EXPECT_NE(a.positions, b.positions);
+}
 TEST(CliSimplify, ClusterModeOnTheColouredScanKeepsColours) {
     lodforge::test::ScratchDir dir("cli-cluster");
     const std::string frag = lodforge::test::shared_data("color-open3d-frag115/frag_115.ply");

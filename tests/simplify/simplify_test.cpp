@@ -67,7 +67,7 @@ std::size_t count_folded(const Mesh& in, const std::vector<std::uint32_t>& input
     return folded;
 }
 
-void check_levels(const Mesh& in, const char* name) {
+void check_levels(const Mesh& in, const char* name, const SimplifyParams& base = {}) {
     // Judge against the input as the simplifier sees it (welded points, exact duplicate faces dropped):
     // ratio 1 performs no collapse. Scans also fold on themselves in places, so folds are counted
     // relative to the input's own.
@@ -80,7 +80,9 @@ void check_levels(const Mesh& in, const char* name) {
     float last_error = 0;
     for (float r : {0.5f, 0.1f, 0.01f}) {
         SCOPED_TRACE(std::string(name) + " ratio " + std::to_string(r));
-        const SimplifyResult s = simplify(in, ratio(r));
+        SimplifyParams p = base;
+        p.target_ratio = r;
+        const SimplifyResult s = simplify(in, p);
         expect_target(in, s, r);
         EXPECT_EQ(count_degenerate(s.mesh), 0u);
         const EdgeCounts after = count_edges(s.mesh);
@@ -99,6 +101,25 @@ void check_levels(const Mesh& in, const char* name) {
 TEST(Simplify, BunnyReachesTargetsWithValidTopology) { check_levels(bunny(), "bunny"); }
 
 TEST(Simplify, DragonRes2ReachesTargetsWithValidTopology) { check_levels(dragon_res2(), "dragon_res2"); }
+
+// The opt-in order terms (docs/simplification.md, "Hausdorff against meshopt") meet the same contract, and
+// each one takes effect on its own: the square-root face weights change the collapses too.
+TEST(Simplify, AreaAndHeightWeightsMeetTheSameContract) {
+    SimplifyParams both;
+    both.area_weight = SimplifyParams::AreaWeight::sqrt_area;
+    both.height_weight = 0.3f;
+    check_levels(bunny(), "bunny, sqrt area + height 0.3", both);
+    SimplifyParams sqrt_area = ratio(0.1f), area = ratio(0.1f);
+    sqrt_area.area_weight = SimplifyParams::AreaWeight::sqrt_area;
+    const SimplifyResult a = simplify(bunny(), sqrt_area), b = simplify(bunny(), area);
+    EXPECT_EQ(a.triangles, b.triangles);
+    const bool same = a.collapses.size() == b.collapses.size() &&
+                      std::equal(a.collapses.begin(), a.collapses.end(), b.collapses.begin(),
+                                 [](const Collapse& x, const Collapse& y) {
+                                     return x.from_point == y.from_point && x.to_point == y.to_point;
+                                 });
+    EXPECT_FALSE(same);
+}
 
 // The heap schedule (one global queue) is kept beside the default rounds of independent collapses: both
 // meet the same contract, and the rounds cost little quality against the strict cheapest-first order.

@@ -58,7 +58,7 @@ struct SimplifyParams {
     // Weight of each face's plane in the quadrics (and of its attribute quadric): its area (Garland &
     // Heckbert) or the square root of its area (meshoptimizer's choice). The cost stays a weighted mean of
     // squared distances either way; sqrt_area gives small faces more say. With height_weight 0.3 it lowers
-    // the maximum error on most cells measured, at ~25 % more instructions (docs/simplification.md,
+    // the maximum error on most cells measured, at ~28 % more instructions (docs/simplification.md,
     // "Hausdorff against meshopt"); the defaults keep the previous behaviour.
     enum class AreaWeight { area, sqrt_area };
     AreaWeight area_weight = AreaWeight::area;
