@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -35,10 +36,11 @@ void add_compare_command(CLI::App& app, const GlobalOptions& global) {
     cmd->add_option("TEST", options->test, "Test mesh (usually the simplified one)")->required();
     cmd->add_flag("--json", options->json,
                   "Print JSON (keys: hausdorff, mean, rms and *_relative, diagonal, one-sided distances, attribute errors)");
-    cmd->add_option("--heatmap", options->heatmap, "Write TEST coloured by its distance to REF (PLY with `quality`)");
+    cmd->add_option("--heatmap", options->heatmap,
+                    "Write TEST coloured by the largest distance measured around each vertex, in either direction "
+                    "(PLY with `quality`)");
     cmd->add_option("--heatmap-on", options->heatmap_on,
-                    "Heat map of TEST (its vertices' distance to REF) or of REF (its vertices' distance to TEST; "
-                    "use this for half-edge simplified meshes, whose vertices lie on REF)")
+                    "Heat map on TEST's vertices or on REF's (the same field with the roles swapped: full detail)")
         ->check(CLI::IsMember({"test", "reference"}))
         ->capture_default_str();
     cmd->add_option("--range", options->range, "Heat map: distance at the top of the colour map (default: the largest)");
@@ -56,17 +58,22 @@ void add_compare_command(CLI::App& app, const GlobalOptions& global) {
         DistanceParams params;
         params.samples = static_cast<std::size_t>(o.samples);
         const bool on_reference = o.heatmap_on == "reference";
-        params.vertex_errors = !o.heatmap.empty() && !on_reference;
+        params.vertex_errors = false;
+        params.region_errors = !o.heatmap.empty() && !on_reference;
         const DistanceResult d = compare(reference, test, params, &progress);
+        float heat_max = 0.f;
         if (!o.heatmap.empty()) {
+            const std::vector<float>* field = &d.region_errors;
+            DistanceResult swapped;
             if (on_reference) {
                 // The same measurement with the roles swapped gives the field on the reference's vertices.
-                params.vertex_errors = true;
-                const DistanceResult swapped = compare(test, reference, params, &progress);
-                write_heatmap_ply(make_heatmap(reference, swapped.vertex_errors, static_cast<float>(o.range)), o.heatmap);
-            } else {
-                write_heatmap_ply(make_heatmap(test, d.vertex_errors, static_cast<float>(o.range)), o.heatmap);
+                params.region_errors = true;
+                swapped = compare(test, reference, params, &progress);
+                field = &swapped.region_errors;
             }
+            const Heatmap h = make_heatmap(on_reference ? reference : test, *field, static_cast<float>(o.range));
+            write_heatmap_ply(h, o.heatmap);
+            for (float v : *field) heat_max = std::max(heat_max, v);
         }
         progress.finish();
 
@@ -86,7 +93,7 @@ void add_compare_command(CLI::App& app, const GlobalOptions& global) {
             if (d.has_color_error) j["color_rms"] = d.color_rms;
             if (d.has_texcoord_error) j["texcoord_rms"] = d.texcoord_rms;
             j["triangles"] = {{"reference", reference.triangle_count()}, {"test", test.triangle_count()}};
-            if (!o.heatmap.empty()) j["heatmap"] = {{"file", o.heatmap}, {"mesh", o.heatmap_on}};
+            if (!o.heatmap.empty()) j["heatmap"] = {{"file", o.heatmap}, {"mesh", o.heatmap_on}, {"max", heat_max}};
             std::printf("%s\n", j.dump(2).c_str());
             return;
         }
@@ -99,7 +106,7 @@ void add_compare_command(CLI::App& app, const GlobalOptions& global) {
                     d.test_to_reference.max, d.test_to_reference.mean, d.reference_to_test.max, d.reference_to_test.mean);
         if (d.has_color_error) std::printf("colour RMS: %.4g (0-255)\n", d.color_rms);
         if (d.has_texcoord_error) std::printf("texcoord RMS: %.4g (UV units)\n", d.texcoord_rms);
-        if (!o.heatmap.empty()) std::printf("heat map: %s\n", o.heatmap.c_str());
+        if (!o.heatmap.empty()) std::printf("heat map: %s (on the %s, largest value %.6g)\n", o.heatmap.c_str(), o.heatmap_on.c_str(), double(heat_max));
     });
 }
 

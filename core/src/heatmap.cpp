@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <string>
 
@@ -26,6 +27,13 @@ void put(std::string& buf, T value) {
     char bytes[sizeof(T)];
     std::memcpy(bytes, &value, sizeof(T));
     buf.append(bytes, sizeof(T));
+}
+
+// std::to_string prints six decimals, which reads 0.000000 for a range of a few micrometres in metres.
+std::string format_range(float v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.6g", double(v));
+    return buf;
 }
 
 std::uint8_t to_byte(float c) { return static_cast<std::uint8_t>(std::lround(std::clamp(c, 0.f, 1.f) * 255.f)); }
@@ -72,7 +80,7 @@ void write_heatmap_ply(const Heatmap& heatmap, const std::string& path) {
         throw Error(Error::Kind::argument, "write_heatmap_ply: quality and colours must have one value per vertex");
     AtomicFile file(path);
     std::string header = "ply\nformat binary_little_endian 1.0\ncomment lodforge error heat map (quality = distance, "
-                         "viridis 0.." + std::to_string(heatmap.range_max) + ")\n";
+                         "viridis 0.." + format_range(heatmap.range_max) + ")\n";
     header += "element vertex " + std::to_string(m.vertex_count()) + "\n";
     header += "property float x\nproperty float y\nproperty float z\nproperty float quality\n";
     header += "property uchar red\nproperty uchar green\nproperty uchar blue\nproperty uchar alpha\n";

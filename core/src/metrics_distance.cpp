@@ -248,15 +248,27 @@ struct Accumulator {
     }
 };
 
+// The corner of largest barycentric weight (the first on ties, so the field is deterministic).
+int major_corner(double w0, double w1, double w2) {
+    if (w0 >= w1 && w0 >= w2) return 0;
+    return w1 >= w2 ? 1 : 2;
+}
+
+void raise_to(std::vector<float>* field, std::uint32_t v, double d) {
+    if (field) (*field)[v] = std::max((*field)[v], static_cast<float>(d));
+}
+
 void require_triangles(const Mesh& m, const char* which) {
     if (m.triangle_count() == 0)
         throw Error(Error::Kind::invalid, std::string("compare: the ") + which + " mesh has no triangles");
 }
 
-// Samples `from` and measures against `to`; fills attribute errors when asked.
+// Samples `from` and measures against `to`; fills attribute errors when asked. `region` (per vertex of
+// the test mesh, or null) takes each distance at the sample's major corner: on `from`'s triangle when
+// `region_on_from`, else on the `to` triangle holding the closest point.
 Accumulator measure(const Mesh& from, const TriangleBvh& to_bvh, const Mesh& to, const DistanceParams& params,
                     std::uint64_t seed, bool attributes, DistanceResult& result, Progress* progress,
-                    double progress_base) {
+                    double progress_base, std::vector<float>* region, bool region_on_from) {
     Accumulator acc;
     const std::size_t nt = from.triangle_count();
     std::vector<double> area(nt);
@@ -290,7 +302,17 @@ Accumulator measure(const Mesh& from, const TriangleBvh& to_bvh, const Mesh& to,
             const double w0 = 1 - r1, w1 = r1 * (1 - r2), w2 = r1 * r2;
             const P3 p = a * w0 + b * w1 + c * w2;
             const TriangleBvh::Hit hit = to_bvh.closest(p, hint);
-            acc.add_sample(std::sqrt(hit.distance2));
+            const double distance = std::sqrt(hit.distance2);
+            acc.add_sample(distance);
+            if (region) {
+                if (region_on_from) {
+                    const int k = major_corner(w0, w1, w2);
+                    raise_to(region, from.indices[3 * t + k], distance);
+                } else {
+                    const int k = major_corner(hit.bary[0], hit.bary[1], hit.bary[2]);
+                    raise_to(region, to.indices[3 * hit.triangle + k], distance);
+                }
+            }
             if (colors || uvs) {
                 const std::uint32_t* ti = &to.indices[3 * hit.triangle];
                 if (colors) {
@@ -339,15 +361,20 @@ DistanceResult compare(const Mesh& reference, const Mesh& test, const DistancePa
     const TriangleBvh ref_bvh(reference);
     const TriangleBvh test_bvh(test);
 
-    Accumulator forward = measure(test, ref_bvh, reference, params, params.seed, true, r, progress, 0.0);
+    std::vector<float>* region = nullptr;
+    if (params.region_errors) {
+        r.region_errors.assign(test.vertex_count(), 0.f);
+        region = &r.region_errors;
+    }
+    Accumulator forward = measure(test, ref_bvh, reference, params, params.seed, true, r, progress, 0.0, region, true);
     DistanceResult ignored;
     Accumulator backward = measure(reference, test_bvh, test, params, params.seed ^ 0x9e3779b97f4a7c15ull, false,
-                                   ignored, progress, 0.5);
+                                   ignored, progress, 0.5, region, false);
     r.test_to_reference = forward.finish();
     r.reference_to_test = backward.finish();
 
     // Vertices: samples for the maxima and the per-vertex field.
-    if (params.include_vertices || params.vertex_errors) {
+    if (params.include_vertices || params.vertex_errors || params.region_errors) {
         std::uint32_t hint = 0xffffffffu;
         if (params.vertex_errors) r.vertex_errors.assign(test.vertex_count(), 0.f);
         std::vector<std::uint8_t> used(test.vertex_count(), 0);
@@ -355,6 +382,7 @@ DistanceResult compare(const Mesh& reference, const Mesh& test, const DistancePa
         for (std::size_t v = 0; v < test.vertex_count(); ++v) {
             const double d = std::sqrt(ref_bvh.closest(to_p3(test.positions[v]), hint).distance2);
             if (params.vertex_errors) r.vertex_errors[v] = static_cast<float>(d);
+            if (used[v]) raise_to(region, static_cast<std::uint32_t>(v), d);
             if (params.include_vertices && used[v]) r.test_to_reference.max = std::max(r.test_to_reference.max, d);
         }
         if (params.include_vertices) {
@@ -363,8 +391,13 @@ DistanceResult compare(const Mesh& reference, const Mesh& test, const DistancePa
             for (std::uint32_t i : reference.indices) ref_used[i] = 1;
             for (std::size_t v = 0; v < reference.vertex_count(); ++v) {
                 if (!ref_used[v]) continue;
-                const double d = std::sqrt(test_bvh.closest(to_p3(reference.positions[v]), hint).distance2);
+                const TriangleBvh::Hit hit = test_bvh.closest(to_p3(reference.positions[v]), hint);
+                const double d = std::sqrt(hit.distance2);
                 r.reference_to_test.max = std::max(r.reference_to_test.max, d);
+                if (region) {
+                    const int k = major_corner(hit.bary[0], hit.bary[1], hit.bary[2]);
+                    raise_to(region, test.indices[3 * hit.triangle + k], d);
+                }
             }
         }
     }

@@ -243,6 +243,16 @@ TEST(CliCompare, JsonHasTheMetricsAndTheHeatmapHasColours) {
     // On the reference: the field of a half-edge simplification (whose vertices lie on the input).
     const std::string collapsed = dir.file("bunny-collapse.ply");
     ASSERT_EQ(run("simplify " + q(bunny()) + " -o " + q(collapsed) + " --ratio 0.05").exit_code, 0);
+    // On the test: a collapse's vertices lie on REF, but the field around them still shows the error.
+    const std::string heat_test = dir.file("heat-test.ply");
+    const CliRun c = run("compare --json --samples 50000 --heatmap " + q(heat_test) + " " + q(bunny()) + " " + q(collapsed), false);
+    ASSERT_EQ(c.exit_code, 0) << c.out;
+    const auto jc = nlohmann::json::parse(c.out);
+    EXPECT_NEAR(jc["heatmap"]["max"].get<double>(), jc["hausdorff"].get<double>(), 1e-6 * jc["hausdorff"].get<double>());
+    const lodforge::Mesh hm = lodforge::read_ply(heat_test);
+    std::set<std::tuple<int, int, int>> shades;
+    for (const auto& col : hm.colors) shades.insert({int(std::lround(col.x * 255)), int(std::lround(col.y * 255)), int(std::lround(col.z * 255))});
+    EXPECT_GT(shades.size(), 20u);
     const std::string heat_ref = dir.file("heat-ref.ply");
     const CliRun t = run("compare --samples 50000 --heatmap-on reference --heatmap " + q(heat_ref) + " " + q(bunny()) + " " + q(collapsed));
     ASSERT_EQ(t.exit_code, 0) << t.out;

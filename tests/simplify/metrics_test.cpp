@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 using namespace lodforge;
 
 namespace {
@@ -98,6 +100,47 @@ TEST(Metrics, VertexErrorsMeasureTheTestVertices) {
     ASSERT_EQ(r.vertex_errors.size(), 4u);
     EXPECT_NEAR(r.vertex_errors[2], 0.5f, 1e-6f);
     EXPECT_NEAR(r.vertex_errors[0], 0.f, 1e-6f);
+}
+
+TEST(Metrics, RegionErrorsCollectTheSamplesAroundEachVertex) {
+    const Mesh ref = unit_square(0);
+    Mesh t = unit_square(0);
+    t.positions[2].z = 0.5f;  // the test surface rises to 0.5 at vertex 2
+    DistanceParams p;
+    p.samples = 20000;
+    p.region_errors = true;
+    const DistanceResult r = compare(ref, t, p);
+    ASSERT_EQ(r.region_errors.size(), 4u);
+    EXPECT_NEAR(r.region_errors[2], 0.5f, 1e-6f);
+    // Where vertex 0 has the largest weight, vertex 2's weight (the height over 0.5) is below one half;
+    // the samples there are off the reference, so the field is positive but under 0.25.
+    EXPECT_GT(r.region_errors[0], 0.05f);
+    EXPECT_LT(r.region_errors[0], 0.25f + 1e-6f);
+    EXPECT_EQ(*std::max_element(r.region_errors.begin(), r.region_errors.end()), static_cast<float>(r.hausdorff));
+}
+
+TEST(Metrics, RegionErrorsShowWhereAHalfEdgeSimplificationDeparts) {
+    // A half-edge collapse keeps its vertices on the input, so their own distances are all zero; the
+    // field of the samples around them is not, and its largest value is the Hausdorff distance.
+    const Mesh in = read_mesh(test::shared_data("scan-bunny/bun_zipper.ply"));
+    SimplifyParams sp;
+    sp.target_ratio = 0.02f;
+    const Mesh s = simplify(in, sp).mesh;
+    DistanceParams p;
+    p.samples = 50000;
+    p.region_errors = true;
+    const DistanceResult r = compare(in, s, p);
+    ASSERT_EQ(r.region_errors.size(), s.vertex_count());
+    ASSERT_EQ(r.vertex_errors.size(), s.vertex_count());
+    std::size_t positive = 0;
+    for (std::size_t v = 0; v < s.vertex_count(); ++v) {
+        ASSERT_LT(r.vertex_errors[v], 1e-6f) << v;
+        ASSERT_GE(r.region_errors[v], r.vertex_errors[v]) << v;
+        if (r.region_errors[v] > 1e-4f * float(r.diagonal)) ++positive;
+    }
+    EXPECT_GT(positive, s.vertex_count() * 9 / 10);
+    EXPECT_GT(r.hausdorff, 0.0);
+    EXPECT_EQ(*std::max_element(r.region_errors.begin(), r.region_errors.end()), static_cast<float>(r.hausdorff));
 }
 
 TEST(Metrics, EmptyMeshIsInvalid) {

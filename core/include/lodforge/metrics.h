@@ -19,6 +19,7 @@ struct DistanceParams {
     std::uint64_t seed = 1;        // same seed, same meshes → same result
     bool include_vertices = true;  // vertices are samples too (they count for the max, not the means)
     bool vertex_errors = true;     // fill DistanceResult::vertex_errors
+    bool region_errors = false;    // fill DistanceResult::region_errors
 };
 
 struct OneSidedDistance {
@@ -42,8 +43,15 @@ struct DistanceResult {
     double color_rms = 0;
     bool has_texcoord_error = false;
     double texcoord_rms = 0;
-    // Per test vertex: distance to the reference surface (model units), for heat maps.
+    // Per test vertex: distance to the reference surface (model units).
     std::vector<float> vertex_errors;
+    // Per test vertex: the largest distance measured in its part of the test surface (model units), the
+    // field for heat maps. A vertex's part is where it is the corner of largest barycentric weight; it
+    // collects the vertex's own distance, the test samples there and the reference samples and vertices
+    // whose closest test point lies there. So both directions count, the largest value is the Hausdorff
+    // distance (with include_vertices), and a half-edge simplification, whose vertices lie on the
+    // reference (vertex_errors all zero), still shows where its surface departs.
+    std::vector<float> region_errors;
 };
 
 // Throws Error(invalid) when either mesh has no triangles, Error(cancelled) when progress asks to stop.
