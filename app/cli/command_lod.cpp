@@ -89,7 +89,7 @@ void add_lod_command(CLI::App& app, const GlobalOptions& global) {
     cmd->add_option("--format", options->format, "Level file format")
         ->check(CLI::IsMember({"ply", "obj", "glb"}))
         ->capture_default_str();
-    cmd->add_option("--weights", options->weights, "Attribute weights, e.g. normal=0.05,color=0.1,uv=0.1");
+    cmd->add_option("--weights", options->weights, kWeightsHelp);
     cmd->add_flag("--lock-border", options->lock_border, "Never move border vertices");
     cmd->add_flag("--no-measure", options->no_measure, "Skip measuring each level against the input");
     cmd->add_option("--samples", options->samples, "Samples per surface for the measurements (0 = automatic)");

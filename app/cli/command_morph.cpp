@@ -60,7 +60,7 @@ void add_build(CLI::App& morph, const GlobalOptions& global) {
     cmd->add_option("--encoding", o->encoding, "Positions/normals in the file: float or 16bit")
         ->check(CLI::IsMember({"float", "16bit"}))
         ->capture_default_str();
-    cmd->add_option("--weights", o->weights, "Attribute weights, e.g. normal=0.05,color=0.1,uv=0.1");
+    cmd->add_option("--weights", o->weights, kWeightsHelp);
     cmd->add_flag("--close-seams", o->close_seams, "Let attribute seams close (flat-shaded inputs)");
     cmd->add_option("--gltf", o->gltf,
                     "Also write a .glb: each level a mesh with the frames as morph targets and the source's "

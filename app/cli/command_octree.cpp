@@ -70,7 +70,7 @@ void add_build(CLI::App& octree, const GlobalOptions& global) {
         ->capture_default_str();
     cmd->add_option("--grid", o->grid, "Cluster mode: cells along the longest side of the bounding box")->capture_default_str();
     cmd->add_option("--temp-dir", o->temp_dir, "Directory for temporary files (default: beside the output)");
-    cmd->add_option("--weights", o->weights, "Attribute weights, e.g. normal=0.05,color=0.1,uv=0.1");
+    cmd->add_option("--weights", o->weights, kWeightsHelp);
     cmd->add_option("--threads", o->threads, "Threads computing octree nodes (1 or 2; the asset is the same)")->capture_default_str();
     cmd->callback([o, &global] {
         if (o->threads < 1 || o->threads > 2) throw Error(Error::Kind::argument, "octree build: --threads must be 1 or 2");

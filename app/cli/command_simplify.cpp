@@ -54,7 +54,7 @@ void add_simplify_command(CLI::App& app, const GlobalOptions& global) {
     CLI::Option* triangles = cmd->add_option("--triangles", options->triangles, "Keep this many triangles");
     CLI::Option* max_error = cmd->add_option(
         "--max-error", options->max_error, "Simplify until the error estimate reaches this fraction of the bounding-box diagonal");
-    cmd->add_option("--weights", options->weights, "Attribute weights, e.g. normal=0.05,color=0.1,uv=0.1");
+    cmd->add_option("--weights", options->weights, kWeightsHelp);
     CLI::Option* lock = cmd->add_flag("--lock-border", options->lock_border, "Never move border vertices (collapse mode)");
     cmd->add_option("--mode", options->mode, "collapse: quadric edge collapse; cluster: vertex clustering (faster, coarser)")
         ->check(CLI::IsMember({"collapse", "cluster"}))

@@ -81,7 +81,7 @@ void add_strips_command(CLI::App& app, const GlobalOptions& global) {
     cmd->add_option("-o,--output", o->output, "Output .lodstrips file");
     auto* restart = cmd->add_flag("--restart", o->restart, "Strips separated by primitive restart (default)");
     cmd->add_flag("--degenerate", o->degenerate, "Strips joined by degenerate triangles")->excludes(restart);
-    cmd->add_option("--weights", o->weights, "Attribute weights, e.g. normal=0.05,color=0.1,uv=0.1");
+    cmd->add_option("--weights", o->weights, kWeightsHelp);
     cmd->add_option("--coarsest", o->coarsest, "Coarsest stored level as a fraction of the input triangles")
         ->check(CLI::Range(0.0, 1.0))
         ->capture_default_str();

@@ -83,6 +83,40 @@ TEST(CliSimplify, AreaAndHeightWeightsReachTheLibrary) {
     EXPECT_EQ(a.indices, lib.mesh.indices);
     EXPECT_NE(a.positions, b.positions);
 }
+TEST(CliSimplify, PerSetUvWeightsReachTheLibrary) {
+    // Spot with a second texcoord set (the first one mirrored and tiled): --weights uv1=W weighs set 1
+    // alone; set 0 keeps the plain uv weight.
+    lodforge::test::ScratchDir dir("cli-simplify-uvsets");
+    lodforge::Mesh m = lodforge::read_mesh(lodforge::test::sample("spot/spot_triangulated.obj"));
+    ASSERT_EQ(m.texcoords.size(), 1u);
+    std::vector<lodforge::Vec2f> second = m.texcoords[0];
+    for (lodforge::Vec2f& t : second) t = {3.f * (1.f - t.x), 3.f * t.y};
+    m.texcoords.push_back(second);
+    const std::string two = dir.file("two-sets.glb");
+    lodforge::write_mesh(m, two);
+    const lodforge::Mesh in = lodforge::read_mesh(two);
+    ASSERT_EQ(in.texcoords.size(), 2u);
+
+    const std::string heavy = dir.file("heavy.glb"), plain = dir.file("plain.glb"), lib_out = dir.file("lib.glb");
+    CliRun r = run("simplify " + q(two) + " -o " + q(heavy) + " --ratio 0.2 --weights uv1=3,uv=0.2");
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    r = run("simplify " + q(two) + " -o " + q(plain) + " --ratio 0.2 --weights uv=0.2");
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    lodforge::SimplifyParams p;
+    p.target_ratio = 0.2f;
+    p.weights.texcoord = 0.2f;
+    p.weights.texcoord_sets = {0.2f, 3.f};
+    lodforge::write_mesh(lodforge::simplify(in, p).mesh, lib_out);
+    const lodforge::Mesh a = lodforge::read_mesh(heavy), b = lodforge::read_mesh(plain), lib = lodforge::read_mesh(lib_out);
+    EXPECT_EQ(a.positions, lib.positions);
+    EXPECT_EQ(a.indices, lib.indices);
+    EXPECT_NE(a.positions, b.positions);
+
+    r = run("simplify " + q(two) + " -o " + q(dir.file("bad.glb")) + " --ratio 0.2 --weights uvx=1");
+    EXPECT_EQ(r.exit_code, 1);
+    EXPECT_TRUE(contains(r.out, "unknown attribute 'uvx'")) << r.out;
+}
+
 TEST(CliSimplify, ClusterModeOnTheColouredScanKeepsColours) {
     lodforge::test::ScratchDir dir("cli-cluster");
     const std::string frag = lodforge::test::shared_data("color-open3d-frag115/frag_115.ply");
