@@ -94,6 +94,21 @@ const char* format_name(FileFormat format) {
     return "unknown";
 }
 
+// LodForge's own files are the likeliest wrong input (an artist drops an asset on the reader): say what
+// the file is and how to get a mesh out of it.
+static std::string unknown_format_message(const std::string& path) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    const char* what = nullptr;
+    if (ext == ".mco") what = "marching-cube octree (extract a mesh with `lodforge mcoctree extract`)";
+    else if (ext == ".lfo") what = "out-of-core octree asset (extract a mesh with `lodforge octree extract`)";
+    else if (ext == ".lodstrips") what = "LODStrips model (extract a mesh with `lodforge strips extract`)";
+    else if (ext == ".lfmorph" || ext == ".lfmstrips") what = "morph LOD model (extract a mesh with `lodforge morph extract`)";
+    std::string message = "unknown mesh format (supported: .ply, .obj, .gltf, .glb)";
+    if (what) message = std::string("not a mesh: a LodForge ") + what + "; meshes are .ply, .obj, .gltf, .glb";
+    return message;
+}
+
 Mesh read_mesh(const std::string& path, const ReadOptions& options, Progress* progress) {
     check_readable(path);
     Mesh mesh;
@@ -108,8 +123,7 @@ Mesh read_mesh(const std::string& path, const ReadOptions& options, Progress* pr
             break;
         }
         case FileFormat::unknown:
-            throw_error(Error::Kind::unsupported, path,
-                        "unknown mesh format (supported: .ply, .obj, .gltf, .glb)");
+            throw_error(Error::Kind::unsupported, path, unknown_format_message(path));
     }
     if (options.validate) {
         const ValidationReport report = validate(mesh);

@@ -43,6 +43,11 @@ TEST(CliMcOctree, BuildInfoExtractRoundTrip) {
     r = run_cli("mcoctree info " + quoted(mco));
     EXPECT_EQ(r.exit_code, 0);
     EXPECT_TRUE(contains(r.out, "nodes on")) << r.out;
+    // Given to a mesh command, the tree is named for what it is, with the way to a mesh.
+    r = run_cli("info " + quoted(mco));
+    EXPECT_EQ(r.exit_code, 1);
+    EXPECT_TRUE(contains(r.out, "not a mesh: a LodForge marching-cube octree")) << r.out;
+    EXPECT_TRUE(contains(r.out, "mcoctree extract")) << r.out;
 }
 
 TEST(CliMcOctree, ErrorsNameTheFileAndUseTheExitCodes) {
