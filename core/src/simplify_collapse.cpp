@@ -215,7 +215,10 @@ std::vector<std::uint8_t> initial_faces(const Mesh& mesh, const std::vector<std:
         }
         // Either winding: a face and its reverse are a zero-thickness sheet that no collapse can pass
         // (the link condition sees two surfaces); the first one stays.
-        std::sort(p.begin(), p.end());
+        // Three compare-exchanges (std::sort of three was a call with its loops: a fifth of this function).
+        if (p[1] < p[0]) std::swap(p[0], p[1]);
+        if (p[2] < p[1]) std::swap(p[1], p[2]);
+        if (p[1] < p[0]) std::swap(p[0], p[1]);
         sorted[f] = p;
         ++begin[p[0] + 1];
     }
@@ -426,6 +429,8 @@ private:
                pts_[v].one_wedge;
     }
     std::uint32_t cheapest_plain_border(std::uint32_t p, double& best);
+    template <bool pen>
+    std::uint32_t cheapest_plain(std::uint32_t p, double& best, const Vec3d& nb);
     double plain_plan(std::uint32_t u, std::uint32_t v, Plan& plan) const;
     // evaluate(full) for a fused_pair(): the trivial mapping, attribute costs included (the edge count is
     // left to plain_valid<true>(), as for plain pairs).
@@ -653,7 +658,10 @@ void Simplifier::setup() {
                 for (std::size_t k = 0; k < c.count; ++k) attrs_[v * dims_ + j++] = c.weight * c.base[v * c.stride + k];
         }
     }
-    aq_ = AttributeQuadrics(nv, dims_);
+    // Geometry only: no attribute quadrics at all (AttributeQuadrics of dimension 0 still holds 11 doubles a
+    // vertex, which were allocated and zeroed for nothing: callgrind put 3.2 M of the bunny's 247 M
+    // instructions at 10 % in that memset). Every use of aq_ is behind dims_ > 0.
+    aq_ = AttributeQuadrics(dims_ > 0 ? nv : 0, dims_);
 
     // Quadrics.
     for (std::uint32_t f = 0; f < nf; ++f) {
@@ -1318,66 +1326,8 @@ std::uint32_t Simplifier::cheapest(std::uint32_t p, double& best) {
     std::uint32_t to = kNone;
     const bool pen = height_weight_ > 0;
     const Vec3d nb = pen ? fan_normal(p) : Vec3d{0, 0, 0};
-    if (plain_ && pts_[p].kind == Kind::interior && pts_[p].one_wedge) {
-        // Geometry only, half-edge, one wedge: the cost is Q_p at the neighbour over p's area (what
-        // evaluate() computes without a face walk). The neighbours are read straight off the faces.
-        // The one-wedge neighbours are compared by Q_p alone and only the least is divided by the
-        // area (a division per neighbour was a fifth of re-costing): the same cost, and the same
-        // target unless two errors round to one cost.
-        const Quadric& q = geo_[p];
-        Plan plan;
-        const auto faces = faces_of(p);
-        for (std::uint32_t f : faces) prefetch(&fpt_[3 * f]);
-        for (std::uint32_t f : faces)
-            for (int k = 0; k < 3; ++k) prefetch_point(fpt_[3 * f + k]);
-        double least = std::numeric_limits<double>::infinity();
-        std::uint32_t least_to = kNone;
-        std::size_t least_at = 0, best_at = 0, at = 0;
-        // A neighbour's second appearance (each interior edge has two faces) would give the same cost,
-        // which loses every comparison: it is skipped (same result, half the quadric evaluations).
-        const std::uint32_t stamp = next_seen();
-        pts_[p].seen = stamp;
-        for (std::uint32_t f : faces)
-            for (int k = 0; k < 3; ++k, ++at) {
-                const std::uint32_t n = fpt_[3 * f + k];
-                if (pts_[n].seen == stamp) continue;
-                pts_[n].seen = stamp;
-                if (pen) {
-                    // The height term differs per neighbour, so each cost is complete (divided as evaluate()
-                    // divides, so the plain and general paths give the same costs).
-                    double c = pts_[n].one_wedge ? (q.weight > 0 ? q.evaluate(pts_[n].pos) / q.weight : q.evaluate(pts_[n].pos) * 1e12)
-                                                 : evaluate(p, n, plan, false);
-                    if (std::isfinite(c)) c += penalty(p, n, nb);
-                    if (c < best) {
-                        best = c;
-                        to = n;
-                        best_at = at;
-                    }
-                } else if (pts_[n].one_wedge) {
-                    const double e = q.evaluate(pts_[n].pos);
-                    if (e < least) {
-                        least = e;
-                        least_to = n;
-                        least_at = at;
-                    }
-                } else {
-                    const double c = evaluate(p, n, plan, false);  // onto a seam point: the wedge mapping decides
-                    if (c < best) {
-                        best = c;
-                        to = n;
-                        best_at = at;
-                    }
-                }
-            }
-        if (least_to != kNone) {
-            const double c = q.weight > 0 ? least / q.weight : least * 1e12;
-            if (c < best || (c == best && least_at < best_at)) {
-                best = c;
-                to = least_to;
-            }
-        }
-        return to;
-    }
+    if (plain_ && pts_[p].kind == Kind::interior && pts_[p].one_wedge)
+        return pen ? cheapest_plain<true>(p, best, nb) : cheapest_plain<false>(p, best, nb);
     if (plain_ && pts_[p].kind == Kind::border && pts_[p].one_wedge && faces_of(p).size() <= kPlainBorderFaces && !pen)
         return cheapest_plain_border(p, best);
     if (fusable_ && !greedy_ && pts_[p].kind == Kind::interior && pts_[p].one_wedge) {
@@ -1421,6 +1371,72 @@ std::uint32_t Simplifier::cheapest(std::uint32_t p, double& best) {
     neighbours(p, scratch_n_);
     for (std::uint32_t n : scratch_n_) prefetch_point(n);
     for (std::uint32_t n : scratch_n_) consider(n, evaluate(p, n, plan, false));
+    return to;
+}
+
+// cheapest() for a one-wedge interior point in a plain run (geometry only, half-edge): a function of its own,
+// with the height term a template argument, so that its loop is compiled alone (callgrind: inside cheapest()
+// GCC left Quadric::evaluate an out-of-line call, and forcing it inline there cost more than the call).
+template <bool pen>
+std::uint32_t Simplifier::cheapest_plain(std::uint32_t p, double& best, const Vec3d& nb) {
+    std::uint32_t to = kNone;
+    // Geometry only, half-edge, one wedge: the cost is Q_p at the neighbour over p's area (what
+    // evaluate() computes without a face walk). The neighbours are read straight off the faces.
+    // The one-wedge neighbours are compared by Q_p alone and only the least is divided by the
+    // area (a division per neighbour was a fifth of re-costing): the same cost, and the same
+    // target unless two errors round to one cost.
+    const Quadric& q = geo_[p];
+    Plan plan;
+    const auto faces = faces_of(p);
+    for (std::uint32_t f : faces) prefetch(&fpt_[3 * f]);
+    for (std::uint32_t f : faces)
+        for (int k = 0; k < 3; ++k) prefetch_point(fpt_[3 * f + k]);
+    double least = std::numeric_limits<double>::infinity();
+    std::uint32_t least_to = kNone;
+    std::size_t least_at = 0, best_at = 0, at = 0;
+    // A neighbour's second appearance (each interior edge has two faces) would give the same cost,
+    // which loses every comparison: it is skipped (same result, half the quadric evaluations).
+    const std::uint32_t stamp = next_seen();
+    pts_[p].seen = stamp;
+    for (std::uint32_t f : faces)
+        for (int k = 0; k < 3; ++k, ++at) {
+            const std::uint32_t n = fpt_[3 * f + k];
+            if (pts_[n].seen == stamp) continue;
+            pts_[n].seen = stamp;
+            if (pen) {
+                // The height term differs per neighbour, so each cost is complete (divided as evaluate()
+                // divides, so the plain and general paths give the same costs).
+                double c = pts_[n].one_wedge ? (q.weight > 0 ? q.evaluate(pts_[n].pos) / q.weight : q.evaluate(pts_[n].pos) * 1e12)
+                                             : evaluate(p, n, plan, false);
+                if (std::isfinite(c)) c += penalty(p, n, nb);
+                if (c < best) {
+                    best = c;
+                    to = n;
+                    best_at = at;
+                }
+            } else if (pts_[n].one_wedge) {
+                const double e = q.evaluate(pts_[n].pos);
+                if (e < least) {
+                    least = e;
+                    least_to = n;
+                    least_at = at;
+                }
+            } else {
+                const double c = evaluate(p, n, plan, false);  // onto a seam point: the wedge mapping decides
+                if (c < best) {
+                    best = c;
+                    to = n;
+                    best_at = at;
+                }
+            }
+        }
+    if (least_to != kNone) {
+        const double c = q.weight > 0 ? least / q.weight : least * 1e12;
+        if (c < best || (c == best && least_at < best_at)) {
+            best = c;
+            to = least_to;
+        }
+    }
     return to;
 }
 
@@ -1651,10 +1667,12 @@ void Simplifier::run_passes(std::size_t target, double limit, double& max_cost) 
             if (std::isfinite(pts_[a].cost)) {
                 // Non-negative floats order as their bit patterns; the cost is rounded up so a key never
                 // undercuts its cost.
-                float key = static_cast<float>(pts_[a].cost);
-                if (double(key) < pts_[a].cost) key = std::nextafter(key, std::numeric_limits<float>::infinity());
+                // (The next float up of a non-negative finite float is its bit pattern plus one, FLT_MAX's
+                // being +inf: what std::nextafter gives, without its libm call per candidate.)
+                const float key = static_cast<float>(pts_[a].cost);
                 std::uint32_t bits;
                 std::memcpy(&bits, &key, sizeof bits);
+                if (double(key) < pts_[a].cost) ++bits;
                 order.push_back(std::uint64_t(bits) << 32 | a);
             }
         }
