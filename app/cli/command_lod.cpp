@@ -7,15 +7,14 @@
 #include "lodforge/error.h"
 #include "lodforge/lod_chain.h"
 #include "lodforge/mesh_io.h"
+#include "lodforge/staged_directory.h"
 
 #include <nlohmann/json.hpp>
 
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <filesystem>
 #include <limits>
-#include <system_error>
 
 namespace lodforge::cli {
 namespace {
@@ -45,8 +44,9 @@ std::vector<LodLevelTarget> level_targets(const std::string& ratios, const std::
     std::vector<LodLevelTarget> levels;
     if (!ratios.empty()) {
         for (double r : parse_number_list(ratios, "--levels")) {
-            if (!(r > 0 && r <= 1))
-                throw Error(Error::Kind::argument, "--levels: ratio " + std::to_string(r) + " is outside (0, 1]");
+            if (!(r > 0 && r < 1))
+                throw Error(Error::Kind::argument, "--levels: ratio " + std::to_string(r) +
+                                                       " is outside (0, 1) (level 0 is the input itself)");
             levels.push_back({.ratio = static_cast<float>(r), .triangles = 0,
                               .max_error = std::numeric_limits<float>::infinity()});
         }
@@ -103,15 +103,12 @@ void add_lod_command(CLI::App& app, const GlobalOptions& global) {
         if (o.samples < 0) throw Error(Error::Kind::argument, "lod: --samples must be >= 0");
         params.distance.samples = static_cast<std::size_t>(o.samples);
 
-        namespace fs = std::filesystem;
         TerminalProgress progress(!global.quiet && stderr_is_terminal());
         // Read first: bad input must not leave an empty output directory behind.
         const Mesh mesh = read_triangle_mesh("lod", o.input, &progress);
-        std::error_code ec;
-        fs::create_directories(o.output_dir, ec);
-        if (ec || !fs::is_directory(o.output_dir))
-            throw_error(Error::Kind::io, o.output_dir,
-                        "cannot create output directory" + (ec ? ": " + ec.message() : std::string()));
+        // Every file goes into a staging directory and moves into place at the end: a failed or
+        // cancelled run leaves no partial chain (earlier levels without lods.json) in the target.
+        StagedDirectory staging(o.output_dir);
         const LodChainResult chain = build_lod_chain(mesh, params, &progress);
 
         nlohmann::ordered_json doc;
@@ -123,7 +120,7 @@ void add_lod_command(CLI::App& app, const GlobalOptions& global) {
         for (std::size_t i = 0; i < chain.levels.size(); ++i) {
             const LodLevel& level = chain.levels[i];
             const std::string name = "lod" + std::to_string(i) + "." + o.format;
-            write_mesh_output(level.mesh, (fs::path(o.output_dir) / name).string(), {}, &progress);
+            write_mesh_output(level.mesh, staging.file(name).string(), {}, &progress);
             nlohmann::ordered_json j;
             j["level"] = i;
             j["file"] = name;
@@ -162,10 +159,11 @@ void add_lod_command(CLI::App& app, const GlobalOptions& global) {
         }
         doc["levels"] = levels;
         doc["shared_vertices"] = chain.shared.vertices.vertex_count();
-        const std::string json_path = (fs::path(o.output_dir) / "lods.json").string();
-        AtomicFile file(json_path, false);
+        AtomicFile file(staging.file("lods.json").string(), false);
         file.stream() << doc.dump(2) << "\n";
         file.commit();
+        staging.new_files();
+        staging.commit();
         progress.finish();
 
         for (std::size_t i = 0; i < chain.levels.size(); ++i) {

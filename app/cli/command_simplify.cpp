@@ -97,7 +97,7 @@ void add_simplify_command(CLI::App& app, const GlobalOptions& global) {
         const Mesh mesh = read_mesh(o.input, {}, &progress);
         const double diagonal = mesh.bounds().diagonal();
         Mesh out;
-        std::size_t target = 0;
+        std::size_t target = 0, dropped = 0;
         float error = 0, error_relative = 0;
         std::string reason;
         if (cluster) {
@@ -121,9 +121,8 @@ void add_simplify_command(CLI::App& app, const GlobalOptions& global) {
             p.area_weight = o.area_weight == "area" ? SimplifyParams::AreaWeight::area : SimplifyParams::AreaWeight::sqrt_area;
             p.height_weight = static_cast<float>(o.height_weight);
             SimplifyResult r = simplify(mesh, p, &progress);
-            if (!max_error->count())
-                target = o.triangles > 0 ? static_cast<std::size_t>(o.triangles)
-                                         : static_cast<std::size_t>(std::llround(o.ratio * static_cast<double>(mesh.triangle_count())));
+            target = r.target_triangles;
+            dropped = r.dropped_faces;
             error = r.error;
             error_relative = r.error_relative;
             reason = reason_text(r.reason);
@@ -138,6 +137,8 @@ void add_simplify_command(CLI::App& app, const GlobalOptions& global) {
         std::printf("error: %.6g (%.3g of the diagonal %.6g)\n", static_cast<double>(error),
                     static_cast<double>(error_relative), diagonal);
         std::printf("stop: %s\n", reason.c_str());
+        if (dropped > 0)
+            std::printf("dropped: %zu input faces degenerate on their points or repeating an earlier face\n", dropped);
     });
 }
 

@@ -35,9 +35,11 @@ std::vector<std::size_t> triangle_targets(const std::vector<LodLevelTarget>& lev
         if (kinds != 1)
             throw Error(Error::Kind::argument,
                         level_name(i) + ": set exactly one of ratio, triangles and max_error");
-        if (t.ratio != 0.f && !(t.ratio > 0.f && t.ratio <= 1.f))
+        // A ratio of 1 would copy the input (level 0 already is it); a triangle count at or above the
+        // input's stays allowed, so one preset serves meshes of any size.
+        if (t.ratio != 0.f && !(t.ratio > 0.f && t.ratio < 1.f))
             throw Error(Error::Kind::argument, level_name(i) + ": ratio " + std::to_string(t.ratio) +
-                                                   " is outside (0, 1]");
+                                                   " is outside (0, 1)");
         if (has_error && !(t.max_error > 0.f && std::isfinite(t.max_error)))
             throw Error(Error::Kind::argument, level_name(i) + ": max error must be finite and > 0");
         if (is_count(t)) {

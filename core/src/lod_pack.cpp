@@ -20,18 +20,16 @@
 #include "lodforge/lod_methods.h"
 #include "lodforge/mesh_io.h"
 #include "lodforge/simplify_cluster.h"
+#include "lodforge/staged_directory.h"
 
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <filesystem>
 #include <numbers>
 #include <optional>
-#include <set>
 #include <system_error>
-#include <unistd.h>
 
 namespace lodforge {
 namespace fs = std::filesystem;
@@ -158,104 +156,6 @@ void write_method_files(const BuiltLevels& built, const PackParams& params, cons
     file.commit();
 }
 
-// A directory beside the target that becomes the target (or whose files move into an existing one).
-class Staging {
-public:
-    explicit Staging(const std::string& output_dir) {
-        std::error_code ec;
-        fs::path target = fs::absolute(fs::path(output_dir), ec).lexically_normal();
-        if (ec || output_dir.empty()) throw_error(Error::Kind::argument, output_dir, "not a usable output directory");
-        if (target.filename().empty()) target = target.parent_path();  // "dir/" → "dir"
-        target_ = target;
-        shown_ = output_dir;
-        if (fs::exists(target_, ec)) {
-            if (!fs::is_directory(target_, ec))
-                throw_error(Error::Kind::io, shown_, "exists and is not a directory");
-            if (::access(target_.c_str(), W_OK | X_OK) != 0)
-                throw_error(Error::Kind::io, shown_, "output directory is not writable");
-            target_existed_ = true;
-        }
-        // Create missing parents, remembering them so a failed pack can remove them again.
-        std::vector<fs::path> missing;
-        for (fs::path p = target_.parent_path(); !p.empty() && !fs::exists(p, ec); p = p.parent_path()) {
-            missing.push_back(p);
-            if (p == p.parent_path()) break;
-        }
-        for (auto it = missing.rbegin(); it != missing.rend(); ++it) {
-            if (!fs::create_directory(*it, ec) || ec) {
-                cleanup();
-                throw_error(Error::Kind::io, shown_, "cannot create directory " + it->string() +
-                                                         (ec ? ": " + ec.message() : std::string()));
-            }
-            created_parents_.push_back(*it);
-        }
-        static std::atomic<unsigned> counter{0};
-        std::string name = ".";
-        name.append(target_.filename().string()).append(".pack-tmp-").append(std::to_string(::getpid()));
-        name.append("-").append(std::to_string(counter++));
-        dir_ = target_.parent_path() / name;
-        if ((!fs::create_directory(dir_, ec) || ec) && target_existed_) {
-            // A writable target in a read-only parent: stage inside the target instead (still one
-            // file system, still removed on failure).
-            dir_ = target_ / name;
-            ec.clear();
-            fs::create_directory(dir_, ec);
-        }
-        if (ec || !fs::is_directory(dir_)) {
-            cleanup();
-            throw_error(Error::Kind::io, shown_,
-                        "cannot create the output directory" + (ec ? ": " + ec.message() : std::string()));
-        }
-        staging_created_ = true;
-    }
-    ~Staging() {
-        if (!committed_) cleanup();
-    }
-    Staging(const Staging&) = delete;
-    Staging& operator=(const Staging&) = delete;
-
-    fs::path file(const std::string& name) const { return dir_ / name; }
-    const fs::path& dir() const { return dir_; }
-
-    // Files that appeared since the last call, in name order.
-    std::vector<std::string> new_files() {
-        std::vector<std::string> names;
-        for (const auto& entry : fs::directory_iterator(dir_))
-            if (entry.is_regular_file() && seen_.insert(entry.path().filename().string()).second)
-                names.push_back(entry.path().filename().string());
-        std::sort(names.begin(), names.end());
-        return names;
-    }
-
-    void commit() {
-        std::error_code ec;
-        if (!target_existed_) {
-            fs::rename(dir_, target_, ec);
-            if (ec) throw_error(Error::Kind::io, shown_, "cannot move the pack into place: " + ec.message());
-        } else {
-            for (const std::string& name : seen_) {
-                fs::rename(dir_ / name, target_ / name, ec);
-                if (ec) throw_error(Error::Kind::io, (target_ / name).string(), "cannot move into place: " + ec.message());
-            }
-            fs::remove(dir_, ec);
-        }
-        committed_ = true;
-    }
-
-private:
-    void cleanup() {
-        std::error_code ignored;
-        if (staging_created_) fs::remove_all(dir_, ignored);
-        for (auto it = created_parents_.rbegin(); it != created_parents_.rend(); ++it) fs::remove(*it, ignored);
-    }
-
-    fs::path target_, dir_;
-    std::string shown_;
-    bool target_existed_ = false, staging_created_ = false, committed_ = false;
-    std::vector<fs::path> created_parents_;
-    std::set<std::string> seen_;
-};
-
 ordered_json error_json(const DistanceResult& d) {
     ordered_json e;
     e["hausdorff"] = d.hausdorff;
@@ -321,7 +221,7 @@ PackResult write_lod_pack(const Mesh& mesh, const PackParams& params, Progress* 
     check_progress(progress, 1.0, "hashing source");
 
     // Before the long part, so an unwritable output fails at once.
-    Staging staging(params.output_dir);
+    StagedDirectory staging(params.output_dir);
     const BuiltLevels built = make_levels(mesh, params, progress);
     result.notes = built.notes;
     const std::size_t n = built.meshes.size();

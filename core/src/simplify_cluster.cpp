@@ -168,7 +168,7 @@ double Clusterer::search(std::size_t target, ClusterResult& out) {
     const double want = static_cast<double>(target);
     double lo_h = 0, lo_f = 0;   // a size giving more triangles than wanted (smaller cells)
     double hi_h = 0, hi_f = 0;   // a size giving fewer
-    double best_h = h;
+    double best_h = h, finest_h = h;
     double best_gap = INFINITY;
     Grid g;
     out.reason = ClusterResult::StopReason::closest;
@@ -176,7 +176,10 @@ double Clusterer::search(std::size_t target, ClusterResult& out) {
         check_progress(progress_, 0.6 * pass / params_.max_passes, "cluster: grid search");
         const std::size_t f = assign(h, g);
         ++out.passes;
-        const double gap = std::fabs(static_cast<double>(f) - want);
+        // A size that keeps no triangle is never the closest (a thin part collapses to nothing once the
+        // cells are wider than it): the target is at least one triangle.
+        const double gap = f > 0 ? std::fabs(static_cast<double>(f) - want) : INFINITY;
+        finest_h = std::min(finest_h, h);
         if (gap < best_gap) {
             best_gap = gap;
             best_h = h;
@@ -210,7 +213,7 @@ double Clusterer::search(std::size_t target, ClusterResult& out) {
         }
         h = next;
     }
-    return best_h;
+    return std::isfinite(best_gap) ? best_h : finest_h;
 }
 
 void Clusterer::build(const Grid& g, ClusterResult& out) {
@@ -470,6 +473,13 @@ ClusterResult Clusterer::run() {
     }
     check_progress(progress_, 0.6, "cluster: quadrics");
     build(g, out);
+    if (out.mesh.triangle_count() == 0)
+        throw Error(Error::Kind::invalid,
+                    params_.grid_resolution > 0
+                        ? "simplify_cluster: a grid of " + std::to_string(params_.grid_resolution) +
+                              " cells collapses the mesh to nothing; use a finer grid"
+                        : "simplify_cluster: every cell size tried collapses the mesh to nothing (its parts are thinner "
+                          "than the cells a target this low needs); use a larger target or --mode collapse");
     check_progress(progress_, 1.0, "cluster");
     return out;
 }

@@ -1113,6 +1113,7 @@ bool Simplifier::valid(std::uint32_t u, std::uint32_t v, const Plan& plan) {
     int common = 0;
     for (std::uint32_t a : scratch_a_) common += pts_[a].ring == ring;
     if (common != plan.edge_faces) return false;
+    if (std::size_t(plan.edge_faces) >= alive_faces_) return false;  // it would remove the last faces
 
     const double min_dot = params_.min_normal_dot;
     auto face_ok = [&](std::uint32_t f, std::uint32_t moved) {
@@ -1262,7 +1263,9 @@ bool Simplifier::plain_valid(std::uint32_t u, std::uint32_t v, const Plan& plan)
     }
     // A border point slides along its border: onto a neighbour over one face only (as in evaluate()).
     if (pts_[u].kind == Kind::border && edge_faces != 1) return false;
-    return ok && edge_faces > 0 && common == edge_faces;
+    // A collapse that would remove the last faces (a lone triangle, fins on one edge) is refused: a target
+    // of one triangle must not end in an empty mesh.
+    return ok && edge_faces > 0 && common == edge_faces && std::size_t(edge_faces) < alive_faces_;
 }
 
 void Simplifier::collapse(std::uint32_t u, std::uint32_t v, const Plan& plan) {
@@ -1839,8 +1842,12 @@ SimplifyResult Simplifier::run() {
 
     std::size_t target = p.target_triangles;
     if (p.target_ratio > 0.f)
-        target = std::max(target, static_cast<std::size_t>(std::llround(p.target_ratio * double(mesh_.triangle_count()))));
+        // A ratio asks for a smaller mesh, never for none: a count that rounds to 0 is 1.
+        target = std::max({target, std::size_t(1),
+                           static_cast<std::size_t>(std::llround(p.target_ratio * double(mesh_.triangle_count())))});
     start_faces_ = alive_faces_;
+    result_.target_triangles = target;
+    result_.dropped_faces = mesh_.triangle_count() - alive_faces_;
 
     const double limit = std::isinf(p.max_error) ? std::numeric_limits<double>::infinity()
                                                  : double(p.max_error) * double(p.max_error);

@@ -234,7 +234,8 @@ TEST(CliLod, BadLevelsExitNonZeroWithAMessage) {
         {"", "exactly one of --levels, --level-triangles and --level-errors"},
         {" --levels 0.5,0.7", "not fewer than the previous level"},
         {" --levels 0.5,abc", "'abc' is not a number"},
-        {" --levels 0.5,1.5", "outside (0, 1]"},
+        {" --levels 0.5,1.5", "outside (0, 1)"},
+        {" --levels 1,0.5", "outside (0, 1)"},
         {" --levels 0.5 --level-triangles 100", "exactly one of"},
         {" --level-triangles 100.5", "not a positive integer"},
         {" --level-errors 0.01,0.001", "larger than the previous level"},
@@ -307,4 +308,42 @@ TEST(CliCompare, BadArgumentsExitNonZero) {
     r = run("compare --samples -5 " + q(bunny()) + " " + q(bunny()));
     EXPECT_NE(r.exit_code, 0);
     EXPECT_TRUE(std::filesystem::is_empty(dir.path()));
+}
+
+// A level that cannot be written (here: a directory in the way of lod2.ply) fails the whole run and
+// leaves the target as it was: no earlier levels, no lods.json (all are staged and moved at the end).
+TEST(CliLod, AFailedWriteLeavesNoPartialChain) {
+    lodforge::test::ScratchDir dir("cli-lod-partial");
+    const std::string out = dir.file("out");
+    std::filesystem::create_directories(out + "/lod2.ply");
+    const CliRun r = run("lod " + q(bunny()) + " -o " + q(out) + " --levels 0.5,0.25,0.1 --no-measure");
+    EXPECT_EQ(r.exit_code, 1) << r.out;
+    EXPECT_TRUE(contains(r.out, "lod2.ply")) << r.out;
+    std::set<std::string> left;
+    for (const auto& e : std::filesystem::directory_iterator(dir.path())) left.insert(e.path().filename().string());
+    EXPECT_EQ(left, std::set<std::string>{"out"});  // no staging directory left beside it
+    left.clear();
+    for (const auto& e : std::filesystem::directory_iterator(out)) left.insert(e.path().filename().string());
+    EXPECT_EQ(left, std::set<std::string>{"lod2.ply"});
+    // Without the obstacle the same run writes the chain into the existing directory.
+    std::filesystem::remove(out + "/lod2.ply");
+    ASSERT_EQ(run("lod " + q(bunny()) + " -o " + q(out) + " --levels 0.5,0.25,0.1 --no-measure").exit_code, 0);
+    for (const char* f : {"lod0.ply", "lod1.ply", "lod2.ply", "lod3.ply", "lods.json"})
+        EXPECT_TRUE(std::filesystem::is_regular_file(out + "/" + f)) << f;
+}
+
+// A ratio that rounds to no triangle keeps one (the sweep found a single triangle written as an empty
+// file, "target reached"), and dropped input faces are reported.
+TEST(CliSimplify, TinyRatiosKeepATriangleAndDroppedFacesAreReported) {
+    lodforge::test::ScratchDir dir("cli-simplify-tiny");
+    {
+        std::ofstream f(dir.file("tri.ply"));
+        f << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+             "element face 2\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n3 0 2 1\n";
+    }
+    const CliRun r = run("simplify " + q(dir.file("tri.ply")) + " -o " + q(dir.file("out.ply")) + " --ratio 0.1");
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    EXPECT_TRUE(contains(r.out, "2 -> 1 triangles (target 1)")) << r.out;
+    EXPECT_TRUE(contains(r.out, "dropped: 1 input faces")) << r.out;
+    EXPECT_EQ(lodforge::read_mesh(dir.file("out.ply")).triangle_count(), 1u);
 }

@@ -177,3 +177,32 @@ TEST(SimplifyCluster, BadParametersAreArgumentErrors) {
     EXPECT_EQ(kind_of(both), Error::Kind::argument);
     EXPECT_THROW(simplify_cluster(Mesh{}, ratio(0.5f)), Error);
 }
+
+// A needle thinner than the cells a low target needs collapses to nothing on most grids; the search must
+// not return such a grid as "closest" (the sweep found 3216 -> 0 triangles, exit 0). Either a grid that
+// keeps triangles is chosen, or the call fails with a message.
+TEST(SimplifyCluster, AThinPartNeverEndsEmpty) {
+    Mesh needle;
+    const int seg = 8, rings = 200;
+    for (int j = 0; j <= rings; ++j)
+        for (int i = 0; i < seg; ++i) {
+            const float a = 6.2831853f * float(i) / float(seg);
+            needle.positions.push_back({0.001f * std::cos(a), 0.001f * std::sin(a), 10.f * float(j) / float(rings)});
+        }
+    for (int j = 0; j < rings; ++j)
+        for (int i = 0; i < seg; ++i) {
+            const auto a = std::uint32_t(j * seg + i), b = std::uint32_t(j * seg + (i + 1) % seg);
+            needle.indices.insert(needle.indices.end(), {a, b, b + seg, a, b + seg, a + seg});
+        }
+    for (float r : {0.2f, 0.1f, 0.01f}) {
+        SCOPED_TRACE(r);
+        try {
+            const ClusterResult c = simplify_cluster(needle, ratio(r));
+            EXPECT_GT(c.mesh.triangle_count(), 0u);
+            EXPECT_EQ(c.triangles, c.mesh.triangle_count());
+        } catch (const Error& e) {
+            EXPECT_EQ(e.kind(), Error::Kind::invalid);
+            EXPECT_NE(std::string(e.what()).find("collapses the mesh to nothing"), std::string::npos) << e.what();
+        }
+    }
+}

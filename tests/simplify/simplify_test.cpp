@@ -522,3 +522,62 @@ TEST(Simplify, TiesDoNotDependOnThePointsPositions) {
         EXPECT_EQ(a.mesh.indices, b.mesh.indices);
     }
 }
+
+// A ratio whose triangle count rounds to 0 still asks for one triangle: a single triangle stays, a flat
+// grid keeps faces (found by the unseen-input sweep: both ended empty with "target reached").
+TEST(Simplify, ARatioNeverAsksForAnEmptyMesh) {
+    Mesh tri;
+    tri.positions = {{0.f, 0.f, 0.f}, {1.f, 0.f, 0.f}, {0.f, 1.f, 0.f}};
+    tri.indices = {0, 1, 2};
+    const SimplifyResult one = simplify(tri, ratio(0.1f));
+    EXPECT_EQ(one.triangles, 1u);
+    EXPECT_EQ(one.target_triangles, 1u);
+    EXPECT_TRUE(one.collapses.empty());
+    const Mesh grid = flat_grid(30);
+    const SimplifyResult g = simplify(grid, ratio(0.0001f));
+    EXPECT_EQ(g.target_triangles, 1u);
+    EXPECT_GE(g.triangles, 1u);
+    EXPECT_EQ(g.triangles, g.mesh.triangle_count());
+}
+
+// Three fins on one edge (quads of two triangles; what a LOD chain of the sweep's fins reached): a run to one
+// triangle emptied the mesh, a collapse removing all the faces left. It must keep at least one.
+TEST(Simplify, TheLastFacesAreNeverRemoved) {
+    Mesh fins;
+    fins.positions = {{0.f, 0.f, 0.f},     {0.f, 0.f, 1.f},    {1.f, 0.f, 0.f},     {1.f, 0.f, 1.f},
+                      {-0.5f, 0.866f, 0.f}, {-0.5f, 0.866f, 1.f}, {-0.5f, -0.866f, 0.f}, {-0.5f, -0.866f, 1.f}};
+    fins.indices = {1, 0, 3, 0, 2, 3, 1, 0, 4, 1, 4, 5, 1, 0, 6, 1, 6, 7};
+    SimplifyParams p;
+    p.target_triangles = 1;
+    for (auto schedule : {SimplifyParams::Schedule::passes, SimplifyParams::Schedule::greedy}) {
+        p.schedule = schedule;
+        const SimplifyResult r = simplify(fins, p);
+        EXPECT_GE(r.triangles, 1u);
+        EXPECT_EQ(r.triangles, r.mesh.triangle_count());
+        EXPECT_FALSE(r.collapses.empty());
+    }
+    // A lone triangle beside a larger component may still go: only the last faces are kept.
+    Mesh two = flat_grid(6);
+    const auto base = static_cast<std::uint32_t>(two.positions.size());
+    two.positions.insert(two.positions.end(), {{10.f, 0.f, 0.f}, {11.f, 0.f, 0.f}, {10.f, 1.f, 0.f}});
+    two.indices.insert(two.indices.end(), {base, base + 1, base + 2});
+    const SimplifyResult r = simplify(two, p);
+    EXPECT_GE(r.triangles, 1u);
+    EXPECT_EQ(r.triangles, r.mesh.triangle_count());
+}
+
+// Faces dropped before simplifying (repeats, degenerate on points) are counted, so "target reached" below
+// the target without a collapse is explained.
+TEST(Simplify, DroppedFacesAreCounted) {
+    Mesh twice = flat_grid(10);
+    const std::size_t n = twice.triangle_count();
+    const std::vector<std::uint32_t> once = twice.indices;
+    for (std::size_t f = 0; f < n; ++f)  // every face again, reversed
+        twice.indices.insert(twice.indices.end(), {once[3 * f], once[3 * f + 2], once[3 * f + 1]});
+    twice.indices.insert(twice.indices.end(), {0, 0, 1});  // degenerate on a point
+    const SimplifyResult r = simplify(twice, ratio(1.f));
+    EXPECT_EQ(r.dropped_faces, n + 1);
+    EXPECT_EQ(r.triangles, n);
+    EXPECT_EQ(r.target_triangles, twice.triangle_count());
+    EXPECT_EQ(simplify(flat_grid(10), ratio(0.5f)).dropped_faces, 0u);
+}

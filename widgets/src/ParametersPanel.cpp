@@ -195,7 +195,7 @@ void ParametersPanel::configureValueBox(QDoubleSpinBox* box, LodTarget::Kind kin
     switch (kind) {
     case LodTarget::Kind::ratio:
         box->setDecimals(4);
-        box->setRange(0.0001, 1.0);
+        box->setRange(0.0001, 0.9999);  // 1 would copy level 0 (build_lod_chain refuses it)
         box->setSingleStep(0.05);
         box->setToolTip(tr("Fraction of the original's triangles"));
         break;

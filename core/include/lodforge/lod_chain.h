@@ -25,7 +25,7 @@ namespace lodforge {
 
 // The target of one level (level 1 onwards; level 0 is the input). Set exactly one of the three.
 struct LodLevelTarget {
-    float ratio = 0.f;            // fraction of the INPUT's triangles, in (0, 1]
+    float ratio = 0.f;            // fraction of the INPUT's triangles, in (0, 1) (1 would copy level 0)
     std::size_t triangles = 0;    // triangle count
     // Largest simplifier error estimate of this level's step, relative to the input's bounding-box
     // diagonal (see SimplifyParams::max_error). Infinity = unused.

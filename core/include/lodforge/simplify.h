@@ -106,6 +106,10 @@ struct SimplifyResult {
     float error = 0;           // largest collapse error estimate, model units
     float error_relative = 0;  // the same relative to the input's bounding-box diagonal
     StopReason reason = StopReason::target_reached;
+    std::size_t target_triangles = 0;  // the triangle target used (at least 1 for a ratio; 0 with max_error alone)
+    // Input faces dropped before simplifying (degenerate on points, or repeating an earlier face's points):
+    // why a mesh can end below its target, "target reached", without any collapse.
+    std::size_t dropped_faces = 0;
     std::vector<Collapse> collapses;        // in order: replaying the first k gives level k
     std::vector<VertexMove> moves;
     std::vector<std::uint32_t> vertex_map;  // output vertex → input vertex

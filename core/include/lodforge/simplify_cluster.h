@@ -59,7 +59,8 @@ struct ClusterResult {
     std::vector<std::uint32_t> vertex_cluster;
 };
 
-// Throws Error(argument) on bad parameters, Error(invalid) when the mesh has no triangles,
+// Throws Error(argument) on bad parameters, Error(invalid) when the mesh has no triangles or when every
+// grid the target leads to (or the grid given) collapses it to nothing (rather than return an empty mesh),
 // Error(cancelled) when progress asks to stop. Output: one vertex per occupied cell (and per wedge class
 // with preserve_seams) at the quadric-optimal position clamped into its cell, attributes at their
 // quadric optimum (normals renormalised, colours clamped to [0, 1]); triangles with two corners in one
