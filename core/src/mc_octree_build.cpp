@@ -1389,7 +1389,12 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
             const std::uint64_t a_key = vertex_edge[v] & key_bits;
             const int axis = int(vertex_edge[v] >> 51);
             const float da = std::fabs(field.dist(ia)), db = std::fabs(field.dist(ib));
-            const float t = da + db > 0 ? da / (da + db) : 0.5f;
+            // Strictly inside the edge (D3): a lattice point on the surface (value 0) would otherwise hold
+            // the vertices of all its crossing edges at one position, and their triangles have zero area.
+            // |d| is a distance to a point, so a clamp of 1/1024 moves a vertex only where a lattice point
+            // lies within about h/1000 of an input point (cubically rare: none on the scans).
+            constexpr float min_t = 1.f / 1024;
+            const float t = da + db > 0 ? std::clamp(da / (da + db), min_t, 1 - min_t) : 0.5f;
             Vec3f p = field.world(a_key);
             if (axis == 0) p.x += t * float(h);
             else if (axis == 1) p.y += t * float(h);

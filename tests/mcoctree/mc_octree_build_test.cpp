@@ -385,3 +385,43 @@ TEST(McOctreeBuild, AFlatAxisAlignedCloudHasASurfaceAtItsPlane) {
         }
     }
 }
+
+TEST(McOctreeBuild, LatticePointsOnTheSurfaceGiveNoZeroAreaTriangles) {
+    // A sphere of radius 5 with cubes of 1/4: its integer points ((5,0,0), (3,4,0), ... 30 of them) are
+    // lattice points (the box's corner and the cube size are exact in float), and input points, so the
+    // field is 0 there. Each has two or more inside neighbours, whose edges' vertices used to meet at it.
+    Mesh pts = lodforge::test::sphere_points(6000, 5.f);
+    const int r2 = 25;
+    for (int x = -5; x <= 5; ++x)
+        for (int y = -5; y <= 5; ++y)
+            for (int z = -5; z <= 5; ++z)
+                if (x * x + y * y + z * z == r2) {
+                    const Vec3f q{float(x), float(y), float(z)};
+                    pts.positions.push_back(q);
+                    pts.normals.push_back(q * 0.2f);
+                }
+    ASSERT_EQ(pts.positions.size(), 6030u);
+    McOctreeParams p;
+    p.cube_size = 0.25;
+    const McOctreeBuildResult r = build_mc_octree(pts, p);
+    ASSERT_EQ(r.tree.origin.x, -5.75f);  // the integer points are lattice points
+    const double h = r.tree.cube_size;
+    McOctreeExtractor ex(r.tree);
+    std::size_t zero_area = 0, coincident = 0;
+    for (std::size_t k = 0; k <= 8; ++k) {
+        const std::size_t i = r.tree.max_priority() - k * (r.tree.max_priority() / 16);
+        const Mesh& m = ex.extract(i).mesh;
+        for (std::size_t t = 0; t + 2 < m.indices.size(); t += 3) {
+            const Vec3f a = m.positions[m.indices[t]], b = m.positions[m.indices[t + 1]],
+                        c = m.positions[m.indices[t + 2]];
+            coincident += a == b || b == c || a == c;
+            const Vec3f n = cross(b - a, c - a);
+            zero_area += 0.5 * std::sqrt(double(n.x) * n.x + double(n.y) * n.y + double(n.z) * n.z) <= 1e-9 * h * h;
+        }
+        const auto w = check_watertight(m);
+        EXPECT_EQ(w.border_edges, 0u) << "priority " << i;
+        EXPECT_EQ(w.unpaired_directed, 0u) << "priority " << i;
+    }
+    EXPECT_EQ(coincident, 0u);
+    EXPECT_EQ(zero_area, 0u);
+}
