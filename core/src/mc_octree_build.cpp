@@ -773,11 +773,22 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
     auto seeds_and_scatter = [&] {
         for (const Vec3f& p : pc.points) {
             const Vec3f r = (p - tree.origin) * static_cast<float>(1.0 / h);
-            const auto cx = static_cast<std::uint32_t>(std::clamp(r.x, 0.f, float(grid - 1)));
-            const auto cy = static_cast<std::uint32_t>(std::clamp(r.y, 0.f, float(grid - 1)));
-            const auto cz = static_cast<std::uint32_t>(std::clamp(r.z, 0.f, float(grid - 1)));
-            const std::uint64_t k = pack(cx, cy, cz);
-            if (visited.insert(k)) frontier.push_back(k);
+            std::uint32_t lo[3], hi[3];
+            for (int a = 0; a < 3; ++a) {
+                const auto c = static_cast<std::uint32_t>(std::clamp(r[a], 0.f, float(grid - 1)));
+                // A point on a lattice plane (as the field places that plane: `world`) also seeds the cube
+                // on the plane's other side. The plane's lattice points are on the point's tangent plane
+                // when the input is flat along that axis, so they count as outside (D1), and only the cube
+                // on the normal's back side has a sign change: a flat, axis-aligned cloud got no seed.
+                // The rounding of `r` may put the point in either cube, hence both tests.
+                lo[a] = hi[a] = c;
+                if (c > 0 && field.world(pack(c, c, c))[a] >= p[a]) lo[a] = c - 1;
+                if (c + 1 < grid && field.world(pack(c + 1, c + 1, c + 1))[a] <= p[a]) hi[a] = c + 1;
+            }
+            for (std::uint32_t z = lo[2]; z <= hi[2]; ++z)
+                for (std::uint32_t y = lo[1]; y <= hi[1]; ++y)
+                    for (std::uint32_t x = lo[0]; x <= hi[0]; ++x)
+                        if (visited.insert(pack(x, y, z))) frontier.push_back(pack(x, y, z));
         }
         std::sort(frontier.begin(), frontier.end());  // lattice order: the queries' hints are near
         // The field's blocks number about a quarter to a half of the seeds on the scans (dragon, frag_115 at
@@ -1378,7 +1389,12 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
             const std::uint64_t a_key = vertex_edge[v] & key_bits;
             const int axis = int(vertex_edge[v] >> 51);
             const float da = std::fabs(field.dist(ia)), db = std::fabs(field.dist(ib));
-            const float t = da + db > 0 ? da / (da + db) : 0.5f;
+            // Strictly inside the edge (D3): a lattice point on the surface (value 0) would otherwise hold
+            // the vertices of all its crossing edges at one position, and their triangles have zero area.
+            // |d| is a distance to a point, so a clamp of 1/1024 moves a vertex only where a lattice point
+            // lies within about h/1000 of an input point (cubically rare: none on the scans).
+            constexpr float min_t = 1.f / 1024;
+            const float t = da + db > 0 ? std::clamp(da / (da + db), min_t, 1 - min_t) : 0.5f;
             Vec3f p = field.world(a_key);
             if (axis == 0) p.x += t * float(h);
             else if (axis == 1) p.y += t * float(h);

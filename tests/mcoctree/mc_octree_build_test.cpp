@@ -341,3 +341,87 @@ TEST(McOctreeBuild, HashedBlocksOfALargeGridGiveTheSameLeavesAsTheTiledOnes) {
     // On the hashed blocks as well, the field does not depend on the method or the thread count (D1).
     expect_same_tree(both.tree, build_with(pair, p, McFieldMethod::queries, 1).tree, "hashed, queries, 1 thread");
 }
+
+TEST(McOctreeBuild, AFlatAxisAlignedCloudHasASurfaceAtItsPlane) {
+    // A planar grid of points with normals +z: its lattice plane is on every point's tangent plane, so it
+    // counts as outside (D1) and the cubes holding the points have no sign change; only the cubes below
+    // do. Those must be seeded too, or the build finds no surface. Several heights, so that the points
+    // fall on either side of the lattice plane's rounding, and with and without a band.
+    for (const float z0 : {0.f, 0.5f, 1.f / 3.f, -0.7f}) {
+        for (const double band : {0.0, 2.0}) {
+            SCOPED_TRACE(testing::Message() << "z " << z0 << ", band " << band);
+            Mesh pts;
+            for (int i = 0; i <= 40; ++i)
+                for (int j = 0; j <= 40; ++j) {
+                    pts.positions.push_back({float(i) / 40, float(j) / 40, z0});
+                    pts.normals.push_back({0, 0, 1});
+                }
+            McOctreeParams p;
+            p.resolution = 32;
+            p.band = band;
+            McOctreeBuildResult r;
+            ASSERT_NO_THROW(r = build_mc_octree(pts, p));
+            McOctreeExtractor ex(r.tree);
+            const Mesh& m = ex.extract(r.tree.max_priority()).mesh;
+            ASSERT_GT(m.triangle_count(), 0u);
+            // The triangles within a cube size of the plane, over the cloud's square, cover that square.
+            const float h = r.tree.cube_size;
+            double area = 0;
+            for (std::size_t t = 0; t + 2 < m.indices.size(); t += 3) {
+                const Vec3f a = m.positions[m.indices[t]], b = m.positions[m.indices[t + 1]],
+                            c = m.positions[m.indices[t + 2]];
+                const Vec3f centre = (a + b + c) * (1.f / 3);
+                if (std::fabs(a.z - z0) > h || std::fabs(b.z - z0) > h || std::fabs(c.z - z0) > h) continue;
+                if (centre.x < 0 || centre.x > 1 || centre.y < 0 || centre.y > 1) continue;
+                area += 0.5 * double(length(cross(b - a, c - a)));
+            }
+            EXPECT_NEAR(area, 1.0, 0.05);
+            const auto w = check_watertight(m);
+            if (band == 0) {  // with a band the surface is open along the cloud's border (D2)
+                EXPECT_EQ(w.border_edges, 0u);
+                EXPECT_EQ(w.unpaired_directed, 0u);
+            }
+            EXPECT_EQ(w.degenerate, 0u);
+        }
+    }
+}
+
+TEST(McOctreeBuild, LatticePointsOnTheSurfaceGiveNoZeroAreaTriangles) {
+    // A sphere of radius 5 with cubes of 1/4: its integer points ((5,0,0), (3,4,0), ... 30 of them) are
+    // lattice points (the box's corner and the cube size are exact in float), and input points, so the
+    // field is 0 there. Each has two or more inside neighbours, whose edges' vertices used to meet at it.
+    Mesh pts = lodforge::test::sphere_points(6000, 5.f);
+    const int r2 = 25;
+    for (int x = -5; x <= 5; ++x)
+        for (int y = -5; y <= 5; ++y)
+            for (int z = -5; z <= 5; ++z)
+                if (x * x + y * y + z * z == r2) {
+                    const Vec3f q{float(x), float(y), float(z)};
+                    pts.positions.push_back(q);
+                    pts.normals.push_back(q * 0.2f);
+                }
+    ASSERT_EQ(pts.positions.size(), 6030u);
+    McOctreeParams p;
+    p.cube_size = 0.25;
+    const McOctreeBuildResult r = build_mc_octree(pts, p);
+    ASSERT_EQ(r.tree.origin.x, -5.75f);  // the integer points are lattice points
+    const double h = r.tree.cube_size;
+    McOctreeExtractor ex(r.tree);
+    std::size_t zero_area = 0, coincident = 0;
+    for (std::size_t k = 0; k <= 8; ++k) {
+        const std::size_t i = r.tree.max_priority() - k * (r.tree.max_priority() / 16);
+        const Mesh& m = ex.extract(i).mesh;
+        for (std::size_t t = 0; t + 2 < m.indices.size(); t += 3) {
+            const Vec3f a = m.positions[m.indices[t]], b = m.positions[m.indices[t + 1]],
+                        c = m.positions[m.indices[t + 2]];
+            coincident += a == b || b == c || a == c;
+            const Vec3f n = cross(b - a, c - a);
+            zero_area += 0.5 * std::sqrt(double(n.x) * n.x + double(n.y) * n.y + double(n.z) * n.z) <= 1e-9 * h * h;
+        }
+        const auto w = check_watertight(m);
+        EXPECT_EQ(w.border_edges, 0u) << "priority " << i;
+        EXPECT_EQ(w.unpaired_directed, 0u) << "priority " << i;
+    }
+    EXPECT_EQ(coincident, 0u);
+    EXPECT_EQ(zero_area, 0u);
+}
