@@ -114,38 +114,78 @@ public:
     };
 
     // `hint` is a slot (BVH order) to test first; updated to the answer's slot.
-    Hit closest(P3 p, std::uint32_t& hint) const {
+    Hit closest(P3 p, std::uint32_t& hint) const { return search<false>(p, hint, 0, nullptr); }
+
+    // closest(), and in `ties` every triangle whose closest point is within `tolerance` of the nearest
+    // distance (the nearest included): coincident or touching faces that are equally close up to rounding,
+    // among which an attribute comparison must choose (their attributes may differ: UV seams, decals).
+    Hit closest_with_ties(P3 p, std::uint32_t& hint, double tolerance, std::vector<Hit>& ties) const {
+        ties.clear();
+        const Hit best = search<true>(p, hint, tolerance, &ties);
+        const double limit = reach2(best.distance2, tolerance);
+        std::erase_if(ties, [&](const Hit& h) { return h.distance2 > limit; });
+        for (Hit& h : ties) h.triangle = order_[h.triangle];  // slots → mesh triangles
+        return best;
+    }
+
+private:
+    static constexpr std::uint32_t kLeaf = 4;
+
+    // The squared distance within `tolerance` of a squared distance d2.
+    static double reach2(double d2, double tolerance) {
+        const double d = std::sqrt(d2) + tolerance;
+        return d * d;
+    }
+
+    template <bool kTies>
+    Hit search(P3 p, std::uint32_t& hint, double tolerance, std::vector<Hit>* ties) const {
         Hit best;
         std::uint32_t best_slot = hint;
-        if (hint < order_.size()) test(p, hint, best, best_slot);
+        // With ties, boxes as far as the nearest distance plus the tolerance are still visited.
+        double best_reach2 = INFINITY;
+        auto bound = [&] { return kTies ? best_reach2 : best.distance2; };
+        auto visit = [&](std::uint32_t slot) {
+            if constexpr (kTies) {
+                Hit h;
+                test(p, slot, h, h.triangle);  // h.triangle = slot
+                if (h.distance2 < best.distance2) {
+                    best = h;
+                    best_slot = slot;
+                    best_reach2 = reach2(h.distance2, tolerance);
+                }
+                if (h.distance2 <= best_reach2) ties->push_back(h);  // the final filter drops the early ones
+            } else {
+                test(p, slot, best, best_slot);
+            }
+        };
+        if (hint < order_.size()) visit(hint);
         std::uint32_t stack[64];
         int top = 0;
         stack[top++] = 0;
         while (top > 0) {
             const Node& node = nodes_[stack[--top]];
-            if (box_distance2(node, p) >= best.distance2) continue;
+            const double reach = bound();
+            if (kTies ? box_distance2(node, p) > reach : box_distance2(node, p) >= reach) continue;
             if (node.count > 0) {
-                for (std::uint32_t i = node.start; i < node.start + node.count; ++i) test(p, i, best, best_slot);
+                for (std::uint32_t i = node.start; i < node.start + node.count; ++i)
+                    if (!kTies || i != hint) visit(i);
                 continue;
             }
             const std::uint32_t left = static_cast<std::uint32_t>(&node - nodes_.data()) + 1, right = node.right;
             const double dl = box_distance2(nodes_[left], p), dr = box_distance2(nodes_[right], p);
             // Push the farther child first so the nearer one is visited next.
             if (dl < dr) {
-                if (dr < best.distance2) stack[top++] = right;
-                if (dl < best.distance2) stack[top++] = left;
+                if (kTies ? dr <= reach : dr < reach) stack[top++] = right;
+                if (kTies ? dl <= reach : dl < reach) stack[top++] = left;
             } else {
-                if (dl < best.distance2) stack[top++] = left;
-                if (dr < best.distance2) stack[top++] = right;
+                if (kTies ? dl <= reach : dl < reach) stack[top++] = left;
+                if (kTies ? dr <= reach : dr < reach) stack[top++] = right;
             }
         }
         hint = best_slot;
         best.triangle = order_[best_slot];
         return best;
     }
-
-private:
-    static constexpr std::uint32_t kLeaf = 4;
     struct Node {
         float lo[3], hi[3];
         std::uint32_t start = 0, count = 0;  // leaf: slots [start, start + count)
@@ -289,6 +329,10 @@ Accumulator measure(const Mesh& from, const TriangleBvh& to_bvh, const Mesh& to,
     const bool uvs = attributes && from.has_texcoords() && to.has_texcoords();
     double color_sum2 = 0, uv_sum2 = 0;
     std::size_t attr_count = 0;
+    std::vector<TriangleBvh::Hit> ties;
+    // Equally close up to rounding: 1e-7 of the diagonal, far above the error of the double closest-point
+    // arithmetic on float vertices and far below any geometric difference a comparison reports.
+    const double tie_tolerance = 1e-7 * static_cast<double>(to.bounds().diagonal());
 
     std::uint32_t hint = 0xffffffffu;
     std::size_t done = 0;
@@ -301,7 +345,9 @@ Accumulator measure(const Mesh& from, const TriangleBvh& to_bvh, const Mesh& to,
             const double r1 = std::sqrt(uni(rng)), r2 = uni(rng);
             const double w0 = 1 - r1, w1 = r1 * (1 - r2), w2 = r1 * r2;
             const P3 p = a * w0 + b * w1 + c * w2;
-            const TriangleBvh::Hit hit = to_bvh.closest(p, hint);
+            // (With attributes the query also lists the faces equally close: see below.)
+            const TriangleBvh::Hit hit = colors || uvs ? to_bvh.closest_with_ties(p, hint, tie_tolerance, ties)
+                                                       : to_bvh.closest(p, hint);
             const double distance = std::sqrt(hit.distance2);
             acc.add_sample(distance);
             if (region) {
@@ -314,24 +360,47 @@ Accumulator measure(const Mesh& from, const TriangleBvh& to_bvh, const Mesh& to,
                 }
             }
             if (colors || uvs) {
-                const std::uint32_t* ti = &to.indices[3 * hit.triangle];
-                if (colors) {
-                    const Vec4f ca = from.colors[i0], cb = from.colors[i1], cc = from.colors[i2];
-                    const Vec4f ra = to.colors[ti[0]], rb = to.colors[ti[1]], rc = to.colors[ti[2]];
-                    const double dr = (ca.x * w0 + cb.x * w1 + cc.x * w2) - (ra.x * hit.bary[0] + rb.x * hit.bary[1] + rc.x * hit.bary[2]);
-                    const double dg = (ca.y * w0 + cb.y * w1 + cc.y * w2) - (ra.y * hit.bary[0] + rb.y * hit.bary[1] + rc.y * hit.bary[2]);
-                    const double db = (ca.z * w0 + cb.z * w1 + cc.z * w2) - (ra.z * hit.bary[0] + rb.z * hit.bary[1] + rc.z * hit.bary[2]);
-                    color_sum2 += (dr * dr + dg * dg + db * db) * (255.0 * 255.0) / 3.0;
+                // The attributes at `h` against the sample's: squared colour difference (components in
+                // [0, 1]) and squared texture-coordinate difference.
+                auto differences = [&](const TriangleBvh::Hit& h, double& dc2, double& du2) {
+                    const std::uint32_t* ti = &to.indices[3 * h.triangle];
+                    dc2 = du2 = 0;
+                    if (colors) {
+                        const Vec4f ca = from.colors[i0], cb = from.colors[i1], cc = from.colors[i2];
+                        const Vec4f ra = to.colors[ti[0]], rb = to.colors[ti[1]], rc = to.colors[ti[2]];
+                        const double dr = (ca.x * w0 + cb.x * w1 + cc.x * w2) - (ra.x * h.bary[0] + rb.x * h.bary[1] + rc.x * h.bary[2]);
+                        const double dg = (ca.y * w0 + cb.y * w1 + cc.y * w2) - (ra.y * h.bary[0] + rb.y * h.bary[1] + rc.y * h.bary[2]);
+                        const double db = (ca.z * w0 + cb.z * w1 + cc.z * w2) - (ra.z * h.bary[0] + rb.z * h.bary[1] + rc.z * h.bary[2]);
+                        dc2 = dr * dr + dg * dg + db * db;
+                    }
+                    if (uvs) {
+                        const auto& fu = from.texcoords[0];
+                        const auto& tu = to.texcoords[0];
+                        const double du = (fu[i0].x * w0 + fu[i1].x * w1 + fu[i2].x * w2) -
+                                          (tu[ti[0]].x * h.bary[0] + tu[ti[1]].x * h.bary[1] + tu[ti[2]].x * h.bary[2]);
+                        const double dv = (fu[i0].y * w0 + fu[i1].y * w1 + fu[i2].y * w2) -
+                                          (tu[ti[0]].y * h.bary[0] + tu[ti[1]].y * h.bary[1] + tu[ti[2]].y * h.bary[2]);
+                        du2 = du * du + dv * dv;
+                    }
+                };
+                double dc2, du2;
+                differences(hit, dc2, du2);
+                // Faces as close as the nearest one up to rounding (coincident layers, a seam's two sides
+                // at a sample on the seam) are the same surface point with other attributes: the one that
+                // matches the sample best is the attribute error there, as for the surface itself (compare
+                // of a mesh with itself is zero; the milk truck's overlapping decal faces gave a UV RMS of
+                // 0.005 when the first one found was taken).
+                for (const TriangleBvh::Hit& h : ties) {
+                    if (dc2 + du2 == 0) break;
+                    double c2, u2;
+                    differences(h, c2, u2);
+                    if (c2 + u2 < dc2 + du2) {
+                        dc2 = c2;
+                        du2 = u2;
+                    }
                 }
-                if (uvs) {
-                    const auto& fu = from.texcoords[0];
-                    const auto& tu = to.texcoords[0];
-                    const double du = (fu[i0].x * w0 + fu[i1].x * w1 + fu[i2].x * w2) -
-                                      (tu[ti[0]].x * hit.bary[0] + tu[ti[1]].x * hit.bary[1] + tu[ti[2]].x * hit.bary[2]);
-                    const double dv = (fu[i0].y * w0 + fu[i1].y * w1 + fu[i2].y * w2) -
-                                      (tu[ti[0]].y * hit.bary[0] + tu[ti[1]].y * hit.bary[1] + tu[ti[2]].y * hit.bary[2]);
-                    uv_sum2 += du * du + dv * dv;
-                }
+                color_sum2 += dc2 * (255.0 * 255.0) / 3.0;
+                uv_sum2 += du2;
                 ++attr_count;
             }
             if ((++done & 0x3fff) == 0)
