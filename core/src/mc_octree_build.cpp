@@ -928,7 +928,10 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
     run_flood();
     clock.mark("flood");
     if (leaves.empty())
-        throw_error(Error::Kind::invalid, input_name, "no surface: the signed distance never changes sign");
+        throw_error(Error::Kind::invalid, input_name,
+                    "no surface: the signed distance never changes sign at cube size " + std::to_string(h) +
+                        " (a part thinner than a cube has no inside lattice point: try a finer --resolution or "
+                        "--cube-size)");
 
     // Closing the coarse levels before building anything (D2): a node's samples are the field at lattice
     // points, whichever of its children exist, so the coarse crossings are known from the set of nodes

@@ -425,3 +425,29 @@ TEST(McOctreeBuild, LatticePointsOnTheSurfaceGiveNoZeroAreaTriangles) {
     EXPECT_EQ(coincident, 0u);
     EXPECT_EQ(zero_area, 0u);
 }
+
+// A part thinner than a cube has no lattice point inside it: the error says so and names the remedy.
+TEST(McOctreeBuild, ANeedleThinnerThanACubeNamesTheRemedy) {
+    Mesh needle;
+    const int seg = 8, rings = 50;
+    for (int j = 0; j <= rings; ++j)
+        for (int i = 0; i < seg; ++i) {
+            const float a = 6.2831853f * float(i) / float(seg);
+            needle.positions.push_back({0.001f * std::cos(a), 0.001f * std::sin(a), 10.f * float(j) / float(rings)});
+        }
+    for (int j = 0; j < rings; ++j)
+        for (int i = 0; i < seg; ++i) {
+            const auto a = std::uint32_t(j * seg + i), b = std::uint32_t(j * seg + (i + 1) % seg);
+            needle.indices.insert(needle.indices.end(), {a, b + seg, b, a, a + seg, b + seg});
+        }
+    McOctreeParams p;
+    p.resolution = 32;
+    try {
+        build_mc_octree(needle, p);
+        ADD_FAILURE() << "a surface was found";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.kind(), Error::Kind::invalid);
+        EXPECT_NE(std::string(e.what()).find("no surface"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("finer --resolution"), std::string::npos) << e.what();
+    }
+}
