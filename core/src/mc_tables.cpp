@@ -6,7 +6,8 @@
 // one face rule, so neighbouring cubes always agree on their common face: on each face polygon, every
 // maximal run of inside samples is cut off by one segment joining the two crossings that bound it
 // ("inside corners are separated"). The segments of the six faces close into loops on the cube's surface
-// and each loop is fanned into triangles. The same rule applies to faces split for a finer neighbour
+// and each loop is fanned into triangles (from a crossing whose diagonals stay off the parts of the
+// boundary another node can hold; docs/mcoctree.md, D6). The same rule applies to faces split for a finer neighbour
 // (docs/mcoctree.md, "Crack-free seams"), which is what makes the seams between levels watertight.
 #include "mc_tables.h"
 
@@ -18,6 +19,7 @@ namespace {
 struct Tables {
     std::array<SubEdge, sub_edge_count> edges{};
     std::array<std::array<std::int8_t, 27>, 27> between{};  // sample pair -> sub-edge id, -1 none
+    std::array<std::uint8_t, sub_edge_count> faces{};       // bit f: the sub-edge lies on face f
     CaseTable cases;
 
     Tables() {
@@ -49,6 +51,12 @@ struct Tables {
             add(36 + 4 * f + 1, centre, coord(a, s, 2, 1, u, v), u, 1);
             add(36 + 4 * f + 2, centre, coord(a, s, 1, 0, u, v), v, 1);
             add(36 + 4 * f + 3, centre, coord(a, s, 1, 2, u, v), v, 1);
+        }
+        for (int e = 0; e < sub_edge_count; ++e) {
+            const int sa = edges[e].a, sb = edges[e].b;
+            const int ca[3] = {sa % 3, (sa / 3) % 3, sa / 9}, cb[3] = {sb % 3, (sb / 3) % 3, sb / 9};
+            for (int a = 0; a < 3; ++a)
+                if (ca[a] == cb[a] && ca[a] != 1) faces[e] |= static_cast<std::uint8_t>(1u << (2 * a + ca[a] / 2));
         }
     }
 };
@@ -105,6 +113,147 @@ void link_polygon(const int* samples, int n, std::uint32_t inside, std::int8_t* 
             }
         }
     }
+}
+
+// Triangulation of one loop (docs/mcoctree.md, D6). A fan diagonal between two crossings on one face of
+// the node lies on the node's boundary; if some other node's cube holds both crossings, that node may use
+// the same pair as a diagonal too: four triangles on one edge. The other nodes that can touch a part of
+// the boundary: across each face, one node holding the whole face (same level or coarser), or, where the
+// face is split, four finer ones holding a quarter each; across each edge, one node holding the whole
+// edge (its level unknown when the faces beside it are split, so the whole edge). Costs of a diagonal:
+// 0 through the interior, or on the boundary but in no such region (across two quarters of a split face:
+// the node alone holds it); 2 or 3 in such regions only on + faces; `minus_face` or one more in one on a
+// - face (an edge counts as - if either of its faces is). Two nodes sharing a segment are separated by a
+// plane holding it, on a - face of one of them, so a diagonal below `minus_face` is never used by two
+// nodes; a loop that needs one of `minus_face` is the flat band below.
+constexpr int minus_face = 512;  // more than the + costs of any loop (at most 57 diagonals of 3)
+
+struct Box {
+    std::uint8_t lo[3], hi[3];
+    bool minus;
+};
+
+bool holds(const Box& box, int e) {
+    const SubEdge& s = tables().edges[std::size_t(e)];
+    const int ca[3] = {s.a % 3, (s.a / 3) % 3, s.a / 9}, cb[3] = {s.b % 3, (s.b / 3) % 3, s.b / 9};
+    for (int a = 0; a < 3; ++a)
+        if (ca[a] < box.lo[a] || ca[a] > box.hi[a] || cb[a] < box.lo[a] || cb[a] > box.hi[a]) return false;
+    return true;
+}
+
+// The regions of the node's boundary that another node's cube may hold, for refinement `refine`.
+int shared_regions(std::uint32_t refine, Box* out) {
+    int n = 0;
+    for (int f = 0; f < 6; ++f) {
+        const int a = f / 2, side = (f & 1) * 2;
+        const bool split = (refine & face_bit(f)) != 0;
+        for (int q = 0; q < (split ? 4 : 1); ++q) {
+            Box b{};
+            b.minus = (f & 1) == 0;
+            for (int k = 0; k < 3; ++k) b.lo[k] = 0, b.hi[k] = 2;
+            b.lo[a] = b.hi[a] = static_cast<std::uint8_t>(side);
+            if (split) {
+                const int u = (a + 1) % 3, v = (a + 2) % 3;
+                b.lo[u] = static_cast<std::uint8_t>(q & 1), b.hi[u] = static_cast<std::uint8_t>((q & 1) + 1);
+                b.lo[v] = static_cast<std::uint8_t>(q >> 1), b.hi[v] = static_cast<std::uint8_t>((q >> 1) + 1);
+            }
+            out[n++] = b;
+        }
+    }
+    for (int e = 0; e < full_edges; ++e) {
+        const int a = e / 4, u = (a + 1) % 3, v = (a + 2) % 3;
+        Box b{};
+        b.minus = (e & 3) != 3;  // on the - face of u or of v
+        b.lo[a] = 0, b.hi[a] = 2;
+        b.lo[u] = b.hi[u] = static_cast<std::uint8_t>((e & 1) * 2);
+        b.lo[v] = b.hi[v] = static_cast<std::uint8_t>(((e >> 1) & 1) * 2);
+        out[n++] = b;
+    }
+    return n;
+}
+
+// A sub-edge's place (its midpoint, x first): the order two nodes sharing a face agree on.
+int place(int e) {
+    const SubEdge& s = tables().edges[std::size_t(e)];
+    return (s.a % 3 + s.b % 3) * 25 + ((s.a / 3) % 3 + (s.b / 3) % 3) * 5 + (s.a / 9 + s.b / 9);
+}
+
+// `first` is the loop's crossing of least place. A loop that lies flat on a face (a band between two split
+// edges) has no diagonal off it; there the node on the face's - side takes the diagonals from `first` and
+// the one on the + side the others, so the two nodes never take the same one.
+struct DiagonalCost {
+    Box regions[6 * 4 + full_edges];
+    int count = 0;
+    int first = 0;
+    explicit DiagonalCost(std::uint32_t refine) : count(shared_regions(refine, regions)) {}
+    int operator()(int a, int b) const {
+        if ((tables().faces[std::size_t(a)] & tables().faces[std::size_t(b)]) == 0) return 0;
+        const bool from_first = a == first || b == first;
+        int cost = 0;
+        for (int r = 0; r < count; ++r)
+            if (holds(regions[r], a) && holds(regions[r], b)) {
+                if (regions[r].minus) return minus_face + (from_first ? 0 : 1);
+                cost = from_first ? 3 : 2;
+            }
+        return cost;
+    }
+};
+
+// Appends the loop's triangles (counter-clockwise as the loop turns) to `out`; returns the new count.
+// The first fan (from loop[0], then loop[1], ...) whose diagonals all run through the interior; where no
+// fan has that, a triangulation of least total diagonal cost (dynamic programming over the polygon,
+// ties to the smallest split vertex).
+int triangulate_loop(const int* loop, int n, DiagonalCost& diagonal_cost, std::uint8_t* out,
+                     int triangles) {
+    auto emit = [&](int a, int b, int c) {
+        if (triangles >= max_triangles) return;
+        out[3 * triangles] = static_cast<std::uint8_t>(loop[a]);
+        out[3 * triangles + 1] = static_cast<std::uint8_t>(loop[b]);
+        out[3 * triangles + 2] = static_cast<std::uint8_t>(loop[c]);
+        ++triangles;
+    };
+    if (n < 3) return triangles;
+    diagonal_cost.first = loop[0];
+    for (int i = 1; i < n; ++i)
+        if (place(loop[i]) < place(diagonal_cost.first)) diagonal_cost.first = loop[i];
+    for (int apex = 0; apex < n; ++apex) {
+        bool interior = true;
+        for (int i = 2; i + 1 < n && interior; ++i) interior = diagonal_cost(loop[apex], loop[(apex + i) % n]) == 0;
+        if (!interior) continue;
+        for (int i = 1; i + 1 < n; ++i) emit(apex, (apex + i) % n, (apex + i + 1) % n);
+        return triangles;
+    }
+    // best[i][j]: least cost of triangulating the polygon loop[i..j] (its chord i-j not counted).
+    static constexpr int cap = sub_edge_count;
+    int best[cap][cap];
+    std::int8_t split[cap][cap];
+    for (int len = 2; len < n; ++len) {
+        for (int i = 0; i + len < n; ++i) {
+            const int j = i + len;
+            int b = -1, bk = -1;
+            for (int k = i + 1; k < j; ++k) {
+                int c = 0;
+                if (k - i >= 2) c += best[i][k] + diagonal_cost(loop[i], loop[k]);
+                if (j - k >= 2) c += best[k][j] + diagonal_cost(loop[k], loop[j]);
+                if (b < 0 || c < b) b = c, bk = k;
+            }
+            best[i][j] = b;
+            split[i][j] = static_cast<std::int8_t>(bk);
+        }
+    }
+    int stack[2 * cap];
+    int top = 0;
+    stack[top++] = 0;
+    stack[top++] = n - 1;
+    while (top > 0) {
+        const int j = stack[--top], i = stack[--top];
+        if (j - i < 2) continue;
+        const int k = split[i][j];
+        emit(i, k, j);
+        stack[top++] = i, stack[top++] = k;
+        stack[top++] = k, stack[top++] = j;
+    }
+    return triangles;
 }
 
 CaseTable make_case_table() {
@@ -176,6 +325,7 @@ int triangulate(std::uint32_t inside, std::uint32_t refine, std::uint8_t* out) {
     }
     int triangles = 0;
     bool used[sub_edge_count] = {};
+    DiagonalCost diagonal_cost(refine);
     for (int start = 0; start < sub_edge_count; ++start) {
         if (next[start] < 0 || used[start]) continue;
         int loop[sub_edge_count];
@@ -184,12 +334,7 @@ int triangulate(std::uint32_t inside, std::uint32_t refine, std::uint8_t* out) {
             used[e] = true;
             loop[n++] = e;
         }
-        for (int i = 1; i + 1 < n && triangles < max_triangles; ++i) {
-            out[3 * triangles] = static_cast<std::uint8_t>(loop[0]);
-            out[3 * triangles + 1] = static_cast<std::uint8_t>(loop[i]);
-            out[3 * triangles + 2] = static_cast<std::uint8_t>(loop[i + 1]);
-            ++triangles;
-        }
+        triangles = triangulate_loop(loop, n, diagonal_cost, out, triangles);
     }
     return triangles;
 }

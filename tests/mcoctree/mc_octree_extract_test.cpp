@@ -174,3 +174,40 @@ TEST(McOctreeBuild, WarnsWhenTheResolutionExceedsTheDensity) {
     EXPECT_FALSE(density_warning(64));
     EXPECT_TRUE(density_warning(100));
 }
+
+// Every edge of a cut has exactly two triangles, by vertex index and by position (docs/mcoctree.md, D6).
+// Lucy at 64 had edges with four triangles at priorities 702-744 (two nodes touching along one edge, each
+// fanning a diagonal along it) and a few more elsewhere; the crack-free checks did not see them, since
+// every directed edge still had its opposite.
+TEST(McOctreeExtract, EveryEdgeOfACutHasTwoTriangles) {
+    McOctreeParams p;
+    p.resolution = 64;
+    const McOctree tree = build_mc_octree(read_mesh(lodforge::test::shared_data("scan-lucy100k/Lucy100k.ply")), p).tree;
+    McOctreeExtractor ex(tree);
+    std::vector<std::size_t> priorities;
+    for (std::size_t i = 690; i <= 750 && i <= tree.max_priority(); ++i) priorities.push_back(i);
+    for (std::size_t i = 0; i <= tree.max_priority(); i += 37) priorities.push_back(i);
+    priorities.push_back(tree.max_priority());
+    for (const std::size_t i : priorities) {
+        SCOPED_TRACE("priority " + std::to_string(i));
+        const Mesh& m = ex.extract(i).mesh;
+        const auto w = lodforge::test::check_watertight(m);
+        EXPECT_EQ(w.border_edges, 0u);
+        EXPECT_EQ(w.unpaired_directed, 0u);
+        std::map<std::pair<std::uint32_t, std::uint32_t>, int> by_index;
+        std::map<std::pair<std::tuple<float, float, float>, std::tuple<float, float, float>>, int> by_position;
+        for (std::size_t t = 0; t + 2 < m.indices.size(); t += 3)
+            for (int k = 0; k < 3; ++k) {
+                const std::uint32_t a = m.indices[t + std::size_t(k)], b = m.indices[t + std::size_t((k + 1) % 3)];
+                ++by_index[{std::min(a, b), std::max(a, b)}];
+                auto pa = std::make_tuple(m.positions[a].x, m.positions[a].y, m.positions[a].z);
+                auto pb = std::make_tuple(m.positions[b].x, m.positions[b].y, m.positions[b].z);
+                ++by_position[{std::min(pa, pb), std::max(pa, pb)}];
+            }
+        std::size_t over_index = 0, over_position = 0;
+        for (const auto& [e, c] : by_index) over_index += c != 2;
+        for (const auto& [e, c] : by_position) over_position += c != 2;
+        EXPECT_EQ(over_index, 0u);
+        EXPECT_EQ(over_position, 0u);
+    }
+}
