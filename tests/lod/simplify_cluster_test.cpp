@@ -3,6 +3,7 @@
 #include "lodforge/metrics.h"
 #include "lodforge/simplify_cluster.h"
 
+#include "support/needle.h"
 #include "support/test_paths.h"
 
 #include <gtest/gtest.h>
@@ -182,18 +183,7 @@ TEST(SimplifyCluster, BadParametersAreArgumentErrors) {
 // not return such a grid as "closest" (the sweep found 3216 -> 0 triangles, exit 0). Either a grid that
 // keeps triangles is chosen, or the call fails with a message.
 TEST(SimplifyCluster, AThinPartNeverEndsEmpty) {
-    Mesh needle;
-    const int seg = 8, rings = 200;
-    for (int j = 0; j <= rings; ++j)
-        for (int i = 0; i < seg; ++i) {
-            const float a = 6.2831853f * float(i) / float(seg);
-            needle.positions.push_back({0.001f * std::cos(a), 0.001f * std::sin(a), 10.f * float(j) / float(rings)});
-        }
-    for (int j = 0; j < rings; ++j)
-        for (int i = 0; i < seg; ++i) {
-            const auto a = std::uint32_t(j * seg + i), b = std::uint32_t(j * seg + (i + 1) % seg);
-            needle.indices.insert(needle.indices.end(), {a, b, b + seg, a, b + seg, a + seg});
-        }
+    const Mesh needle = test::needle(8, 200, 0.001f, 10.f);
     for (float r : {0.2f, 0.1f, 0.01f}) {
         SCOPED_TRACE(r);
         try {

@@ -3,6 +3,7 @@
 #include "lodforge/error.h"
 #include "lodforge/mesh_io.h"
 #include "mc_test_support.h"
+#include "support/needle.h"
 #include "support/test_paths.h"
 #include "../../core/src/parallel_for.h"
 
@@ -428,18 +429,7 @@ TEST(McOctreeBuild, LatticePointsOnTheSurfaceGiveNoZeroAreaTriangles) {
 
 // A part thinner than a cube has no lattice point inside it: the error says so and names the remedy.
 TEST(McOctreeBuild, ANeedleThinnerThanACubeNamesTheRemedy) {
-    Mesh needle;
-    const int seg = 8, rings = 50;
-    for (int j = 0; j <= rings; ++j)
-        for (int i = 0; i < seg; ++i) {
-            const float a = 6.2831853f * float(i) / float(seg);
-            needle.positions.push_back({0.001f * std::cos(a), 0.001f * std::sin(a), 10.f * float(j) / float(rings)});
-        }
-    for (int j = 0; j < rings; ++j)
-        for (int i = 0; i < seg; ++i) {
-            const auto a = std::uint32_t(j * seg + i), b = std::uint32_t(j * seg + (i + 1) % seg);
-            needle.indices.insert(needle.indices.end(), {a, b + seg, b, a, a + seg, b + seg});
-        }
+    const Mesh needle = lodforge::test::needle(8, 50, 0.001f, 10.f);
     McOctreeParams p;
     p.resolution = 32;
     try {
