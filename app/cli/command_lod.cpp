@@ -162,7 +162,6 @@ void add_lod_command(CLI::App& app, const GlobalOptions& global) {
         AtomicFile file(staging.file("lods.json").string(), false);
         file.stream() << doc.dump(2) << "\n";
         file.commit();
-        staging.new_files();
         staging.commit();
         progress.finish();
 

@@ -284,7 +284,6 @@ PackResult write_lod_pack(const Mesh& mesh, const PackParams& params, Progress* 
         file.stream() << result.manifest;
         file.commit();
     }
-    staging.new_files();
     result.files.push_back("pack.json");
     check_progress(progress, 1.0, "writing pack.json");
     staging.commit();

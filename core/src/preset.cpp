@@ -128,7 +128,7 @@ LodTarget parse_target(const ordered_json& j, std::size_t index, const std::stri
         ++kinds;
         target.kind = kind;
         switch (kind) {
-        case LodTarget::Kind::ratio: target.value = r.number(key, 0.5, 1e-9, 0.9999); break;  // 1 would copy level 0
+        case LodTarget::Kind::ratio: target.value = r.number(key, 1.0, 1e-9, 0.9999); break;  // 1 would copy level 0
         case LodTarget::Kind::triangles: target.value = r.count(key, 1, 1, 0xffffffffu); break;
         case LodTarget::Kind::error: target.value = r.number(key, 1e-3, 1e-12, 1.0); break;
         }

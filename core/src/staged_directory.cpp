@@ -78,11 +78,12 @@ void StagedDirectory::commit() {
         fs::rename(dir_, target_, ec);
         if (ec) throw_error(Error::Kind::io, shown_, "cannot move the output into place: " + ec.message());
     } else {
+        new_files();  // everything written since the last call moves too
         // Check every destination before moving anything, so a target that cannot be replaced (a directory
         // of the same name) fails the commit with the old files untouched rather than half replaced.
         for (const std::string& name : seen_) {
             const fs::path to = target_ / name;
-            if (fs::exists(fs::symlink_status(to, ec)) && fs::is_directory(fs::symlink_status(to, ec)))
+            if (fs::is_directory(fs::symlink_status(to, ec)))
                 throw_error(Error::Kind::io, to.string(), "is a directory; cannot replace it with the new file");
         }
         for (const std::string& name : seen_) {

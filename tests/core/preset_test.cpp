@@ -73,6 +73,8 @@ TEST(Preset, BadInputNamesTheFileAndTheKey) {
     EXPECT_NE(error_of(R"({"method": "magic"})").find("accepted: collapse, cluster"), std::string::npos);
     EXPECT_NE(error_of(R"({"levels": []})").find("'levels' must be a non-empty array"), std::string::npos);
     EXPECT_NE(error_of(R"({"levels": [{"ratio": 1.5}]})").find("'levels[0].ratio' must be between"), std::string::npos);
+    // A ratio of 1 would copy level 0 (build_lod_chain and `lod --levels` refuse it too).
+    EXPECT_NE(error_of(R"({"levels": [{"ratio": 1}]})").find("'levels[0].ratio' must be between"), std::string::npos);
     EXPECT_NE(error_of(R"({"levels": [{"ratio": 0.5, "triangles": 10}]})").find("exactly one"), std::string::npos);
     EXPECT_NE(error_of(R"({"levels": [{"triangles": 2.5}]})").find("must be an integer"), std::string::npos);
     EXPECT_NE(error_of(R"({"octree": {"max_depth": 0}})").find("'octree.max_depth'"), std::string::npos);

@@ -27,9 +27,9 @@ public:
     // Files that appeared in the staging directory since the last call, in name order.
     std::vector<std::string> new_files();
 
-    // A new target: the staging directory is renamed to it. An existing one: the files new_files() has
-    // listed (call it after the last write) move into it, replacing files of the same names. Throws
-    // Error(io) when a rename fails.
+    // A new target: the staging directory is renamed to it. An existing one: every file written into the
+    // staging directory moves into it, replacing files of the same names (after checking none of them is
+    // a directory). Throws Error(io) when a destination is a directory or a rename fails.
     void commit();
 
 private:
