@@ -64,6 +64,8 @@ void add_mcoctree_command(CLI::App& app, const GlobalOptions& global) {
         write_mc_octree(r.tree, b->output, &progress);
         progress.finish();
         for (const std::string& w : r.warnings) std::fprintf(stderr, "lodforge: warning: %s: %s\n", b->input.c_str(), w.c_str());
+        if (r.face_samples > 0)
+            std::printf("%zu points added on the %zu faces longer than two cubes\n", r.face_samples, r.sampled_faces);
         std::printf("%zu points -> %zu leaf cubes, %zu nodes, %u levels, %zu priorities, %llu..%llu triangles\n",
                     r.tree.input_points, r.leaf_cubes, r.tree.nodes.size(), r.tree.levels + 1, r.tree.max_priority(),
                     static_cast<unsigned long long>(r.tree.triangle_counts.front()),

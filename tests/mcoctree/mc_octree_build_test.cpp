@@ -441,3 +441,97 @@ TEST(McOctreeBuild, ANeedleThinnerThanACubeNamesTheRemedy) {
         EXPECT_NE(std::string(e.what()).find("finer --resolution"), std::string::npos) << e.what();
     }
 }
+
+namespace {
+
+// A box of 8 vertices and 12 outward triangles: every face is many cubes long.
+Mesh low_poly_box(Vec3f lo, Vec3f hi) {
+    Mesh m;
+    for (int i = 0; i < 8; ++i) m.positions.push_back({i & 1 ? hi.x : lo.x, i & 2 ? hi.y : lo.y, i & 4 ? hi.z : lo.z});
+    const std::uint32_t quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+    for (const auto& q : quads) m.indices.insert(m.indices.end(), {q[0], q[1], q[2], q[0], q[2], q[3]});
+    return m;
+}
+
+float box_distance(Vec3f p, Vec3f lo, Vec3f hi) {  // unsigned distance to the box's surface
+    float outside = 0, inside = INFINITY;
+    for (int a = 0; a < 3; ++a) {
+        const float below = lo[a] - p[a], above = p[a] - hi[a];
+        const float d = std::max(below, above);
+        if (d > 0) outside += d * d;
+        inside = std::min(inside, -d);
+    }
+    return outside > 0 ? std::sqrt(outside) : std::max(inside, 0.f);
+}
+
+}  // namespace
+
+TEST(McOctreeBuild, ALowPolyBoxIsRebuiltOnItsFaces) {
+    // The field's sign comes from the nearest input point's normal. With the eight corners alone, a lattice
+    // point above the middle of a face took a corner's diagonal normal and could land on the wrong side:
+    // bubbles outside the box, 0.2 of the diagonal from it. Faces longer than two cubes are sampled now.
+    const Vec3f lo{0.3f, -0.2f, 0.1f}, hi{1.3f, 0.5f, 0.6f};
+    const Mesh box = low_poly_box(lo, hi);
+    McOctreeParams p;
+    p.resolution = 32;
+    const McOctreeBuildResult r = build_mc_octree(box, p);
+    EXPECT_GT(r.face_samples, 1000u);
+    EXPECT_EQ(r.sampled_faces, 12u);
+    EXPECT_EQ(r.tree.input_points, 8u);
+    const McOctree& t = r.tree;
+    McOctreeExtractor ex(t);
+    const Mesh leaves = ex.extract(t.max_priority()).mesh;
+    ASSERT_GT(leaves.triangle_count(), 1000u);
+    float worst = 0;
+    for (const Vec3f& v : leaves.positions) worst = std::max(worst, box_distance(v, lo, hi));
+    // Within 1.35 cubes where the corners are rounded off; the bubbles were 5-10 cubes out.
+    EXPECT_LT(worst, 1.5f * t.cube_size) << "cube size " << t.cube_size;
+    const auto w = check_watertight(leaves);
+    EXPECT_EQ(w.border_edges, 0u);
+    EXPECT_EQ(w.unpaired_directed, 0u);
+    // Every face is reached: leaf vertices within a cube of each face's centre.
+    for (int a = 0; a < 3; ++a)
+        for (const float side : {lo[a], hi[a]}) {
+            Vec3f c = (lo + hi) * 0.5f;
+            (a == 0 ? c.x : a == 1 ? c.y : c.z) = side;
+            float nearest = INFINITY;
+            for (const Vec3f& v : leaves.positions) nearest = std::min(nearest, length(v - c));
+            EXPECT_LT(nearest, t.cube_size) << "axis " << a << " side " << side;
+        }
+}
+
+TEST(McOctreeBuild, OnlyFacesLongerThanTwoCubesAreSampled) {
+    // A scan at the resolutions its density allows is used through its vertices alone: the bunny's longest
+    // edge is 0.0049 for an extent of 0.156, so at 48 no face is sampled; at 128, 1,486 faces are longer than
+    // two cubes (the bunny's hole fills and its sparse base), and only those.
+    const Mesh bunny = read_mesh(lodforge::test::shared_data("scan-bunny/bun_zipper.ply"));
+    for (const std::size_t resolution : {48u, 128u}) {
+        McOctreeParams p;
+        p.resolution = resolution;
+        const McOctreeBuildResult r = build_mc_octree(bunny, p);
+        std::size_t long_faces = 0;
+        for (std::size_t f = 0; f < bunny.triangle_count(); ++f) {
+            const Vec3f a = bunny.positions[bunny.indices[3 * f]], b = bunny.positions[bunny.indices[3 * f + 1]],
+                        c = bunny.positions[bunny.indices[3 * f + 2]];
+            if (std::max({length(b - a), length(c - b), length(a - c)}) > 2 * r.tree.cube_size) ++long_faces;
+        }
+        EXPECT_LE(r.sampled_faces, long_faces) << resolution;
+        EXPECT_GE(r.sampled_faces, long_faces * 9 / 10) << resolution;  // less only by folded or orientless faces
+        EXPECT_EQ(r.face_samples == 0, long_faces == 0) << resolution;
+        if (resolution == 48) EXPECT_EQ(r.face_samples, 0u);
+        else EXPECT_GT(r.sampled_faces, 1000u);
+    }
+}
+
+TEST(McOctreeBuild, AResolutionTooFineForTheFacesIsRefusedBeforeSampling) {
+    const Mesh box = low_poly_box({0, 0, 0}, {1, 1, 1});
+    McOctreeParams p;
+    p.resolution = 30000;  // about 5e9 samples
+    try {
+        build_mc_octree(box, p);
+        ADD_FAILURE() << "built";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.kind(), Error::Kind::argument);
+        EXPECT_NE(std::string(e.what()).find("too high for this mesh's faces"), std::string::npos) << e.what();
+    }
+}
