@@ -31,7 +31,8 @@ void add_mcoctree_command(CLI::App& app, const GlobalOptions& global) {
     };
     auto b = std::make_shared<BuildOptions>();
     CLI::App* build = cmd->add_subcommand("build", "Rebuild a surface from points with normals (or a mesh) into a .mco octree");
-    build->add_option("IN", b->input, "Point cloud PLY with normals (and colours), or a mesh (.ply, .obj, .gltf, .glb)")
+    build->add_option("IN", b->input, "Point cloud PLY with normals (and colours), or a mesh (.ply, .obj, .gltf, .glb): its vertices, "
+                      "plus points on its faces longer than two cubes")
         ->required();
     build->add_option("-o,--output", b->output, "Output octree (.mco)")->required();
     build->add_option("--resolution", b->resolution, "Leaf cubes along the longest axis")->capture_default_str();

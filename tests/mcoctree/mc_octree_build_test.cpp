@@ -478,6 +478,8 @@ TEST(McOctreeBuild, ALowPolyBoxIsRebuiltOnItsFaces) {
     EXPECT_GT(r.face_samples, 1000u);
     EXPECT_EQ(r.sampled_faces, 12u);
     EXPECT_EQ(r.tree.input_points, 8u);
+    // The samples cover every face: no "exceeds the data density" (8 points for 5,000 cubes).
+    EXPECT_TRUE(r.warnings.empty()) << r.warnings.front();
     const McOctree& t = r.tree;
     McOctreeExtractor ex(t);
     const Mesh leaves = ex.extract(t.max_priority()).mesh;
@@ -534,4 +536,42 @@ TEST(McOctreeBuild, AResolutionTooFineForTheFacesIsRefusedBeforeSampling) {
         EXPECT_EQ(e.kind(), Error::Kind::argument);
         EXPECT_NE(std::string(e.what()).find("too high for this mesh's faces"), std::string::npos) << e.what();
     }
+}
+
+TEST(McOctreeBuild, ACoarseCageStaysWithinItsBounds) {
+    // Spot's control cage (188 vertices, sharp corners): with area-weighted normals at the long faces'
+    // corners, lattice points far outside took a corner's wrong side and a sheet of surface ran to the
+    // grid's edge (Hausdorff 0.92 of the diagonal). The corners' pseudo-normals tell the side exactly.
+    const Mesh cage = read_mesh(lodforge::test::shared_data("tex-spot/spot_control_mesh.obj"));
+    const Bounds in = cage.bounds();
+    McOctreeParams p;
+    p.resolution = 64;
+    const McOctreeBuildResult r = build_mc_octree(cage, p);
+    EXPECT_GT(r.face_samples, 0u);
+    EXPECT_FALSE(r.reaches_grid_edge);
+    const Mesh leaves = McOctreeExtractor(r.tree).extract(r.tree.max_priority()).mesh;
+    ASSERT_FALSE(leaves.positions.empty());
+    const Bounds out = leaves.bounds();
+    for (int a = 0; a < 3; ++a) {
+        EXPECT_GE(out.min[a], in.min[a] - 2 * r.tree.cube_size) << "axis " << a;
+        EXPECT_LE(out.max[a], in.max[a] + 2 * r.tree.cube_size) << "axis " << a;
+    }
+}
+
+TEST(McOctreeBuild, FacesOfDoubtfulWindingAreNotSampled) {
+    // One face listed again with the other winding (as in the happy Buddha's scan): its three edges have
+    // three faces each, 3 of the box's 18 edges, far above 1 %. The faces' sides cannot be trusted, so no
+    // face is sampled, the vertices alone are used, and the build says why.
+    Mesh box = low_poly_box({0, 0, 0}, {1, 1, 1});
+    box.indices.insert(box.indices.end(), {box.indices[0], box.indices[2], box.indices[1]});
+    McOctreeParams p;
+    p.resolution = 16;
+    const McOctreeBuildResult r = build_mc_octree(box, p);
+    EXPECT_EQ(r.face_samples, 0u);
+    bool warned = false;
+    for (const std::string& w : r.warnings)
+        warned = warned || (w.find("were not sampled") != std::string::npos && w.find("3 of their 18 edges") != std::string::npos);
+    EXPECT_TRUE(warned) << (r.warnings.empty() ? std::string("no warning") : r.warnings.front());
+    // without the doubled face the same box is sampled
+    EXPECT_GT(build_mc_octree(low_poly_box({0, 0, 0}, {1, 1, 1}), p).face_samples, 0u);
 }
