@@ -575,3 +575,26 @@ TEST(McOctreeBuild, FacesOfDoubtfulWindingAreNotSampled) {
     // without the doubled face the same box is sampled
     EXPECT_GT(build_mc_octree(low_poly_box({0, 0, 0}, {1, 1, 1}), p).face_samples, 0u);
 }
+
+TEST(McOctreeBuild, OverlappingShellsOfALowPolyMeshGiveTheirUnion) {
+    // Two boxes, B pushed halfway into A (an accessory through a body, a bill through a head). Signed by the
+    // nearest point's normal, B's faces inside A made a second surface there (y from 0.13 to 0.25 under
+    // B's lower face); a low-poly mesh is signed by its winding number, which is 2 in the overlap: inside.
+    Mesh two = low_poly_box({0, 0, 0}, {1, 1, 1});
+    const Mesh b = low_poly_box({0.5f, 0.25f, 0.25f}, {1.5f, 0.75f, 0.75f});
+    for (const Vec3f& p : b.positions) two.positions.push_back(p);
+    for (const std::uint32_t i : b.indices) two.indices.push_back(i + 8);
+    McOctreeParams p;
+    p.resolution = 48;
+    const McOctreeBuildResult r = build_mc_octree(two, p);
+    ASSERT_GT(r.face_samples, r.tree.input_points);
+    const Mesh leaves = McOctreeExtractor(r.tree).extract(r.tree.max_priority()).mesh;
+    ASSERT_GT(leaves.triangle_count(), 1000u);
+    // Inside A below B, at least 0.08 (2.5 cubes) from the union's boundary: no surface there.
+    std::size_t inside = 0;
+    for (const Vec3f& v : leaves.positions)
+        if (v.x > 0.55f && v.x < 0.9f && v.y > 0.08f && v.y < 0.22f && v.z > 0.3f && v.z < 0.7f) ++inside;
+    EXPECT_EQ(inside, 0u);
+    const auto w = check_watertight(leaves);
+    EXPECT_EQ(w.border_edges, 0u);
+}
