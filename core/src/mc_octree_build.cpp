@@ -96,6 +96,10 @@ PointCloud points_of(const Mesh& mesh, std::size_t& skipped, unsigned threads, s
     for (std::size_t i = 0; i < mesh.positions.size(); ++i)
         if (!is_finite(mesh.positions[i]))
             throw_error(Error::Kind::invalid, input_name, "point " + std::to_string(i) + " is not finite");
+    // Faces are read for normals, samples and the winding number, with or without the file's normals.
+    for (std::size_t t = 0; t < mesh.indices.size(); ++t)
+        if (mesh.indices[t] >= mesh.positions.size())
+            throw_error(Error::Kind::invalid, input_name, "face " + std::to_string(t / 3) + " has an index out of range");
     PointCloud pc;
     std::vector<Vec3f> normals;
     std::vector<float> magnitude;  // per point: the summed length of what its normal adds up
@@ -112,8 +116,6 @@ PointCloud points_of(const Mesh& mesh, std::size_t& skipped, unsigned threads, s
             magnitude.assign(mesh.positions.size(), 0.f);
             for (std::size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
                 const std::uint32_t a = mesh.indices[t], b = mesh.indices[t + 1], c = mesh.indices[t + 2];
-                if (a >= normals.size() || b >= normals.size() || c >= normals.size())
-                    throw_error(Error::Kind::invalid, input_name, "face " + std::to_string(t / 3) + " has an index out of range");
                 // cross product length = twice the area: area-weighted average of the adjacent face normals
                 const Vec3f n = cross(mesh.positions[b] - mesh.positions[a], mesh.positions[c] - mesh.positions[a]);
                 normals[a] = normals[a] + n, normals[b] = normals[b] + n, normals[c] = normals[c] + n;

@@ -138,6 +138,11 @@ TEST(McOctreeBuild, MalformedInputsGiveClearErrors) {
     Mesh nan_normal = lodforge::test::sphere_points(100);
     nan_normal.normals[3].x = INFINITY;
     EXPECT_NE(message(nan_normal).find("normal of point 3"), std::string::npos);
+    // A face past the points, with the file's normals (normals from faces checked the indices; the face
+    // samples and the winding number read them either way).
+    Mesh bad_face = lodforge::test::sphere_points(100);
+    bad_face.indices = {0, 1, 2, 3, 4, 100};
+    EXPECT_NE(message(bad_face).find("face 1 has an index out of range"), std::string::npos) << message(bad_face);
     McOctreeParams zero;
     zero.resolution = 0;
     EXPECT_NE(message(lodforge::test::sphere_points(100), zero).find("resolution"), std::string::npos);
