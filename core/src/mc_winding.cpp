@@ -71,6 +71,17 @@ double solid_angle(Vec3f a, Vec3f b, Vec3f c) {
 
 }  // namespace
 
+double openness(const Mesh& mesh) {
+    double sx = 0, sy = 0, sz = 0, total = 0;
+    for (std::size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
+        const Vec3f a = mesh.positions[mesh.indices[t]], b = mesh.positions[mesh.indices[t + 1]],
+                    c = mesh.positions[mesh.indices[t + 2]];
+        const Vec3f n = cross(b - a, c - a);
+        sx += n.x, sy += n.y, sz += n.z, total += length(n);
+    }
+    return total > 0 ? std::sqrt(sx * sx + sy * sy + sz * sz) / total : 1.0;
+}
+
 WindingTree build_winding_tree(const Mesh& mesh) {
     WindingTree tree;
     tree.mesh = &mesh;

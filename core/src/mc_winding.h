@@ -28,6 +28,12 @@ struct WindingTree {
     const Mesh* mesh = nullptr;
 };
 
+// |sum of the faces' vector areas| / sum of their areas: 0 for a closed surface (whatever its shape), near 1
+// for an open sheet. The winding number tells inside from outside only where it is small: across a sheet it
+// goes from about +1/2 to -1/2 and never passes 1/2 (frag_115, one side of a room, is 0.995; the bunny
+// with its open base 0.017, the milk truck 0.000).
+double openness(const Mesh& mesh);
+
 // The tree over `mesh`'s triangles (degenerate ones included: they add nothing). The mesh must outlive it.
 WindingTree build_winding_tree(const Mesh& mesh);
 

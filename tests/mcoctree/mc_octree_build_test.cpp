@@ -598,3 +598,28 @@ TEST(McOctreeBuild, OverlappingShellsOfALowPolyMeshGiveTheirUnion) {
     const auto w = check_watertight(leaves);
     EXPECT_EQ(w.border_edges, 0u);
 }
+
+TEST(McOctreeBuild, AnOpenLowPolySheetIsSignedByItsNormals) {
+    // Two triangles of a square: mostly samples, but an open sheet, whose winding number goes from +1/2 to
+    // -1/2 across it and never passes 1/2 (signed by it, nothing was inside: no surface). The normals
+    // give the sheet's surface, ended by the band near its border.
+    Mesh sheet;
+    sheet.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+    sheet.indices = {0, 1, 2, 0, 2, 3};
+    McOctreeParams p;
+    p.resolution = 16;
+    p.band = 2;
+    const McOctreeBuildResult r = build_mc_octree(sheet, p);
+    EXPECT_GT(r.face_samples, r.tree.input_points);
+    const Mesh leaves = McOctreeExtractor(r.tree).extract(r.tree.max_priority()).mesh;
+    ASSERT_GT(leaves.triangle_count(), 100u);
+    for (const Vec3f& v : leaves.positions) ASSERT_LT(std::fabs(v.z), 3 * r.tree.cube_size) << v.x << " " << v.y;
+    // and the whole square is covered: a leaf vertex within 1.5 cubes of every probe
+    for (int i = 1; i < 10; ++i)
+        for (int j = 1; j < 10; ++j) {
+            const Vec3f probe{float(i) / 10, float(j) / 10, 0};
+            float nearest = INFINITY;
+            for (const Vec3f& v : leaves.positions) nearest = std::min(nearest, length(v - probe));
+            EXPECT_LT(nearest, 1.5f * r.tree.cube_size) << probe.x << " " << probe.y;
+        }
+}

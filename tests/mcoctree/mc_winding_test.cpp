@@ -52,3 +52,20 @@ TEST(McWinding, TheDipoleTreeAgreesWithTheExactSumOnTheDuck) {
     EXPECT_GT(inside, 30);   // the duck fills a good part of its box...
     EXPECT_LT(inside, 270);  // ...not all of it
 }
+
+TEST(McWinding, OpennessTellsASheetFromAClosedSurface) {
+    EXPECT_LT(lodforge::mc::openness(lodforge::test::icosphere(3)), 1e-4);
+    Mesh sheet;
+    sheet.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0.1f}, {0, 1, 0}};
+    sheet.indices = {0, 1, 2, 0, 2, 3};
+    EXPECT_GT(lodforge::mc::openness(sheet), 0.9);
+    // A sphere with one cap removed: small, but not zero.
+    Mesh open = lodforge::test::icosphere(3);
+    std::vector<std::uint32_t> kept;
+    for (std::size_t t = 0; t < open.indices.size(); t += 3)
+        if (open.positions[open.indices[t]].z < 0.9f) kept.insert(kept.end(), open.indices.begin() + long(t), open.indices.begin() + long(t) + 3);
+    open.indices = kept;
+    const double o = lodforge::mc::openness(open);
+    EXPECT_GT(o, 1e-3);
+    EXPECT_LT(o, 0.1);
+}
