@@ -445,13 +445,20 @@ public:
                 }
             }
         }
+        // Each value has one writer. Signed by a winding number (a low-poly mesh, D1) a value costs a tree
+        // walk, so the blocks are shared out; otherwise the loop is too cheap to split.
+        auto finish_blocks = [&](std::size_t lo, std::size_t hi) {
+            for (std::size_t b = lo; b < hi; ++b)
+                for (std::uint64_t bits = pending_[b]; bits; bits &= bits - 1) {
+                    const auto l = static_cast<std::uint32_t>(std::countr_zero(bits));
+                    const std::size_t at = b * 64 + l;
+                    finish(block_key_[b] | pack(l & 3, (l >> 2) & 3, l >> 4), dist_[at], nearest_[at], dist_[at], nearest_[at]);
+                }
+        };
+        if (winding_) parallel_for(valid_.size(), threads_, finish_blocks);
+        else finish_blocks(0, valid_.size());
         scattered_ = 0;
         for (std::uint32_t b = 0; b < valid_.size(); ++b) {
-            for (std::uint64_t bits = pending_[b]; bits; bits &= bits - 1) {
-                const auto l = static_cast<std::uint32_t>(std::countr_zero(bits));
-                const std::uint32_t at = b * 64 + l;
-                finish(block_key_[b] | pack(l & 3, (l >> 2) & 3, l >> 4), dist_[at], nearest_[at], dist_[at], nearest_[at]);
-            }
             scattered_ += std::size_t(std::popcount(pending_[b]));
             valid_[b] |= pending_[b];
             pending_[b] = 0;

@@ -207,15 +207,17 @@ McOctreeBuildResult build_with(const Mesh& m, McOctreeParams p, McFieldMethod fi
 TEST(McOctreeBuild, FieldMethodsAndThreadCountsGiveTheSameTree) {
     // The field is the nearest point with ties to the lowest index (docs/mcoctree.md, D1), whether it is
     // found by scattering the points or by kd-tree queries, on one thread or two. frag_115: colours,
-    // an open scan with a band; the bunny's points: normals from faces.
+    // an open scan with a band; the bunny's points: normals from faces; the Duck at 64: a low-poly mesh,
+    // face samples and the winding number's sign (made on both threads after a scatter).
     const Mesh frag = read_mesh(lodforge::test::shared_data("color-open3d-frag115/frag_115.ply"));
     const Mesh bunny = read_mesh(lodforge::test::shared_data("scan-bunny/bun_zipper.ply"));
+    const Mesh duck = read_mesh(lodforge::test::shared_data("tex-duck/glTF/Duck.gltf"));
     struct Case {
         const Mesh* mesh;
         std::size_t resolution;
         double band;
     };
-    for (const Case& c : {Case{&frag, 64, 2.5}, Case{&bunny, 96, 0}}) {
+    for (const Case& c : {Case{&frag, 64, 2.5}, Case{&bunny, 96, 0}, Case{&duck, 64, 0}}) {
         McOctreeParams p;
         p.resolution = c.resolution;
         p.band = c.band;
