@@ -102,6 +102,7 @@ private slots:
     void cleanup();
 
     void mcoPrioritySliderExtractsColouredLevels();
+    void mcoOfALowPolyMeshSaysItsFacesWereSampled();
     void octreeKnobsUpdateStatistics();
     void octreeViewDependentCutAndNodeScrub();
 
@@ -129,6 +130,26 @@ void StructureInspectTest::init() {
 void StructureInspectTest::cleanup() {
     while (QWidget* modal = QApplication::activeModalWidget()) modal->close();
     window_.reset();
+}
+
+// Spot (2,930 vertices, faces longer than two cubes at 96): the dock says how many points the build added
+// on them (no density warning), and draws the surface.
+void StructureInspectTest::mcoOfALowPolyMeshSaysItsFacesWereSampled() {
+    QVERIFY(lodforge::testing::loadInStudio(*window_, spotPath));
+    lodforge::Preset preset = window_->preset();
+    preset.mcoctree.resolution = 96;
+    window_->setPreset(preset);
+    McoPriorityPanel* panel = window_->mcoPriorityPanel();
+    QSignalSpy built(panel, &McoPriorityPanel::built);
+    QTest::mouseClick(panel->buildButton(), Qt::LeftButton);
+    QVERIFY(built.wait(60000));
+    QVERIFY2(built.at(0).at(0).toBool(), qPrintable(built.at(0).at(1).toString()));
+    const QString status = panel->findChild<QLabel*>(QStringLiteral("mcoStatus"))->text();
+    QVERIFY2(status.contains(QStringLiteral("points added on the")), qPrintable(status));
+    QVERIFY2(!status.contains(QStringLiteral("exceeds the data density")), qPrintable(status));
+    QVERIFY(lodforge::testing::mcoSettled(panel));
+    const QImage frame = freshFrame(window_->view());
+    QVERIFY(measure(frame, viewBackgroundColor(), frame.rect()).modelFraction() > 0.05);
 }
 
 void StructureInspectTest::mcoPrioritySliderExtractsColouredLevels() {

@@ -232,6 +232,10 @@ std::optional<LatestJob::Run> McoPriorityPanel::makeBuild() {
                           .arg(mc_triangles_at(tree, 0))
                           .arg(mc_triangles_at(tree, tree.max_priority()))
                           .arg(r.elapsedMs);
+            if (out->result.face_samples > 0)
+                message += tr("; %L1 points added on the %L2 faces longer than two cubes")
+                               .arg(qulonglong(out->result.face_samples))
+                               .arg(qulonglong(out->result.sampled_faces));
             for (const std::string& w : out->result.warnings) message += QStringLiteral("; ") + QString::fromStdString(w);
             {
                 const QSignalBlocker block(slider_);
