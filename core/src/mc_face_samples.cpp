@@ -73,9 +73,8 @@ FaceSamples sample_large_faces(const Mesh& mesh, std::span<const Vec3f> vertex_n
         for (std::uint32_t i : v) marked[point_id[i]] = 1;
     }
     if (long_faces.empty()) return out;
-    const auto& is_marked = marked;
     auto touches = [&](const std::array<std::uint32_t, 3>& v, int at_least) {
-        return is_marked[point_id[v[0]]] + is_marked[point_id[v[1]]] + is_marked[point_id[v[2]]] >= at_least;
+        return marked[point_id[v[0]]] + marked[point_id[v[1]]] + marked[point_id[v[2]]] >= at_least;
     };
     // A face turned against its corners' normals from the faces around them is folded back under its
     // neighbours (a sliver in the Duck's bill): its side is the wrong one for everything around it, so it
@@ -86,7 +85,7 @@ FaceSamples sample_large_faces(const Mesh& mesh, std::span<const Vec3f> vertex_n
         if (!touches(v, 1)) continue;
         const Vec3f n = cross(P[v[1]] - P[v[0]], P[v[2]] - P[v[0]]);
         for (std::uint32_t i : v)
-            if (is_marked[point_id[i]]) around[point_id[i]] = around[point_id[i]] + n;
+            if (marked[point_id[i]]) around[point_id[i]] = around[point_id[i]] + n;
     }
     // Only asked of faces with at least two marked corners (on a long face's edge); the third corner's
     // sum is then complete too when it is marked, and zero (no say) when it is not.
@@ -105,12 +104,11 @@ FaceSamples sample_large_faces(const Mesh& mesh, std::span<const Vec3f> vertex_n
     // faces can be sampled at is refused before anything is allocated; and the edges to sample.
     double needed = 0;
     struct Edge {
-        Vec3f sum;        // of its faces' unit normals
-        int uses = 0;     // faces on it
-        int balance = 0;  // +1 per face running along it from its lower point id, -1 per face the other way
+        Vec3f sum;  // of its faces' unit normals
         bool done = false;
     };
-    std::unordered_map<std::uint64_t, Edge> edge_normal;  // the edges of the faces to sample
+    std::unordered_map<std::uint64_t, Edge> edge_normal;  // the edges to sample
+    std::size_t to_sample = 0;
     for (const std::uint32_t f : long_faces) {
         const auto v = corners(f);
         const auto e = edge_lengths(v);
@@ -118,40 +116,28 @@ FaceSamples sample_large_faces(const Mesh& mesh, std::span<const Vec3f> vertex_n
         // rows parallel to the shortest edge: about rows * (shortest / spacing) / 2 points, plus one a row
         const double rows = segments(std::max({e[0], e[1], e[2]}));
         needed += rows * (segments(std::min({e[0], e[1], e[2]})) / 2 + 1) + segments(e[0]) + segments(e[1]) + segments(e[2]);
-        ++out.long_faces;
-        for (int k = 0; k < 3; ++k) edge_normal.emplace(edge_key(v[std::size_t(k)], v[std::size_t(k + 1) % 3]), Edge{});
+        ++to_sample;
+        for (std::size_t k = 0; k < 3; ++k)
+            if (segments(e[k]) >= 2) edge_normal.emplace(edge_key(v[k], v[(k + 1) % 3]), Edge{});
     }
     if (needed > double(params.max_samples))
         throw_error(Error::Kind::argument, "mcoctree input",
                     "resolution too high for this mesh's faces: they would need about " +
                         std::to_string(static_cast<unsigned long long>(needed)) + " surface samples (at most " +
                         std::to_string(params.max_samples) + "); lower --resolution or raise --cube-size");
-    if (out.long_faces == 0) return out;
-    // Every face on a sampled face's edge is counted with its direction, and adds its normal (sampled
-    // itself or not: a short face beside a long one) unless it is folded back.
+    if (to_sample == 0) return out;
+    // Every face on an edge to sample adds its normal (sampled itself or not: a short face beside a long
+    // one) unless it is folded back.
     for (std::size_t f = 0; f < faces; ++f) {
         const auto v = corners(f);
         if (!touches(v, 2)) continue;
         const Vec3f n = face_normal(v);
-        const bool counts = agrees(v, n);
+        if (!agrees(v, n)) continue;
         for (std::size_t k = 0; k < 3; ++k) {
             const auto it = edge_normal.find(edge_key(v[k], v[(k + 1) % 3]));
-            if (it == edge_normal.end()) continue;
-            ++it->second.uses;
-            it->second.balance += point_id[v[k]] < point_id[v[(k + 1) % 3]] ? 1 : -1;
-            if (counts) it->second.sum = it->second.sum + n;
+            if (it != edge_normal.end()) it->second.sum = it->second.sum + n;
         }
     }
-    // A face's samples claim every lattice point nearer to them than to anything else, far out too, so a
-    // face wound the wrong way puts a sheet of surface out to the grid's edge (the happy Buddha's res3 scan,
-    // faces of both windings: at 256, 1.39 diagonals). Orientation is only checked along edges: one with
-    // more than two faces, or two running the same way, is a conflict. A few (a stray flipped face) keep
-    // their faces unsampled; more than 1 % of the edges means the winding cannot be trusted, and the mesh
-    // is used through its vertices alone, as before the samples.
-    auto conflicting = [](const Edge& e) { return e.uses > 2 || (e.uses == 2 && e.balance != 0); };
-    for (const auto& [key, e] : edge_normal) out.conflicting_edges += conflicting(e) ? 1 : 0;
-    out.checked_edges = edge_normal.size();
-    if (out.conflicting_edges * 100 > out.checked_edges) return out;
 
     auto add = [&](Vec3f p, Vec3f n, Vec3f shade, const Vec4f& col) {
         out.points.push_back(p);
@@ -167,9 +153,6 @@ FaceSamples sample_large_faces(const Mesh& mesh, std::span<const Vec3f> vertex_n
         if (!sampled(v)) continue;
         const Vec3f face = face_normal(v);
         if (face == Vec3f{}) continue;  // degenerate: no side to tell
-        bool conflict = false;
-        for (std::size_t k = 0; k < 3; ++k) conflict = conflict || conflicting(edge_normal.at(edge_key(v[k], v[(k + 1) % 3])));
-        if (conflict) continue;
         ++out.faces;
         const std::size_t s0 = e[0] <= e[1] && e[0] <= e[2] ? 0 : e[1] <= e[2] ? 1 : 2;  // shortest: v[s0] -> v[s0+1]
         const std::uint32_t A = v[(s0 + 2) % 3], B = v[s0], C = v[(s0 + 1) % 3];
@@ -187,7 +170,7 @@ FaceSamples sample_large_faces(const Mesh& mesh, std::span<const Vec3f> vertex_n
         for (std::size_t k = 0; k < 3; ++k) {
             const std::uint32_t a = v[k], b = v[(k + 1) % 3];
             const auto it = edge_normal.find(edge_key(a, b));
-            if (it->second.done || segments(e[k]) < 2) continue;  // sampled by another face, or short
+            if (it == edge_normal.end() || it->second.done) continue;  // short, or sampled by another face
             it->second.done = true;
             // Opposite faces (a fin folded flat) leave no direction: this face's normal decides.
             const Vec3f pseudo = unit_or(it->second.sum, face);

@@ -30,8 +30,6 @@ struct FaceSamples {
     std::vector<Vec3f> shading;  // the vertex normals interpolated (unit length): smooth like the input
     std::vector<Vec4f> colors;   // when the mesh has per-vertex colours
     std::size_t faces = 0;       // faces that got samples
-    std::size_t long_faces = 0;  // faces long enough, with usable corners, not folded (before the checks below)
-    std::size_t checked_edges = 0, conflicting_edges = 0;  // the long faces' edges; those of doubtful winding
 };
 
 // Whether some face has an edge longer than `min_edge` (stops at the first).
@@ -42,9 +40,7 @@ bool has_long_face(const Mesh& mesh, float min_edge);
 // `vertex_normals` (unit length, zero for a vertex without one) are interpolated for shading; a face with
 // a vertex without a normal, and a degenerate face, gets none. `point_id` names each vertex's point
 // (vertices at one position share it), so an edge split by a seam is sampled once and its pseudo-normal
-// sums the faces on both sides. A face with an edge of doubtful winding (more than two faces, or two
-// running the same way) gets none; when more than 1 % of the long faces' edges are such, no face does.
-// Indices must be in range (checked by the caller).
+// sums the faces on both sides. Indices must be in range (checked by the caller).
 FaceSamples sample_large_faces(const Mesh& mesh, std::span<const Vec3f> vertex_normals,
                                std::span<const std::uint32_t> point_id, const FaceSampleParams& params);
 

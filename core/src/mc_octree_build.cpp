@@ -42,8 +42,9 @@ using mc::pack;
 
 struct PointCloud {
     std::vector<Vec3f> points, normals;
-    // The normals the output's vertices interpolate, where they differ from the orientation (`normals`):
-    // the samples on a mesh's large faces (mc_face_samples.h). Empty: `normals`.
+    // The normals the output's vertices interpolate, when they differ from the orientation (`normals`):
+    // with a mesh's faces sampled, the orientation is the pseudo-normals and the shading the input's
+    // (interpolated on the samples; mc_face_samples.h). Empty: `normals`.
     std::vector<Vec3f> shading;
     std::vector<Vec4f> colors;
     // The positions again as arrays for the kd-tree: its build reads a coordinate chosen at run time, which
@@ -822,11 +823,6 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
                 if (!(pseudo[i] == Vec3f{})) pc.normals[k] = pseudo[i];
                 ++k;
             }
-        } else if (fs.conflicting_edges * 100 > fs.checked_edges) {
-            tree.warnings.push_back(std::to_string(fs.long_faces) + " faces are longer than two cubes but were not sampled: " +
-                                    std::to_string(fs.conflicting_edges) + " of their " + std::to_string(fs.checked_edges) +
-                                    " edges have more than two faces or faces of opposite winding, so the faces' sides "
-                                    "cannot be trusted; the vertices alone are used (expect dents and bubbles between them)");
         }
         pc.normals.insert(pc.normals.end(), fs.normals.begin(), fs.normals.end());
         pc.colors.insert(pc.colors.end(), fs.colors.begin(), fs.colors.end());

@@ -113,7 +113,7 @@ struct McOctreeBuildResult {
     std::size_t dropped_far_cubes = 0; // crossing cubes dropped by the band rule (surface ends there)
     bool reaches_grid_edge = false;    // band 0 and the surface runs to the grid's boundary (an open input; warned)
     double point_spacing = 0;          // median distance of an input point to its nearest neighbour
-    std::size_t face_samples = 0;      // points added on the mesh's faces longer than a cube (D1)
+    std::size_t face_samples = 0;      // points added on the mesh's faces longer than two cubes (D1)
     std::size_t sampled_faces = 0;     // faces that got them
     std::size_t hidden_cuts = 0;       // cuts of the order that are not levels (a later cut has fewer triangles)
     std::vector<std::string> warnings; // same as tree.warnings
