@@ -9,8 +9,8 @@
 
 #include "bench_util.h"
 #include "lodforge/error.h"
-#include "lodforge/lodstrips.h"
-#include "lodforge/mesh_io.h"
+#include "lodforge/strips/lodstrips.h"
+#include "lodforge/io/mesh_io.h"
 
 #include <algorithm>
 #include <chrono>

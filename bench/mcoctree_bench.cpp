@@ -16,9 +16,9 @@
 
 #include "bench_util.h"
 #include "lodforge/error.h"
-#include "lodforge/mc_octree.h"
-#include "lodforge/mesh_io.h"
-#include "lodforge/metrics.h"
+#include "lodforge/mcoctree/mc_octree.h"
+#include "lodforge/io/mesh_io.h"
+#include "lodforge/metrics/metrics.h"
 
 #include <nanoflann.hpp>
 

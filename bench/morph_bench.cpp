@@ -20,11 +20,11 @@
 
 #include "bench_util.h"
 #include "lodforge/error.h"
-#include "lodforge/morph.h"
-#include "lodforge/morph_file.h"
-#include "lodforge/morph_gltf.h"
-#include "lodforge/morph_lodstrips.h"
-#include "lodforge/morph_lod.h"
+#include "lodforge/morph/morph.h"
+#include "lodforge/morph/morph_file.h"
+#include "lodforge/morph/morph_gltf.h"
+#include "lodforge/morph/morph_lodstrips.h"
+#include "lodforge/morph/morph_lod.h"
 
 #include <meshoptimizer.h>
 #include <nlohmann/json.hpp>

@@ -14,10 +14,10 @@
 // --quick: the dragon only. The generated PLY lives in a temporary directory that is removed at exit
 // (--generated PATH: kept there, and reused when it exists).
 #include "lodforge/error.h"
-#include "lodforge/metrics.h"
-#include "lodforge/octree_store.h"
-#include "lodforge/ooc_soup.h"
-#include "lodforge/ply.h"
+#include "lodforge/metrics/metrics.h"
+#include "lodforge/octree/octree_store.h"
+#include "lodforge/octree/ooc_soup.h"
+#include "lodforge/io/ply.h"
 
 #include <algorithm>
 #include <chrono>

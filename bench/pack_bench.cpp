@@ -10,11 +10,11 @@
 //   lodforge_bench_pack [--models dragon,dragon2,frag] [--reps N]
 
 #include "bench_util.h"
-#include "lodforge/file_hash.h"
-#include "lodforge/gltf_writer.h"
-#include "lodforge/lod_chain.h"
-#include "lodforge/lod_pack.h"
-#include "lodforge/mesh_io.h"
+#include "lodforge/io/file_hash.h"
+#include "lodforge/io/gltf_writer.h"
+#include "lodforge/simplify/lod_chain.h"
+#include "lodforge/pack/lod_pack.h"
+#include "lodforge/io/mesh_io.h"
 
 #include <tiny_gltf.h>
 

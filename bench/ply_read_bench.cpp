@@ -8,7 +8,7 @@
 //   lodforge_bench_ply_read [mesh.ply] [--reps N]
 
 #include "lodforge/error.h"
-#include "lodforge/ply.h"
+#include "lodforge/io/ply.h"
 
 #include <algorithm>
 #include <chrono>

@@ -21,9 +21,9 @@
 
 #include "bench_util.h"
 #include "lodforge/error.h"
-#include "lodforge/mesh_io.h"
-#include "lodforge/metrics.h"
-#include "lodforge/simplify.h"
+#include "lodforge/io/mesh_io.h"
+#include "lodforge/metrics/metrics.h"
+#include "lodforge/simplify/simplify.h"
 
 #include <meshoptimizer.h>
 

@@ -14,9 +14,9 @@
 
 #include "bench_util.h"
 #include "lodforge/error.h"
-#include "lodforge/mesh_io.h"
-#include "lodforge/stripify.h"
-#include "lodforge/vertex_cache.h"
+#include "lodforge/io/mesh_io.h"
+#include "lodforge/strips/stripify.h"
+#include "lodforge/strips/vertex_cache.h"
 
 #include <meshoptimizer.h>
 

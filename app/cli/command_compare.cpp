@@ -3,9 +3,9 @@
 #include "terminal_progress.h"
 
 #include "lodforge/error.h"
-#include "lodforge/heatmap.h"
-#include "lodforge/mesh_io.h"
-#include "lodforge/metrics.h"
+#include "lodforge/metrics/heatmap.h"
+#include "lodforge/io/mesh_io.h"
+#include "lodforge/metrics/metrics.h"
 
 #include <nlohmann/json.hpp>
 

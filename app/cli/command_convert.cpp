@@ -2,7 +2,7 @@
 #include "mesh_output.h"
 #include "terminal_progress.h"
 
-#include "lodforge/mesh_io.h"
+#include "lodforge/io/mesh_io.h"
 
 #include <cstdio>
 

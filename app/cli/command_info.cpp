@@ -1,8 +1,8 @@
 #include "commands.h"
 #include "terminal_progress.h"
 
-#include "lodforge/mesh_info.h"
-#include "lodforge/mesh_io.h"
+#include "lodforge/io/mesh_info.h"
+#include "lodforge/io/mesh_io.h"
 
 #include <cstdio>
 

@@ -3,11 +3,11 @@
 #include "simplify_options.h"
 #include "terminal_progress.h"
 
-#include "lodforge/atomic_file.h"
+#include "lodforge/io/atomic_file.h"
 #include "lodforge/error.h"
-#include "lodforge/lod_chain.h"
-#include "lodforge/mesh_io.h"
-#include "lodforge/staged_directory.h"
+#include "lodforge/simplify/lod_chain.h"
+#include "lodforge/io/mesh_io.h"
+#include "lodforge/io/staged_directory.h"
 
 #include <nlohmann/json.hpp>
 

@@ -4,8 +4,8 @@
 #include "terminal_progress.h"
 
 #include "lodforge/error.h"
-#include "lodforge/mc_octree.h"
-#include "lodforge/mesh_io.h"
+#include "lodforge/mcoctree/mc_octree.h"
+#include "lodforge/io/mesh_io.h"
 
 #include <nlohmann/json.hpp>
 

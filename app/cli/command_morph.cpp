@@ -5,13 +5,13 @@
 #include "terminal_progress.h"
 
 #include "lodforge/error.h"
-#include "lodforge/mesh_io.h"
-#include "lodforge/morph.h"
-#include "lodforge/morph_file.h"
-#include "lodforge/morph_gltf.h"
-#include "lodforge/morph_lodstrips.h"
-#include "lodforge/morph_lod.h"
-#include "lodforge/supermesh.h"
+#include "lodforge/io/mesh_io.h"
+#include "lodforge/morph/morph.h"
+#include "lodforge/morph/morph_file.h"
+#include "lodforge/morph/morph_gltf.h"
+#include "lodforge/morph/morph_lodstrips.h"
+#include "lodforge/morph/morph_lod.h"
+#include "lodforge/morph/supermesh.h"
 
 #include <nlohmann/json.hpp>
 

@@ -5,12 +5,12 @@
 #include "terminal_progress.h"
 
 #include "lodforge/error.h"
-#include "lodforge/mesh_io.h"
-#include "lodforge/octree_build.h"
-#include "lodforge/octree_select.h"
-#include "lodforge/octree_store.h"
-#include "lodforge/ooc_cluster.h"
-#include "lodforge/ply.h"
+#include "lodforge/io/mesh_io.h"
+#include "lodforge/octree/octree_build.h"
+#include "lodforge/octree/octree_select.h"
+#include "lodforge/octree/octree_store.h"
+#include "lodforge/octree/ooc_cluster.h"
+#include "lodforge/io/ply.h"
 
 #include <nlohmann/json.hpp>
 

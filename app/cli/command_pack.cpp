@@ -2,9 +2,9 @@
 #include "terminal_progress.h"
 
 #include "lodforge/error.h"
-#include "lodforge/lod_pack.h"
-#include "lodforge/mesh_io.h"
-#include "lodforge/preset.h"
+#include "lodforge/pack/lod_pack.h"
+#include "lodforge/io/mesh_io.h"
+#include "lodforge/pack/preset.h"
 
 #include <nlohmann/json.hpp>
 

@@ -4,9 +4,9 @@
 #include "terminal_progress.h"
 
 #include "lodforge/error.h"
-#include "lodforge/mesh_io.h"
-#include "lodforge/simplify.h"
-#include "lodforge/simplify_cluster.h"
+#include "lodforge/io/mesh_io.h"
+#include "lodforge/simplify/simplify.h"
+#include "lodforge/simplify/simplify_cluster.h"
 
 #include <cmath>
 #include <cstdio>

@@ -5,8 +5,8 @@
 #include "terminal_progress.h"
 
 #include "lodforge/error.h"
-#include "lodforge/lodstrips.h"
-#include "lodforge/mesh_io.h"
+#include "lodforge/strips/lodstrips.h"
+#include "lodforge/io/mesh_io.h"
 
 #include <nlohmann/json.hpp>
 

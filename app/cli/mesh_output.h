@@ -3,7 +3,7 @@
 #pragma once
 
 #include "lodforge/mesh.h"
-#include "lodforge/mesh_io.h"
+#include "lodforge/io/mesh_io.h"
 #include "lodforge/progress.h"
 
 #include <string>

@@ -2,7 +2,7 @@
 // Bad values throw lodforge::Error(argument) naming the option, so they exit 1 with a clear message.
 #pragma once
 
-#include "lodforge/simplify.h"
+#include "lodforge/simplify/simplify.h"
 
 #include <string>
 #include <vector>

@@ -1,8 +1,8 @@
 #include "MainWindow.h"
 
 #include "lodforge/error.h"
-#include "lodforge/lod_pack.h"
-#include "lodforge/mesh_io.h"
+#include "lodforge/pack/lod_pack.h"
+#include "lodforge/io/mesh_io.h"
 #include "lodforge/widgets/Job.h"
 #include "lodforge/widgets/LevelViews.h"
 #include "lodforge/widgets/LoadJob.h"

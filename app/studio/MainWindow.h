@@ -4,7 +4,7 @@
 // status bar, presets with undo/redo, report export, drag and drop, recent files, persisted layout.
 #pragma once
 
-#include "lodforge/preset.h"
+#include "lodforge/pack/preset.h"
 #include "lodforge/widgets/ViewOptions.h"
 
 #include <QImage>

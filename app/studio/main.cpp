@@ -8,7 +8,7 @@
 #include "lodforge/widgets/ViewOptions.h"
 #include "lodforge/widgets/VtkView.h"
 
-#include "lodforge/preset.h"
+#include "lodforge/pack/preset.h"
 
 #include <QApplication>
 #include <QCommandLineParser>

@@ -1,7 +1,7 @@
 // `lodforge simplify`, `lod` and `compare` run as users run them: the real executable through popen.
-#include "lodforge/mesh_io.h"
-#include "lodforge/ply.h"
-#include "lodforge/simplify.h"
+#include "lodforge/io/mesh_io.h"
+#include "lodforge/io/ply.h"
+#include "lodforge/simplify/simplify.h"
 
 #include "support/cli_run.h"
 #include "support/test_paths.h"

@@ -1,5 +1,5 @@
 // `lodforge strips`, `strips info`, `strips extract` run as users run them.
-#include "lodforge/mesh_io.h"
+#include "lodforge/io/mesh_io.h"
 
 #include "support/cli_run.h"
 #include "support/test_paths.h"

@@ -4,9 +4,9 @@
 // whole CLI. Errors are printed and the next file follows; a sanitizer report or a signal is a bug.
 // Usage: format_driver OUT_DIR FILE...
 #include "lodforge/error.h"
-#include "lodforge/mesh_info.h"
-#include "lodforge/mesh_io.h"
-#include "lodforge/mesh_validate.h"
+#include "lodforge/io/mesh_info.h"
+#include "lodforge/io/mesh_io.h"
+#include "lodforge/io/mesh_validate.h"
 #include <cstdio>
 #include <filesystem>
 int main(int argc, char** argv) {

@@ -1,6 +1,6 @@
 // libFuzzer target for the .lodstrips decoder and runtime (header-only: nothing else is compiled in).
 // Whatever load_memory accepts must be walkable over every level without leaving the buffer.
-#include "lodforge/lodstrips_runtime.h"
+#include "lodforge/runtime/lodstrips_runtime.h"
 
 #include <cstddef>
 #include <cstdint>

@@ -3,10 +3,10 @@
 // a tiny read buffer and small chunks, so buffer refills, growth and seeks run on every input.
 // Invariants the Mesh contract promises are checked with __builtin_trap so a violation is a crash.
 
-#include "ply_internal.h"
+#include "io/ply_internal.h"
 
 #include "lodforge/error.h"
-#include "lodforge/ply.h"
+#include "lodforge/io/ply.h"
 
 #include <cstddef>
 #include <cstdint>

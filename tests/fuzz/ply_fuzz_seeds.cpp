@@ -6,7 +6,7 @@
 // writes <corpus dir>/seeds and an empty <corpus dir>/found for the inputs libFuzzer discovers.
 
 #include "lodforge/mesh.h"
-#include "lodforge/ply.h"
+#include "lodforge/io/ply.h"
 
 #include <cstdio>
 #include <cstring>

@@ -4,7 +4,7 @@
 
 #include "MainWindow.h"
 
-#include "lodforge/preset.h"
+#include "lodforge/pack/preset.h"
 #include "lodforge/widgets/McoPriorityPanel.h"
 #include "lodforge/widgets/OctreeTuningPanel.h"
 #include "lodforge/widgets/VtkView.h"

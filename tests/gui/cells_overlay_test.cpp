@@ -6,7 +6,7 @@
 #include "PixelStats.h"
 #include "StudioSession.h"
 
-#include "lodforge/preset.h"
+#include "lodforge/pack/preset.h"
 #include "lodforge/widgets/LevelViews.h"
 #include "lodforge/widgets/LoadJob.h"
 #include "lodforge/widgets/MeshScene.h"

@@ -6,8 +6,8 @@
 #include "PixelStats.h"
 #include "StudioSession.h"
 
-#include "lodforge/lodstrips_runtime.h"
-#include "lodforge/preset.h"
+#include "lodforge/runtime/lodstrips_runtime.h"
+#include "lodforge/pack/preset.h"
 #include "lodforge/widgets/LevelViews.h"
 #include "lodforge/widgets/LodLevels.h"
 #include "lodforge/widgets/MeshScene.h"

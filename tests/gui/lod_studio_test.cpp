@@ -5,7 +5,7 @@
 #include "MainWindow.h"
 #include "PixelStats.h"
 
-#include "lodforge/preset.h"
+#include "lodforge/pack/preset.h"
 #include "lodforge/widgets/LevelViews.h"
 #include "lodforge/widgets/LoadJob.h"
 #include "lodforge/widgets/ParametersPanel.h"

@@ -3,7 +3,7 @@
 #include "PixelStats.h"
 
 #include "lodforge/error.h"
-#include "lodforge/image_decode.h"
+#include "lodforge/io/image_decode.h"
 #include "lodforge/mesh.h"
 #include "lodforge/widgets/Job.h"
 #include "lodforge/widgets/LoadJob.h"

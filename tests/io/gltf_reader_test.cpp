@@ -2,9 +2,9 @@
 // transforms, primitive modes, accessor variants, and malformed files generated at test time.
 #include "io_test_util.h"
 
-#include "lodforge/gltf_io.h"
-#include "lodforge/image_decode.h"
-#include "lodforge/mesh_io.h"
+#include "lodforge/io/gltf_reader.h"
+#include "lodforge/io/image_decode.h"
+#include "lodforge/io/mesh_io.h"
 #include "lodforge/progress.h"
 
 #include <gtest/gtest.h>

@@ -1,7 +1,7 @@
 // Texture decoding: real PNGs, orientation (row 0 = top), embedded bytes and the error cases.
 #include "io_test_util.h"
 
-#include "lodforge/image_decode.h"
+#include "lodforge/io/image_decode.h"
 
 #include <gtest/gtest.h>
 

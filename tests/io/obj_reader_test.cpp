@@ -2,10 +2,10 @@
 // materials and texture discovery, and malformed inputs generated at test time.
 #include "io_test_util.h"
 
-#include "lodforge/image_decode.h"
-#include "lodforge/mesh_io.h"
+#include "lodforge/io/image_decode.h"
+#include "lodforge/io/mesh_io.h"
 #include "lodforge/progress.h"
-#include "lodforge/obj_io.h"
+#include "lodforge/io/obj.h"
 
 #include <gtest/gtest.h>
 

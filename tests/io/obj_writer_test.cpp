@@ -2,10 +2,10 @@
 // materials), texture copying and extraction, and failure behaviour.
 #include "io_test_util.h"
 
-#include "lodforge/gltf_io.h"
-#include "lodforge/image_decode.h"
-#include "lodforge/mesh_io.h"
-#include "lodforge/obj_io.h"
+#include "lodforge/io/gltf_reader.h"
+#include "lodforge/io/image_decode.h"
+#include "lodforge/io/mesh_io.h"
+#include "lodforge/io/obj.h"
 
 #include <gtest/gtest.h>
 

@@ -1,5 +1,5 @@
 // `lodforge mcoctree build|extract|info` run as users run them.
-#include "lodforge/mesh_io.h"
+#include "lodforge/io/mesh_io.h"
 #include "mc_test_support.h"
 #include "support/cli_run.h"
 #include "support/test_paths.h"

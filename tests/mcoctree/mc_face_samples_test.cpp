@@ -1,5 +1,5 @@
-// Samples on a mesh's large faces (core/src/mc_face_samples.h): where they go and which way they face.
-#include "../../core/src/mc_face_samples.h"
+// Samples on a mesh's large faces (core/src/mcoctree/mc_face_samples.h): where they go and which way they face.
+#include "mcoctree/mc_face_samples.h"
 #include "lodforge/error.h"
 
 #include <gtest/gtest.h>

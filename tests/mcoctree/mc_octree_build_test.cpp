@@ -1,12 +1,12 @@
 // Building and extracting the marching-cube octree on closed inputs: watertight at every priority.
-#include "lodforge/mc_octree.h"
+#include "lodforge/mcoctree/mc_octree.h"
 #include "lodforge/error.h"
-#include "lodforge/mesh_io.h"
-#include "lodforge/metrics.h"
+#include "lodforge/io/mesh_io.h"
+#include "lodforge/metrics/metrics.h"
 #include "mc_test_support.h"
 #include "support/needle.h"
 #include "support/test_paths.h"
-#include "../../core/src/parallel_for.h"
+#include "parallel_for.h"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 // Priorities, budgets, colours and bad input of the marching-cube octree.
 #include "lodforge/error.h"
-#include "lodforge/mc_octree.h"
-#include "lodforge/mesh_io.h"
+#include "lodforge/mcoctree/mc_octree.h"
+#include "lodforge/io/mesh_io.h"
 #include "mc_test_support.h"
 #include "support/test_paths.h"
 

@@ -1,6 +1,6 @@
 // The .mco file: round trip, and every truncated prefix and byte flip rejected with an Error.
 #include "lodforge/error.h"
-#include "lodforge/mc_octree.h"
+#include "lodforge/mcoctree/mc_octree.h"
 #include "mc_test_support.h"
 #include "support/test_paths.h"
 

@@ -1,7 +1,7 @@
 // Priority levels of the marching-cube octree: the triangle count never decreases with the priority, the
 // table is what the extraction really produces, and every level is still crack-free (docs/mcoctree.md, D10).
-#include "lodforge/mc_octree.h"
-#include "lodforge/mesh_io.h"
+#include "lodforge/mcoctree/mc_octree.h"
+#include "lodforge/io/mesh_io.h"
 #include "mc_test_support.h"
 #include "support/test_paths.h"
 

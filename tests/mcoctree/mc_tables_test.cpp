@@ -1,5 +1,5 @@
 // The marching-cube table derived from the face rule: every case closes, neighbouring cubes agree.
-#include "../../core/src/mc_tables.h"
+#include "mcoctree/mc_tables.h"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 // Helpers shared by the marching-cube octree tests: synthetic closed inputs and a watertightness check.
 #pragma once
 
-#include "lodforge/mc_octree.h"
+#include "lodforge/mcoctree/mc_octree.h"
 #include "lodforge/mesh.h"
 
 #include <gtest/gtest.h>

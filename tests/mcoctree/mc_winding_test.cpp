@@ -1,6 +1,6 @@
-// The generalized winding number by a tree of dipoles (core/src/mc_winding.h).
-#include "../../core/src/mc_winding.h"
-#include "lodforge/mesh_io.h"
+// The generalized winding number by a tree of dipoles (core/src/mcoctree/mc_winding.h).
+#include "mcoctree/mc_winding.h"
+#include "lodforge/io/mesh_io.h"
 #include "support/icosphere.h"
 #include "support/test_paths.h"
 

@@ -1,6 +1,6 @@
 // Landmark files: round trip, and every kind of damage gives an error naming the file and the entry.
 #include "lodforge/error.h"
-#include "lodforge/landmarks.h"
+#include "lodforge/morph/landmarks.h"
 
 #include "support/test_paths.h"
 

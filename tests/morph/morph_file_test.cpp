@@ -1,8 +1,8 @@
 // The .lfmorph file: round trips in both encodings, and every kind of damage gives a clear error.
 #include "lodforge/error.h"
-#include "lodforge/morph.h"
-#include "lodforge/morph_file.h"
-#include "lodforge/morph_lod.h"
+#include "lodforge/morph/morph.h"
+#include "lodforge/morph/morph_file.h"
+#include "lodforge/morph/morph_lod.h"
 
 #include "support/test_paths.h"
 

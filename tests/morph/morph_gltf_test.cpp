@@ -1,11 +1,11 @@
 // glTF export of morphing LOD: the Khronos validator finds no error, every level has the same morph
 // targets, the animation drives every level, and our own glTF reader gives each level's frames back.
 #include "lodforge/error.h"
-#include "lodforge/gltf_io.h"
-#include "lodforge/morph.h"
-#include "lodforge/morph_gltf.h"
-#include "lodforge/morph_lod.h"
-#include "lodforge/morph_lodstrips.h"
+#include "lodforge/io/gltf_reader.h"
+#include "lodforge/morph/morph.h"
+#include "lodforge/morph/morph_gltf.h"
+#include "lodforge/morph/morph_lod.h"
+#include "lodforge/morph/morph_lodstrips.h"
 
 #include "../pack/pack_test_util.h"
 #include "support/test_paths.h"

@@ -1,9 +1,9 @@
 // LOD of morphing meshes: the three collapse orders, level validity in every frame, extraction.
 #include "lodforge/error.h"
-#include "lodforge/mesh_io.h"
-#include "lodforge/metrics.h"
-#include "lodforge/morph.h"
-#include "lodforge/morph_lod.h"
+#include "lodforge/io/mesh_io.h"
+#include "lodforge/metrics/metrics.h"
+#include "lodforge/morph/morph.h"
+#include "lodforge/morph/morph_lod.h"
 
 #include "support/test_paths.h"
 

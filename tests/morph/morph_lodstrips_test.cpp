@@ -3,9 +3,9 @@
 // per frame (per-frame orders) —, set_frame and go_to_lod commute, coarsen-then-refine is byte-identical,
 // the file (v2, and v1 as read) round trips and refuses damaged input.
 #include "lodforge/error.h"
-#include "lodforge/morph.h"
-#include "lodforge/morph_lod.h"
-#include "lodforge/morph_lodstrips.h"
+#include "lodforge/morph/morph.h"
+#include "lodforge/morph/morph_lod.h"
+#include "lodforge/morph/morph_lodstrips.h"
 
 #include "support/test_paths.h"
 

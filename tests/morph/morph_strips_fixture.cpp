@@ -4,9 +4,9 @@
 // Usage: morph_strips_fixture DIR. Reference file: u32 case count, then per case f64 t, f64 lod, u32 change
 // set, u32 triangle count, 3 × u32 per triangle (vertex numbers of the file, input winding, smallest
 // first, sorted); little-endian.
-#include "lodforge/morph.h"
-#include "lodforge/morph_lod.h"
-#include "lodforge/morph_lodstrips.h"
+#include "lodforge/morph/morph.h"
+#include "lodforge/morph/morph_lod.h"
+#include "lodforge/morph/morph_lodstrips.h"
 
 #include <algorithm>
 #include <array>

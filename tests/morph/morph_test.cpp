@@ -1,7 +1,7 @@
 // The morph model: loading keyframe sequences and glTF morph targets, blending in t.
 #include "lodforge/error.h"
-#include "lodforge/mesh_io.h"
-#include "lodforge/morph.h"
+#include "lodforge/io/mesh_io.h"
+#include "lodforge/morph/morph.h"
 
 #include "support/test_paths.h"
 

@@ -1,10 +1,10 @@
 // Case (b) of issue 8: the supermesh of two genus-0 meshes (topology check, sphere maps, landmark
 // alignment, overlay), on Spot and generated spheres, through the library and the CLI.
 #include "lodforge/error.h"
-#include "lodforge/landmarks.h"
-#include "lodforge/mesh_io.h"
-#include "lodforge/morph.h"
-#include "lodforge/supermesh.h"
+#include "lodforge/morph/landmarks.h"
+#include "lodforge/io/mesh_io.h"
+#include "lodforge/morph/morph.h"
+#include "lodforge/morph/supermesh.h"
 
 #include "support/cli_run.h"
 #include "support/icosphere.h"

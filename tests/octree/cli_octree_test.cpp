@@ -1,7 +1,7 @@
 // `lodforge octree` as users run it, with the peak resident memory of the child process measured
 // (wait4 → ru_maxrss), not assumed.
-#include "lodforge/mesh_io.h"
-#include "lodforge/octree_store.h"
+#include "lodforge/io/mesh_io.h"
+#include "lodforge/octree/octree_store.h"
 
 #include "octree_test_util.h"
 #include "support/cli_run.h"

@@ -1,6 +1,6 @@
 #include "lodforge/error.h"
-#include "lodforge/octree_build.h"
-#include "lodforge/octree_select.h"
+#include "lodforge/octree/octree_build.h"
+#include "lodforge/octree/octree_select.h"
 
 #include "octree_test_util.h"
 #include "support/test_paths.h"

@@ -1,7 +1,7 @@
 #include "lodforge/error.h"
-#include "lodforge/metrics.h"
-#include "lodforge/ooc_cluster.h"
-#include "lodforge/ply.h"
+#include "lodforge/metrics/metrics.h"
+#include "lodforge/octree/ooc_cluster.h"
+#include "lodforge/io/ply.h"
 
 #include "support/test_paths.h"
 

@@ -1,7 +1,7 @@
 #include "lodforge/error.h"
-#include "lodforge/mesh_io.h"
-#include "lodforge/ooc_soup.h"
-#include "lodforge/ply.h"
+#include "lodforge/io/mesh_io.h"
+#include "lodforge/octree/ooc_soup.h"
+#include "lodforge/io/ply.h"
 #include "lodforge/progress.h"
 
 #include "support/test_paths.h"

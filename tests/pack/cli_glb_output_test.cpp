@@ -7,7 +7,7 @@
 #include "support/cli_run.h"
 #include "support/test_paths.h"
 
-#include "lodforge/mesh_io.h"
+#include "lodforge/io/mesh_io.h"
 
 #include <gtest/gtest.h>
 

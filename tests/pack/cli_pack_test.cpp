@@ -5,9 +5,9 @@
 #include "support/cli_run.h"
 #include "support/test_paths.h"
 
-#include "lodforge/lod_pack.h"
-#include "lodforge/mesh_io.h"
-#include "lodforge/preset.h"
+#include "lodforge/pack/lod_pack.h"
+#include "lodforge/io/mesh_io.h"
+#include "lodforge/pack/preset.h"
 
 #include <gtest/gtest.h>
 

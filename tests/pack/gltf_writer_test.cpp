@@ -5,11 +5,11 @@
 #include "support/test_paths.h"
 
 #include "lodforge/error.h"
-#include "lodforge/gltf_writer.h"
-#include "lodforge/image_decode.h"
-#include "lodforge/lod_chain.h"
-#include "lodforge/mesh_io.h"
-#include "lodforge/simplify_cluster.h"
+#include "lodforge/io/gltf_writer.h"
+#include "lodforge/io/image_decode.h"
+#include "lodforge/simplify/lod_chain.h"
+#include "lodforge/io/mesh_io.h"
+#include "lodforge/simplify/simplify_cluster.h"
 
 #include <gtest/gtest.h>
 

@@ -5,10 +5,10 @@
 #include "support/test_paths.h"
 
 #include "lodforge/error.h"
-#include "lodforge/file_hash.h"
-#include "lodforge/lod_methods.h"
-#include "lodforge/lod_pack.h"
-#include "lodforge/mesh_io.h"
+#include "lodforge/io/file_hash.h"
+#include "lodforge/pack/lod_methods.h"
+#include "lodforge/pack/lod_pack.h"
+#include "lodforge/io/mesh_io.h"
 
 #include <gtest/gtest.h>
 

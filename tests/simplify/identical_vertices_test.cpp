@@ -1,8 +1,8 @@
 // Triangle soups (every face with its own copies of its vertices, as non-indexed glTF primitives and
 // per-face OBJ/PLY exports store them) simplify like the indexed mesh they came from.
-#include "lodforge/identical_vertices.h"
-#include "lodforge/mesh_io.h"
-#include "lodforge/simplify.h"
+#include "lodforge/simplify/identical_vertices.h"
+#include "lodforge/io/mesh_io.h"
+#include "lodforge/simplify/simplify.h"
 
 #include "simplify/simplify_test_util.h"
 #include "support/test_paths.h"

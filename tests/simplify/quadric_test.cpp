@@ -1,4 +1,4 @@
-#include "lodforge/quadric.h"
+#include "lodforge/simplify/quadric.h"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 #include "lodforge/error.h"
-#include "lodforge/mesh_io.h"
-#include "lodforge/metrics.h"
-#include "lodforge/simplify.h"
+#include "lodforge/io/mesh_io.h"
+#include "lodforge/metrics/metrics.h"
+#include "lodforge/simplify/simplify.h"
 
 #include "simplify/simplify_test_util.h"
 #include "support/test_paths.h"

@@ -1,7 +1,7 @@
 #include "lodforge/error.h"
-#include "lodforge/mesh_io.h"
-#include "lodforge/stripify.h"
-#include "lodforge/vertex_cache.h"
+#include "lodforge/io/mesh_io.h"
+#include "lodforge/strips/stripify.h"
+#include "lodforge/strips/vertex_cache.h"
 
 #include "support/test_paths.h"
 

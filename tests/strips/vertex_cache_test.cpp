@@ -1,5 +1,5 @@
 #include "lodforge/error.h"
-#include "lodforge/vertex_cache.h"
+#include "lodforge/strips/vertex_cache.h"
 
 #include <gtest/gtest.h>
 

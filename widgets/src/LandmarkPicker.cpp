@@ -1,7 +1,7 @@
 #include "lodforge/widgets/LandmarkPicker.h"
 
 #include "lodforge/error.h"
-#include "lodforge/mesh_io.h"
+#include "lodforge/io/mesh_io.h"
 #include "lodforge/widgets/LatestJob.h"
 #include "lodforge/widgets/MeshScene.h"
 #include "lodforge/widgets/VtkView.h"

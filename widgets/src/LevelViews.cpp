@@ -1,8 +1,8 @@
 #include "lodforge/widgets/LevelViews.h"
 
 #include "MeshActorBuilder.h"
-#include "lodforge/lodstrips.h"
-#include "lodforge/lodstrips_runtime.h"
+#include "lodforge/strips/lodstrips.h"
+#include "lodforge/runtime/lodstrips_runtime.h"
 #include "lodforge/widgets/MeshScene.h"
 #include "lodforge/widgets/VtkView.h"
 

@@ -1,8 +1,8 @@
 #include "lodforge/widgets/LoadJob.h"
 
 #include "lodforge/error.h"
-#include "lodforge/image_decode.h"
-#include "lodforge/mesh_io.h"
+#include "lodforge/io/image_decode.h"
+#include "lodforge/io/mesh_io.h"
 #include "lodforge/widgets/Job.h"
 #include "lodforge/widgets/MeshScene.h"
 #include "lodforge/widgets/QueuedProgress.h"

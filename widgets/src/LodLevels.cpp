@@ -1,13 +1,13 @@
 #include "lodforge/widgets/LodLevels.h"
 
 #include "lodforge/error.h"
-#include "lodforge/lod_chain.h"
-#include "lodforge/lod_methods.h"
-#include "lodforge/lodstrips.h"
-#include "lodforge/lodstrips_runtime.h"
-#include "lodforge/metrics.h"
+#include "lodforge/simplify/lod_chain.h"
+#include "lodforge/pack/lod_methods.h"
+#include "lodforge/strips/lodstrips.h"
+#include "lodforge/runtime/lodstrips_runtime.h"
+#include "lodforge/metrics/metrics.h"
 #include "lodforge/progress_range.h"
-#include "lodforge/simplify_cluster.h"
+#include "lodforge/simplify/simplify_cluster.h"
 #include "lodforge/widgets/MeshScene.h"
 
 #include <QElapsedTimer>

@@ -1,7 +1,7 @@
 #include "MeshActorBuilder.h"
 
 #include "lodforge/error.h"
-#include "lodforge/heatmap.h"
+#include "lodforge/metrics/heatmap.h"
 #include "lodforge/widgets/ViewOptions.h"
 
 #include <vtkCellArray.h>

@@ -1,9 +1,9 @@
 #include "lodforge/widgets/MorphPanel.h"
 
 #include "lodforge/error.h"
-#include "lodforge/metrics.h"
-#include "lodforge/morph_file.h"
-#include "lodforge/supermesh.h"
+#include "lodforge/metrics/metrics.h"
+#include "lodforge/morph/morph_file.h"
+#include "lodforge/morph/supermesh.h"
 #include "lodforge/widgets/Job.h"
 #include "lodforge/widgets/LandmarkPicker.h"
 #include "lodforge/widgets/MeshScene.h"

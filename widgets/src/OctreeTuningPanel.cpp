@@ -1,9 +1,9 @@
 #include "lodforge/widgets/OctreeTuningPanel.h"
 
 #include "lodforge/error.h"
-#include "lodforge/lod_methods.h"
-#include "lodforge/mesh_io.h"
-#include "lodforge/octree_select.h"
+#include "lodforge/pack/lod_methods.h"
+#include "lodforge/io/mesh_io.h"
+#include "lodforge/octree/octree_select.h"
 #include "lodforge/widgets/Job.h"
 #include "lodforge/widgets/LevelViews.h"
 #include "lodforge/widgets/LoadJob.h"

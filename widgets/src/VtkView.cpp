@@ -2,7 +2,7 @@
 
 #include "MeshActorBuilder.h"
 
-#include "lodforge/heatmap.h"
+#include "lodforge/metrics/heatmap.h"
 
 #include <vtkActor.h>
 #include <vtkBillboardTextActor3D.h>

@@ -1,13 +1,13 @@
 // Landmark picking for the two-mesh morph (issue 8, case (b)): meshes A and B side by side, a click on
 // each adds a correspondence pair (numbered markers in both views), undo and clear, and the landmarks
-// file of core/include/lodforge/landmarks.h (read_landmarks / write_landmarks / check_landmarks), the
+// file of core/include/lodforge/morph/landmarks.h (read_landmarks / write_landmarks / check_landmarks), the
 // file `lodforge morph build A B --landmarks L.json` reads.
 //
 // Vertex indices are those of `read_mesh` with its default options, as the file format says: the picker
 // reads A and B itself (not through LoadJob, whose viewer copy places every glTF instance).
 #pragma once
 
-#include "lodforge/landmarks.h"
+#include "lodforge/morph/landmarks.h"
 #include "lodforge/mesh.h"
 #include "lodforge/widgets/LatestJob.h"
 

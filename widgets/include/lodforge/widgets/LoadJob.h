@@ -1,9 +1,9 @@
 // Loading a mesh file off the GUI thread: read, summarise, decode textures, build the drawable scene.
 #pragma once
 
-#include "lodforge/image_decode.h"
+#include "lodforge/io/image_decode.h"
 #include "lodforge/mesh.h"
-#include "lodforge/mesh_info.h"
+#include "lodforge/io/mesh_info.h"
 #include "lodforge/progress.h"
 
 #include <QFutureWatcher>

@@ -2,10 +2,10 @@
 // lodforge_core), each with its measured error, build time and drawable scene; and their error heat maps.
 #pragma once
 
-#include "lodforge/image_decode.h"
-#include "lodforge/lod_methods.h"
+#include "lodforge/io/image_decode.h"
+#include "lodforge/pack/lod_methods.h"
 #include "lodforge/mesh.h"
-#include "lodforge/preset.h"
+#include "lodforge/pack/preset.h"
 #include "lodforge/progress.h"
 
 #include <QString>

@@ -9,8 +9,8 @@
 // dropped, so the view never shows an index the slider has left.
 #pragma once
 
-#include "lodforge/mc_octree.h"
-#include "lodforge/preset.h"
+#include "lodforge/mcoctree/mc_octree.h"
+#include "lodforge/pack/preset.h"
 #include "lodforge/widgets/LatestJob.h"
 
 #include <QString>

@@ -4,8 +4,8 @@
 // the data, stays private to the widgets library.
 #pragma once
 
-#include "lodforge/image_decode.h"
-#include "lodforge/lod_methods.h"
+#include "lodforge/io/image_decode.h"
+#include "lodforge/pack/lod_methods.h"
 #include "lodforge/mesh.h"
 
 #include <cstddef>

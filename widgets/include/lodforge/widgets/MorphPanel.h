@@ -7,10 +7,10 @@
 // the view draws what `lodforge morph extract IN --t T --lod F` writes.
 #pragma once
 
-#include "lodforge/landmarks.h"
+#include "lodforge/morph/landmarks.h"
 #include "lodforge/mesh.h"
-#include "lodforge/morph.h"
-#include "lodforge/morph_lod.h"
+#include "lodforge/morph/morph.h"
+#include "lodforge/morph/morph_lod.h"
 #include "lodforge/progress.h"
 #include "lodforge/widgets/LatestJob.h"
 #include "lodforge/widgets/ViewOptions.h"

@@ -14,9 +14,9 @@
 #pragma once
 
 #include "lodforge/mesh.h"
-#include "lodforge/octree_build.h"
-#include "lodforge/octree_store.h"
-#include "lodforge/preset.h"
+#include "lodforge/octree/octree_build.h"
+#include "lodforge/octree/octree_store.h"
+#include "lodforge/pack/preset.h"
 #include "lodforge/widgets/LatestJob.h"
 
 #include <QPoint>

@@ -3,7 +3,7 @@
 // contents. Every edit is reported as a before/after pair so the window can make it undoable.
 #pragma once
 
-#include "lodforge/preset.h"
+#include "lodforge/pack/preset.h"
 
 #include <QWidget>
 

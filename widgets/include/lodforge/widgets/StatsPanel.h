@@ -2,7 +2,7 @@
 // properties (file, geometry, attributes, materials and textures, validation findings).
 #pragma once
 
-#include "lodforge/mesh_info.h"
+#include "lodforge/io/mesh_info.h"
 
 #include <QStringList>
 #include <QWidget>

@@ -1,0 +1,73 @@
+// A LOD pack: what an engine loads for one mesh. Built from a preset (lodforge/preset.h) by both the
+// studio's export button and `lodforge pack`, through this one function, so the same mesh and preset
+// give byte-identical packs (see docs/pack.md for the files and the pack.json format).
+//
+//   PackParams p;  p.preset = load_preset("game.json");
+//   p.source_path = "spot.obj";  p.output_dir = "packs/spot";
+//   PackResult r = write_lod_pack(read_mesh(p.source_path), p, &progress);
+//
+// The levels come from the preset's method and targets; each is measured against the input with
+// compare() (Metro), and the measured error gives its MSFT_screencoverage hint. The pack is written
+// into a temporary directory beside output_dir and moved into place at the end: a failed or cancelled
+// pack leaves nothing behind (and an existing output_dir untouched).
+#pragma once
+
+#include "lodforge/mesh.h"
+#include "lodforge/metrics/metrics.h"
+#include "lodforge/pack/preset.h"
+#include "lodforge/progress.h"
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace lodforge {
+
+struct PackParams {
+    Preset preset;             // method, levels, weights, exports, ...
+    std::string source_path;   // the file the mesh came from: hashed into pack.json, stem names the outputs
+    std::string output_dir;    // created if missing
+    // Sampling of the error measurements (vertex_errors is not used). Part of what makes a pack: two
+    // packs are identical only with equal parameters; the CLI and the studio use the defaults.
+    DistanceParams distance;
+};
+
+struct PackLevel {
+    std::size_t triangles = 0, vertices = 0;   // vertices = surface points (as `lodforge info` counts)
+    std::size_t wedges = 0;                    // vertices as stored in the GLB (one per attribute set)
+    double error = 0, error_relative = 0;   // measured Metro Hausdorff vs the input (model units, / bbox diagonal)
+    double mean_error = 0, mean_error_relative = 0;
+    // MSFT_screencoverage hint derived from the errors (docs/pack.md): the level is shown while the
+    // object covers at least this fraction of the screen area; 0 for the coarsest level.
+    double screen_coverage = 0;
+    // The same switch point as an engine "screen size": projected bounding-sphere diameter / screen height.
+    double screen_size = 0;
+    std::vector<std::string> files;         // per-level files written (PLY/OBJ), relative to output_dir
+};
+
+struct PackResult {
+    std::vector<PackLevel> levels;          // levels[0] = the input
+    std::vector<std::string> files;         // every file written, relative to output_dir (pack.json included)
+    std::string glb;                        // the .glb's name in `files`, empty when not exported
+    std::string source_sha256;              // as in pack.json
+    std::string manifest;                   // the text of pack.json
+    std::vector<std::string> notes;         // targets a method could not meet, ... (also in pack.json)
+};
+
+// Throws Error(argument) for a bad preset or parameters (empty source_path or output_dir, an error
+// target with the cluster, lodstrips, octree or mcoctree method, a .lodstrips export without the lodstrips
+// method),
+// Error(io) naming the file for an unreadable source or texture or an unwritable output, and
+// Error(cancelled); in every case nothing is left in or beside output_dir.
+PackResult write_lod_pack(const Mesh& mesh, const PackParams& params, Progress* progress = nullptr);
+
+// The reference screen of the coverage hints (docs/pack.md).
+inline constexpr int pack_reference_width = 1920;
+inline constexpr int pack_reference_height = 1080;
+// Screen-area fraction at which a relative error (of the bounding-box diagonal) projects to one pixel
+// on the reference screen; 1 for errors too small to ever show.
+double screen_coverage_for_error(double error_relative);
+// The pack.json format version written by this build.
+inline constexpr int pack_format_version = 1;
+
+}  // namespace lodforge

@@ -1,0 +1,1604 @@
+// Building the prioritized marching-cube octree: distance field, leaf cubes, octree, shared vertices.
+//
+// Follows the 003 document (KAIST thesis, "LOD with a prioritized marching-cube octree", 2007, ch. 4-5):
+// leaf cubes from the signed distance to the nearest input point, sign from (v - p) . n_p (after Hoppe,
+// DeRose, Duchamp, McDonald, Stuetzle, "Surface Reconstruction from Unorganized Points", SIGGRAPH 1992),
+// edge vertices at the crossing ratio |d_a| / (|d_a| + |d_b|), null cubes not stored, the octree built
+// bottom-up with the edge-ratio extension so that every level's vertices are leaf-edge vertices. Where we
+// depart from the document (one field for all cubes instead of "the nearest point inside the cube",
+// direct corner evaluation instead of rules B-D) is in docs/mcoctree.md, "Decisions".
+#include "lodforge/error.h"
+#include "lodforge/mcoctree/mc_octree.h"
+#include "mcoctree/mc_face_samples.h"
+#include "mcoctree/mc_octree_internal.h"
+#include "mcoctree/mc_winding.h"
+#include "parallel_for.h"
+
+#include <nanoflann.hpp>
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <chrono>
+#include <cstdio>
+#include <ctime>
+#include <thread>
+
+namespace lodforge {
+
+std::size_t McOctree::leaf_count() const {
+    return static_cast<std::size_t>(
+        std::count_if(nodes.begin(), nodes.end(), [](const McNode& n) { return n.level == 0; }));
+}
+
+namespace {
+
+using mc::KeyMap;
+using mc::none;
+using mc::pack;
+
+struct PointCloud {
+    std::vector<Vec3f> points, normals;
+    // The normals the output's vertices interpolate, when they differ from the orientation (`normals`):
+    // with a mesh's faces sampled, the orientation is the pseudo-normals and the shading the input's
+    // (interpolated on the samples; mc_face_samples.h). Empty: `normals`.
+    std::vector<Vec3f> shading;
+    std::vector<Vec4f> colors;
+    // The positions again as arrays for the kd-tree: its build reads a coordinate chosen at run time, which
+    // Vec3f::operator[] would answer with two branches per read.
+    std::vector<std::array<float, 3>> coords;
+    // nanoflann adaptor
+    std::size_t kdtree_get_point_count() const { return coords.size(); }
+    float kdtree_get_pt(std::size_t i, std::size_t dim) const { return coords[i][dim]; }
+    template <class B> bool kdtree_get_bbox(B&) const { return false; }
+};
+using KdTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<float, PointCloud>, PointCloud, 3,
+                                                   std::uint32_t>;
+
+const char* const input_name = "mcoctree input";
+
+// nanoflann result set for the field's nearest point: the smallest squared distance, ties to the lowest
+// point index (D1), so the field does not depend on the search structure's visiting order. The search
+// radius handed to the tree sits a little above the best distance so that points at exactly that distance
+// still reach addPoint (the tree's cell bounds are rounded); `bound` is an optional upper limit.
+struct LowestNearest {
+    float best = INFINITY, bound = INFINITY;
+    std::uint32_t idx = UINT32_MAX;
+    std::size_t size() const { return idx != UINT32_MAX; }
+    bool full() const { return true; }
+    bool addPoint(float d2, std::uint32_t i) {
+        if (d2 < best || (d2 == best && i < idx)) best = d2, idx = i;
+        return true;
+    }
+    float worstDist() const { return std::min(bound, best * (1 + 1e-5f) + 1e-30f); }
+};
+
+// A vertex's normal from its faces is an orientation only where the faces agree: its length at least a
+// tenth of the faces' summed area normals. Where they fold back onto each other or disagree in winding
+// (the same triangle listed with both windings, the folds of a badly oriented scan) the direction left is
+// rounding noise or a mix with an arbitrary sign, and the nearest point's sign decides the side of every
+// lattice point in its Voronoi cell: for a point on the hull that cell reaches the grid's edge, and so did
+// a sheet of zero set (docs/mcoctree.md, pipeline step 1). On the clean scans (dragon, bunny, Lucy) every
+// vertex keeps more than 0.3.
+constexpr float kFoldedFaces = 0.1f;
+// Copies of a point are merged with the sum of their normals unless that is only rounding noise (the
+// dragon's seam copies whose sides nearly oppose keep their small sum: it measured better than the first
+// copy's own normal, docs/mcoctree.md D1).
+constexpr float kCancelled = 1e-5f;
+
+// `unit_normals` and `point_ids` (for sampling large faces) get, per vertex of the mesh, its point's unit
+// normal (zero when skipped) and the first vertex at its position; filled only when the mesh has faces.
+PointCloud points_of(const Mesh& mesh, std::size_t& skipped, unsigned threads, std::vector<Vec3f>& unit_normals,
+                     std::vector<std::uint32_t>& point_ids) {
+    if (mesh.positions.empty()) throw_error(Error::Kind::invalid, input_name, "no points");
+    for (std::size_t i = 0; i < mesh.positions.size(); ++i)
+        if (!is_finite(mesh.positions[i]))
+            throw_error(Error::Kind::invalid, input_name, "point " + std::to_string(i) + " is not finite");
+    // Faces are read for normals, samples and the winding number, with or without the file's normals.
+    for (std::size_t t = 0; t < mesh.indices.size(); ++t)
+        if (mesh.indices[t] >= mesh.positions.size())
+            throw_error(Error::Kind::invalid, input_name, "face " + std::to_string(t / 3) + " has an index out of range");
+    PointCloud pc;
+    std::vector<Vec3f> normals;
+    std::vector<float> magnitude;  // per point: the summed length of what its normal adds up
+    auto normals_of = [&] {
+        normals = mesh.normals;
+        if (normals.size() == mesh.positions.size()) {
+            magnitude.resize(normals.size());
+            for (std::size_t i = 0; i < normals.size(); ++i) magnitude[i] = length(normals[i]);
+        } else {
+            if (mesh.indices.empty())
+                throw_error(Error::Kind::invalid, input_name,
+                            "the points have no normals and there are no faces to compute them from");
+            normals.assign(mesh.positions.size(), Vec3f{});
+            magnitude.assign(mesh.positions.size(), 0.f);
+            for (std::size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
+                const std::uint32_t a = mesh.indices[t], b = mesh.indices[t + 1], c = mesh.indices[t + 2];
+                // cross product length = twice the area: area-weighted average of the adjacent face normals
+                const Vec3f n = cross(mesh.positions[b] - mesh.positions[a], mesh.positions[c] - mesh.positions[a]);
+                normals[a] = normals[a] + n, normals[b] = normals[b] + n, normals[c] = normals[c] + n;
+                const float m = length(n);
+                magnitude[a] += m, magnitude[b] += m, magnitude[c] += m;
+            }
+            for (std::size_t i = 0; i < normals.size(); ++i)
+                if (length(normals[i]) < kFoldedFaces * magnitude[i]) normals[i] = Vec3f{}, magnitude[i] = 0;
+        }
+        for (std::size_t i = 0; i < mesh.positions.size(); ++i)
+            if (!is_finite(normals[i]))
+                throw_error(Error::Kind::invalid, input_name, "normal of point " + std::to_string(i) + " is not finite");
+    };
+    // Points at exactly the same position are one surface point (D1): the first keeps the sum of their
+    // normals (for normals from faces, the normal of the welded vertex), the others are dropped. When the
+    // sum vanishes (opposite normals) the first point's own normal stays. Finding the copies needs the
+    // positions only, so the normals are made on a second thread meanwhile.
+    const bool colors = mesh.colors.size() == mesh.positions.size();
+    std::vector<std::uint8_t> merged(mesh.positions.size(), 0);  // 1: a later copy, 2: the first of copies
+    mc::KeyMap first;
+    std::vector<std::uint32_t> firsts;  // the first point of each group of copies, in order of discovery
+    auto key_of = [](const Vec3f& p) {
+        auto bits = [](float f) { return std::bit_cast<std::uint32_t>(f == 0 ? 0.f : f); };  // -0 == +0
+        const std::uint64_t key = (std::uint64_t(bits(p.x)) * 0x9E3779B97F4A7C15ULL) ^
+                                  (std::uint64_t(bits(p.y)) * 0xC2B2AE3D27D4EB4FULL) ^ (std::uint64_t(bits(p.z)) << 7);
+        return key & ~(std::uint64_t(1) << 63);  // never the map's empty key
+    };
+    auto find_copies = [&] {
+        first = mc::KeyMap(mesh.positions.size());
+        for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+            const Vec3f p = mesh.positions[i];
+            const std::uint32_t at = first.insert(key_of(p), static_cast<std::uint32_t>(i));
+            if (at == i || !(mesh.positions[at] == p)) continue;  // new, or another position with this hash
+            merged[i] = 1;
+            if (merged[at] < 2) merged[at] = 2, firsts.push_back(at);
+        }
+    };
+    detail::run_beside(threads, find_copies, normals_of);  // the longer one here (thread CPU = critical path)
+    if (!firsts.empty()) {
+        std::vector<std::uint32_t> group(mesh.positions.size(), none);
+        std::vector<Vec3f> sums;  // per group: the sum of its normals, in point order
+        std::vector<float> sum_magnitudes;
+        for (std::size_t g = 0; g < firsts.size(); ++g) {
+            group[firsts[g]] = static_cast<std::uint32_t>(g);
+            sums.push_back(normals[firsts[g]]);
+            sum_magnitudes.push_back(magnitude[firsts[g]]);
+        }
+        for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+            if (merged[i] != 1) continue;
+            const std::uint32_t g = group[first.find(key_of(mesh.positions[i]))];
+            sums[g] = sums[g] + normals[i];
+            sum_magnitudes[g] += magnitude[i];
+        }
+        for (std::size_t g = 0; g < firsts.size(); ++g)
+            if (length(sums[g]) > kCancelled * sum_magnitudes[g]) normals[firsts[g]] = sums[g];
+    }
+    pc.points.reserve(mesh.positions.size());
+    pc.normals.reserve(mesh.positions.size());
+    if (colors) pc.colors.reserve(mesh.positions.size());
+    for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+        if (merged[i] == 1) continue;
+        const Vec3f n = normals[i];
+        const float len = length(n);
+        // unreferenced vertex, degenerate faces only, or faces that cancel: no orientation, skip
+        if (!(len > 0)) {
+            ++skipped;
+            continue;
+        }
+        pc.points.push_back(mesh.positions[i]);
+        pc.normals.push_back(n * (1.f / len));
+        if (colors) pc.colors.push_back(mesh.colors[i]);
+    }
+    if (pc.points.empty())
+        throw_error(Error::Kind::invalid, input_name, "no point has a usable normal (all zero)");
+    if (!mesh.indices.empty()) {
+        unit_normals.assign(mesh.positions.size(), Vec3f{});
+        point_ids.resize(mesh.positions.size());
+        for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+            if (merged[i] == 1) continue;
+            point_ids[i] = static_cast<std::uint32_t>(i);
+            const float len = length(normals[i]);
+            if (len > 0) unit_normals[i] = normals[i] * (1.f / len);
+        }
+        for (std::size_t i = 0; i < mesh.positions.size(); ++i)
+            if (merged[i] == 1) point_ids[i] = first.find(key_of(mesh.positions[i])), unit_normals[i] = unit_normals[point_ids[i]];
+    }
+    pc.coords.reserve(pc.points.size());
+    for (const Vec3f& p : pc.points) pc.coords.push_back({p.x, p.y, p.z});
+    return pc;
+}
+
+unsigned thread_count(unsigned requested) {
+    const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
+    return requested ? requested : std::min(hw, 16u);
+}
+
+template <class F> void parallel_for(std::size_t n, unsigned threads, F&& f) {
+    detail::parallel_for(n, threads, 4096, std::forward<F>(f));
+}
+
+// Lattice points grouped in 4x4x4 blocks, numbered in order of first use. Where the lattice is small
+// enough (a root grid up to 2048 cubes, i.e. resolutions up to about 2000) a block is found by its
+// position: a directory of tiles of 8x8x8 blocks (one entry per tile), each tile an array of its 512
+// blocks' numbers, made when a block in it is first created (2 KB; only the tiles along the surface exist,
+// about 1 MB on the dragon at 256) — no hashing, and the few KB of the directory stay in the cache.
+// Elsewhere a block is found by one hash look-up behind a direct-mapped cache of recent blocks (16^3 of
+// them, by their low coordinate bits), since the flood, the closing and the nodes' samples mostly touch
+// blocks met just before.
+class Blocks {
+public:
+    // `lattice`: lattice points per axis (0 = unknown: hashing only).
+    explicit Blocks(std::size_t expected, std::uint32_t lattice = 0) : map_(expected) {
+        const std::size_t n = (std::size_t(lattice) + 3) / 4, t = (n + tile - 1) / tile;
+        if (lattice > 0 && t * t * t <= (std::size_t(1) << 19)) {  // a directory of 2 MB at most
+            side_ = n;
+            tiles_side_ = t;
+            directory_.assign(t * t * t, 0);
+        }
+    }
+    static std::uint32_t local(std::uint64_t key) {
+        return std::uint32_t((key & 3) | ((key >> 17) & 3) << 2 | ((key >> 34) & 3) << 4);
+    }
+    // Block of `key`; `created` is set when the block is new (numbered size() - 1).
+    std::uint32_t of(std::uint64_t key, bool& created) {
+        const std::uint64_t bk = block_key(key);
+        created = false;
+        if (std::uint32_t* d = tiled(bk)) {  // block + 1, 0 = none
+            if (*d == 0) *d = static_cast<std::uint32_t>(++count_), created = true;
+            return *d - 1;
+        }
+        Cached& c = cache_[slot(bk)];
+        if (c.key == bk) return c.block;
+        std::uint32_t b = map_.find(bk);
+        if (b == none) {
+            b = static_cast<std::uint32_t>(count_++);
+            map_.insert(bk, b);
+            created = true;
+        }
+        c = {bk, b};
+        return b;
+    }
+    std::size_t size() const { return count_; }
+    struct Cached {
+        std::uint64_t key = ~std::uint64_t(0);
+        std::uint32_t block = 0;
+    };
+    static constexpr std::size_t cache_size = 4096;
+    // Block of `key` or none, without creating one: safe on several threads at once while nobody creates
+    // blocks, each with its own cache (cache_size entries).
+    std::uint32_t find(std::uint64_t key, Cached* cache) const {
+        const std::uint64_t bk = block_key(key);
+        const std::size_t x = bk & mc::max_lattice, y = (bk >> 17) & mc::max_lattice, z = bk >> 34;
+        if (x < side_ && y < side_ && z < side_) {
+            const std::uint32_t t = directory_[tile_of(x, y, z)];
+            return t == 0 ? none : tiles_[in_tile(t, x, y, z)] - 1;  // 0 - 1 = none
+        }
+        Cached& c = cache[slot(bk)];
+        if (c.key == bk) return c.block;
+        const std::uint32_t b = map_.find(bk);
+        if (b != none) c = {bk, b};
+        return b;
+    }
+
+private:
+    static constexpr std::size_t tile = 8;  // blocks per axis of a tile
+    static std::uint64_t block_key(std::uint64_t key) {
+        return ((key & mc::max_lattice) >> 2) | (((key >> 17) & mc::max_lattice) >> 2) << 17 |
+               (((key >> 34) & mc::max_lattice) >> 2) << 34;
+    }
+    std::size_t tile_of(std::size_t x, std::size_t y, std::size_t z) const {
+        return x / tile + tiles_side_ * (y / tile + tiles_side_ * (z / tile));
+    }
+    static std::size_t in_tile(std::uint32_t t, std::size_t x, std::size_t y, std::size_t z) {
+        return std::size_t(t - 1) * tile * tile * tile + x % tile + tile * (y % tile + tile * (z % tile));
+    }
+    // The tiled entry of a block (its tile made if needed), or nullptr where the block is hashed (no
+    // tiles, or outside them).
+    std::uint32_t* tiled(std::uint64_t bk) {
+        const std::size_t x = bk & mc::max_lattice, y = (bk >> 17) & mc::max_lattice, z = bk >> 34;
+        if (x >= side_ || y >= side_ || z >= side_) return nullptr;  // side_ is 0 without tiles
+        std::uint32_t& t = directory_[tile_of(x, y, z)];
+        if (t == 0) {
+            tiles_.resize(tiles_.size() + tile * tile * tile, 0);
+            t = static_cast<std::uint32_t>(tiles_.size() / (tile * tile * tile));
+        }
+        return &tiles_[in_tile(t, x, y, z)];
+    }
+    static std::size_t slot(std::uint64_t bk) { return (bk & 15) | ((bk >> 17) & 15) << 4 | ((bk >> 34) & 15) << 8; }
+    std::size_t side_ = 0, tiles_side_ = 0;  // blocks and tiles per axis (0: no tiles)
+    std::vector<std::uint32_t> directory_;   // per tile: its number + 1 in tiles_ (0 = none yet)
+    std::vector<std::uint32_t> tiles_;       // per tile, per block: the block's number + 1 (0 = none)
+    KeyMap map_;
+    std::vector<Cached> cache_ = std::vector<Cached>(cache_size);
+    std::size_t count_ = 0;
+};
+
+// A set of lattice cubes (by their lower corner) as bits of blocks.
+class CubeSet {
+public:
+    CubeSet(std::size_t expected, std::uint32_t lattice) : blocks_(expected / 8 + 16, lattice) {}
+    // True when `key` was not in the set; it is now.
+    bool insert(std::uint64_t key) {
+        bool created;
+        const std::uint32_t b = blocks_.of(key, created);
+        if (created) bits_.push_back(0);
+        const std::uint64_t bit = std::uint64_t(1) << Blocks::local(key);
+        if (bits_[b] & bit) return false;
+        bits_[b] |= bit;
+        return true;
+    }
+
+    // Whether `key` is in the set, without inserting: safe on several threads at once while nobody
+    // inserts, each with its own cache of Blocks::cache_size entries.
+    bool contains(std::uint64_t key, Blocks::Cached* cache) const {
+        const std::uint32_t b = blocks_.find(key, cache);
+        return b != none && (bits_[b] >> Blocks::local(key)) & 1u;
+    }
+
+private:
+    Blocks blocks_;
+    std::vector<std::uint64_t> bits_;
+};
+
+// f(cube) for each of the (up to) four leaf cubes around the leaf edge from lattice point `a` along
+// `axis` (the cubes below the lattice's zero planes do not exist).
+template <class F> void for_cubes_around(std::uint64_t a, int axis, F&& f) {
+    const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+    for (int c = 0; c < 4; ++c) {
+        const int du = c & 1, dv = c >> 1;
+        if ((du && ((a >> (17 * u)) & mc::max_lattice) == 0) || (dv && ((a >> (17 * v)) & mc::max_lattice) == 0)) continue;
+        f(a - std::uint64_t(du) * (std::uint64_t(1) << (17 * u)) - std::uint64_t(dv) * (std::uint64_t(1) << (17 * v)));
+    }
+}
+
+// The signed distance field on the leaf lattice, evaluated on demand and kept, in a sparse grid of 4x4x4
+// blocks (Blocks), so the 8 corners of a cube or the samples of a node mostly cost one look-up together.
+class Field {
+public:
+    Field(const PointCloud& pc, const KdTree& tree, Vec3f origin, float h, std::uint32_t grid, unsigned threads)
+        : pc_(pc), tree_(tree), origin_(origin), h_(h), grid_(grid), threads_(threads) {}
+
+    // When set, the sign is the mesh's winding number instead of the nearest point's normal (D1).
+    void sign_by_winding(const mc::WindingTree* winding) { winding_ = winding; }
+
+    Vec3f world(std::uint64_t key) const {
+        const auto x = float(key & mc::max_lattice), y = float((key >> 17) & mc::max_lattice),
+                   z = float((key >> 34) & mc::max_lattice);
+        return {origin_.x + x * h_, origin_.y + y * h_, origin_.z + z * h_};
+    }
+    // Evaluates every key not known yet (duplicates allowed), in parallel; `keys` is left holding the
+    // evaluated keys. Duplicates and known keys are dropped through the blocks' bit masks (one look-up per
+    // key, mostly the cached last block), not by sorting, and the rest is read back block by block from
+    // those bits (blocks in order of first use), so each query's hint, the previous key's nearest point,
+    // is mostly within 3 lattice steps: the closing's keys otherwise alternate between levels (on the dragon
+    // at 256, 6 % fewer points pass a query's bound). The values do not depend on the order (D1).
+    void evaluate(std::vector<std::uint64_t>& keys) {
+        touched_.clear();
+        for (const std::uint64_t k : keys) {
+            const std::uint32_t b = block_of(k);
+            const std::uint64_t bit = std::uint64_t(1) << local(k);
+            if ((valid_[b] | pending_[b]) & bit) continue;
+            if (!pending_[b]) touched_.push_back(b);
+            pending_[b] |= bit;
+        }
+        // The values are written in place by the query threads (every block exists by now, and each value
+        // has one writer), then the blocks' bits are settled: no second look-up per key.
+        keys.clear();
+        at_.clear();
+        for (const std::uint32_t b : touched_) {
+            for (std::uint64_t bits = pending_[b]; bits; bits &= bits - 1) {
+                const auto l = static_cast<std::uint32_t>(std::countr_zero(bits));
+                keys.push_back(block_key_[b] | pack(l & 3, (l >> 2) & 3, l >> 4));
+                at_.push_back(b * 64 + l);
+            }
+        }
+        parallel_for(keys.size(), threads_, [&](std::size_t b, std::size_t e) {
+            std::uint32_t hint = none;  // the previous key's nearest point: the keys come block by block
+            for (std::size_t i = b; i < e; ++i) {
+                const std::uint32_t at = at_[i];
+                query(keys[i], dist_[at], nearest_[at], hint);
+                hint = nearest_[at];
+            }
+        });
+        for (const std::uint32_t b : touched_) {
+            valid_[b] |= pending_[b];
+            pending_[b] = 0;
+        }
+        evaluated_ += keys.size();
+    }
+    // Scatters every point to the lattice points closer than `radius` cube sizes (D1, "Field by
+    // scattering"): a lattice point that receives a point this way has its exact nearest point (every
+    // point within the radius reached it; ties to the lowest index, points are taken in index order);
+    // the others are left to the kd-tree. With two threads or more the lattice is cut at a block boundary
+    // near the points' median x: each half is scattered by every point into a block set of its own (so
+    // every lattice point is still written by one thread, in point order), and the halves' blocks are
+    // then added to the field's. The values are the same either way; only the blocks' numbering differs,
+    // which nothing reads.
+    void scatter(float radius, unsigned threads) {
+        const float r2 = (radius * h_) * (radius * h_);
+        if (threads < 2 || pc_.points.size() < 20000) {
+            struct Direct {  // the field's own blocks
+                Field& field;
+                std::vector<std::uint64_t>& pending;
+                std::vector<float>& dist;
+                std::vector<std::uint32_t>& nearest;
+                std::uint32_t block_of(std::uint64_t key) { return field.block_of(key); }
+            } direct{*this, pending_, dist_, nearest_};
+            scatter_slab(r2, radius, 0, grid_ + 1, direct);
+        } else {
+            std::vector<float> xs;
+            for (std::size_t i = 0; i < pc_.points.size(); i += 16) xs.push_back(pc_.points[i].x);
+            std::nth_element(xs.begin(), xs.begin() + std::ptrdiff_t(xs.size() / 2), xs.end());
+            const auto mid = static_cast<std::uint32_t>(std::clamp((xs[xs.size() / 2] - origin_.x) / h_, 0.f, float(grid_)));
+            const std::uint32_t cut = mid & ~3u;  // a block boundary: no block spans both halves
+            std::array<ScatterSlab, 2> slabs{ScatterSlab(grid_ + 1), ScatterSlab(grid_ + 1)};
+            detail::run_beside(
+                2, [&] { scatter_slab(r2, radius, 0, cut, slabs[0]); },
+                [&] { scatter_slab(r2, radius, cut, grid_ + 1, slabs[1]); });
+            for (const ScatterSlab& slab : slabs) {
+                for (std::size_t sb = 0; sb < slab.pending.size(); ++sb) {
+                    const std::uint64_t bits = slab.pending[sb];
+                    if (!bits) continue;
+                    const std::uint32_t b = block_of(slab.block_key[sb]);
+                    for (std::uint64_t left = bits; left; left &= left - 1) {
+                        const auto l = static_cast<std::uint32_t>(std::countr_zero(left));
+                        dist_[b * 64 + l] = slab.dist[sb * 64 + l];
+                        nearest_[b * 64 + l] = slab.nearest[sb * 64 + l];
+                    }
+                    pending_[b] |= bits;
+                }
+            }
+        }
+        // Each value has one writer. Signed by a winding number (a low-poly mesh, D1) a value costs a tree
+        // walk, so the blocks are shared out; otherwise the loop is too cheap to split.
+        auto finish_blocks = [&](std::size_t lo, std::size_t hi) {
+            for (std::size_t b = lo; b < hi; ++b)
+                for (std::uint64_t bits = pending_[b]; bits; bits &= bits - 1) {
+                    const auto l = static_cast<std::uint32_t>(std::countr_zero(bits));
+                    const std::size_t at = b * 64 + l;
+                    finish(block_key_[b] | pack(l & 3, (l >> 2) & 3, l >> 4), dist_[at], nearest_[at], dist_[at], nearest_[at]);
+                }
+        };
+        if (winding_) parallel_for(valid_.size(), threads_, finish_blocks);
+        else finish_blocks(0, valid_.size());
+        scattered_ = 0;
+        for (std::uint32_t b = 0; b < valid_.size(); ++b) {
+            scattered_ += std::size_t(std::popcount(pending_[b]));
+            valid_[b] |= pending_[b];
+            pending_[b] = 0;
+        }
+    }
+    // Blocks of one half of the lattice during a two-thread scatter.
+    struct ScatterSlab {
+        explicit ScatterSlab(std::uint32_t lattice) : blocks(1 << 12, lattice) {}
+        Blocks blocks;
+        std::vector<std::uint64_t> pending, block_key;
+        std::vector<float> dist;
+        std::vector<std::uint32_t> nearest;
+        std::uint32_t block_of(std::uint64_t key) {
+            bool created;
+            const std::uint32_t b = blocks.of(key, created);
+            if (created) {
+                pending.push_back(0);
+                block_key.push_back(key & ~pack(3, 3, 3));
+                dist.resize(dist.size() + 64);
+                nearest.resize(nearest.size() + 64);
+            }
+            return b;
+        }
+    };
+    // Every point's writes to the lattice points with x in [x_begin, x_end) within the radius, into `out`'s
+    // blocks (the field itself or a ScatterSlab: block_of, pending, dist, nearest).
+    template <class Out>
+    void scatter_slab(float r2, float radius, std::uint32_t x_begin, std::uint32_t x_end, Out& out) const {
+        const float inv = 1.f / h_;
+        // Per point, the squared offsets along each axis to the lattice lines around it (the same float
+        // operations as world() and distance2(), so a sum below is the query's squared distance exactly);
+        // the candidates reach one lattice line beyond the radius on each side, the exact test decides.
+        const int reach = static_cast<int>(std::ceil(radius)) + 1, width = 2 * reach + 1;  // lines c - reach .. c + reach
+        std::vector<float> t2(3 * std::size_t(width));
+        std::vector<std::uint32_t> first(3);
+        for (std::uint32_t i = 0; i < pc_.points.size(); ++i) {
+            const Vec3f p = pc_.points[i];
+            for (int a = 0; a < 3; ++a) {
+                const float rel = (p[a] - origin_[a]) * inv;
+                const int c = std::clamp(static_cast<int>(rel), 0, int(grid_));
+                const int lo = std::max(0, c - reach);
+                first[std::size_t(a)] = std::uint32_t(lo);
+                for (int k = 0; k < width; ++k) {
+                    const int x = lo + k;
+                    const float t = (origin_[a] + float(x) * h_) - p[a];
+                    const bool in = a == 0 ? x >= int(x_begin) && x < int(x_end) : x <= int(grid_);
+                    t2[std::size_t(a * width + k)] = in ? t * t : INFINITY;
+                }
+            }
+            const float* tx = t2.data();
+            const float* ty = tx + width;
+            const float* tz = ty + width;
+            for (int ix = 0; ix < width; ++ix) {
+                if (!(tx[ix] < r2)) continue;
+                for (int iy = 0; iy < width; ++iy) {
+                    const float dxy2 = tx[ix] + ty[iy];
+                    if (!(dxy2 < r2)) continue;
+                    const std::uint32_t x = first[0] + std::uint32_t(ix), y = first[1] + std::uint32_t(iy);
+                    std::uint32_t base = 0, b = 0, bz = none;
+                    for (int iz = 0; iz < width; ++iz) {
+                        const float d2 = dxy2 + tz[iz];
+                        if (!(d2 < r2)) continue;
+                        const std::uint32_t z = first[2] + std::uint32_t(iz);
+                        if ((z >> 2) != bz) bz = z >> 2, b = out.block_of(pack(x, y, z)), base = b * 64 + local(pack(x, y, 0));
+                        const std::uint32_t l = (z & 3) << 4;
+                        const std::uint64_t bit = std::uint64_t(1) << (l + (base & 63));
+                        const std::uint32_t at = base + l;
+                        if ((out.pending[b] & bit) && !(d2 < out.dist[at])) continue;
+                        out.pending[b] |= bit;
+                        out.dist[at] = d2;
+                        out.nearest[at] = i;
+                    }
+                }
+            }
+        }
+    }
+    std::size_t scattered() const { return scattered_; }
+    // Global index of the value at `key` (evaluated now when unknown).
+    std::uint32_t index(std::uint64_t key) {
+        const std::uint32_t b = block_of(key);
+        const std::uint32_t i = b * 64 + local(key);
+        if (!(valid_[b] & (std::uint64_t(1) << local(key)))) {
+            query(key, dist_[i], nearest_[i]);
+            valid_[b] |= std::uint64_t(1) << local(key);
+            ++evaluated_;
+        }
+        return i;
+    }
+    // Memo of the vertex on each leaf edge (none = not made yet), kept with the field's blocks:
+    // neighbouring cubes share edges and read their memos from the same block.
+    void clear_leaf_edge_vertices(unsigned threads) {
+        parallel_for(edge_vertex_.size(), threads, [&](std::size_t b, std::size_t e) {
+            std::fill(edge_vertex_.begin() + std::ptrdiff_t(b), edge_vertex_.begin() + std::ptrdiff_t(e), none);
+        });
+    }
+    // Where the memo of the leaf edge (key, axis) lives: an index for leaf_edge_vertex_at, stable while
+    // blocks are added; the peek form gives npos when the block does not exist (several threads at once).
+    static constexpr std::size_t npos = ~std::size_t(0);
+    std::size_t leaf_edge_slot(std::uint64_t key, int axis) {
+        return std::size_t(block_of(key)) * 192 + local(key) * 3 + std::size_t(axis);
+    }
+    std::size_t peek_leaf_edge_slot(std::uint64_t key, int axis, Blocks::Cached* cache) const {
+        const std::uint32_t b = blocks_.find(key, cache);
+        return b == none ? npos : std::size_t(b) * 192 + local(key) * 3 + std::size_t(axis);
+    }
+    std::uint32_t& leaf_edge_vertex_at(std::size_t slot) { return edge_vertex_[slot]; }
+    float dist(std::uint32_t i) const { return dist_[i]; }  // signed: < 0 inside
+    std::uint32_t nearest(std::uint32_t i) const { return nearest_[i]; }
+    bool inside(std::uint64_t key) { return dist_[index(key)] < 0; }
+    // Inside (1), outside (0) or not evaluated yet (-1), without evaluating: safe on several threads at once
+    // between evaluations, each with its own cache of Blocks::cache_size entries.
+    int peek_inside(std::uint64_t key, Blocks::Cached* cache) const {
+        const std::uint32_t b = blocks_.find(key, cache);
+        if (b == none || !(valid_[b] & (std::uint64_t(1) << local(key)))) return -1;
+        return dist_[b * 64 + local(key)] < 0;
+    }
+    // Index of the value at `key` if it is evaluated, else none (like peek_inside: several threads at once).
+    std::uint32_t peek_index(std::uint64_t key, Blocks::Cached* cache) const {
+        const std::uint32_t b = blocks_.find(key, cache);
+        if (b == none || !(valid_[b] & (std::uint64_t(1) << local(key)))) return none;
+        return b * 64 + local(key);
+    }
+    // The signed distance at `key` if it is evaluated (like peek_inside: several threads at once).
+    bool peek_dist(std::uint64_t key, Blocks::Cached* cache, float& d) const {
+        const std::uint32_t b = blocks_.find(key, cache);
+        if (b == none || !(valid_[b] & (std::uint64_t(1) << local(key)))) return false;
+        d = dist_[b * 64 + local(key)];
+        return true;
+    }
+    std::size_t size() const { return evaluated_; }
+    void reserve_blocks(std::size_t n) {
+        valid_.reserve(n);
+        pending_.reserve(n);
+        dist_.reserve(64 * n);
+        nearest_.reserve(64 * n);
+        edge_vertex_.reserve(192 * n);
+        block_key_.reserve(n);
+    }
+
+private:
+    static std::uint32_t local(std::uint64_t key) { return Blocks::local(key); }
+    std::uint32_t block_of(std::uint64_t key) {
+        bool created;
+        const std::uint32_t b = blocks_.of(key, created);
+        if (created) {
+            valid_.push_back(0);
+            pending_.push_back(0);
+            dist_.resize(dist_.size() + 64);
+            nearest_.resize(nearest_.size() + 64);
+            edge_vertex_.resize(edge_vertex_.size() + 192, none);
+            block_key_.push_back(key & ~pack(3, 3, 3));
+        }
+        return b;
+    }
+    // Squared distance as nanoflann's L2_Simple_Adaptor computes it (same order of operations).
+    float distance2(const float q[3], std::uint32_t i) const {
+        float r = 0;
+        for (int a = 0; a < 3; ++a) {
+            const float t = q[a] - pc_.points[i][a];
+            r += t * t;
+        }
+        return r;
+    }
+    // `hint` (a point near the key, or none) bounds the search: the kd-tree then prunes from its first
+    // leaf on. The bound sits strictly above the hint's distance, so every point at the minimum distance
+    // is still visited and the result is the field's nearest point (ties to the lowest index, D1).
+    void query(std::uint64_t key, float& d, std::uint32_t& nearest, std::uint32_t hint = none) const {
+        const Vec3f v = world(key);
+        const float q[3] = {v.x, v.y, v.z};
+        LowestNearest rs;
+        if (hint != none) rs.bound = distance2(q, hint) * (1 + 1e-4f) + 1e-30f;
+        tree_.findNeighbors(rs, q, nanoflann::SearchParams());
+        if (rs.idx == none) rs.idx = hint, rs.best = distance2(q, hint);  // nothing below the bound (rounding)
+        finish(key, rs.best, rs.idx, d, nearest);
+    }
+    // Signed distance from the squared distance to the nearest point.
+    void finish(std::uint64_t key, float d2, std::uint32_t idx, float& d, std::uint32_t& nearest) const {
+        const Vec3f diff = world(key) - pc_.points[idx];
+        const float dist = std::sqrt(d2);
+        // A corner on the tangent plane counts as outside, so every corner gets exactly one sign. So does
+        // every point of the grid's outer boundary: a zero set that would run out of the grid (a bridge
+        // across a scan hole, an open scan without band) closes inside it instead.
+        const auto x = std::uint32_t(key & mc::max_lattice), y = std::uint32_t((key >> 17) & mc::max_lattice),
+                   z = std::uint32_t((key >> 34) & mc::max_lattice);
+        const bool boundary = x == 0 || y == 0 || z == 0 || x >= grid_ || y >= grid_ || z >= grid_;
+        // beta 1.5: the Duck's and Spot's cage's trees at 128 are the same as at 2 (the usual choice), for
+        // two thirds of the time (at 1.0 the Duck's changed).
+        const bool inside = winding_ ? mc::winding_number(*winding_, world(key), 1.5) > 0.5 : dot(diff, pc_.normals[idx]) < 0;
+        d = !boundary && inside ? -dist : dist;
+        nearest = idx;
+    }
+    const mc::WindingTree* winding_ = nullptr;
+    const PointCloud& pc_;
+    const KdTree& tree_;
+    Vec3f origin_;
+    float h_;
+    std::uint32_t grid_;
+    unsigned threads_;
+    Blocks blocks_{1 << 12, grid_ + 1};
+    std::vector<std::uint64_t> valid_;    // per block: which of its 64 values are evaluated
+    std::vector<std::uint64_t> pending_;  // per block: queued in the current evaluate()
+    std::vector<float> dist_;
+    std::vector<std::uint32_t> nearest_;
+    std::vector<std::uint32_t> edge_vertex_;  // per block: 64 points x 3 axes
+    std::vector<std::uint64_t> block_key_;    // per block: its lowest lattice point
+    std::size_t scattered_ = 0;
+    std::vector<std::uint32_t> at_;  // evaluate(): each key's value index
+    std::vector<std::uint32_t> touched_;  // blocks with pending keys, in order of first use
+    std::size_t evaluated_ = 0;
+};
+
+// Wall, process CPU time (all threads) and the calling thread's CPU time per build stage, for
+// McOctreeBuildResult::stages.
+class StageClock {
+public:
+    explicit StageClock(std::vector<McBuildStage>& out) : out_(out) { reset(); }
+    void mark(const char* name) {
+        const auto w = std::chrono::steady_clock::now();
+        const std::clock_t c = std::clock();
+        const double t = thread_cpu();
+        out_.push_back({name, std::chrono::duration<double>(w - wall_).count(), double(c - cpu_) / CLOCKS_PER_SEC,
+                        t - thread_});
+        wall_ = w, cpu_ = c, thread_ = t;
+    }
+    void reset() { wall_ = std::chrono::steady_clock::now(), cpu_ = std::clock(), thread_ = thread_cpu(); }
+
+private:
+    static double thread_cpu() {
+        timespec ts{};
+        clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+        return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+    }
+    std::vector<McBuildStage>& out_;
+    std::chrono::steady_clock::time_point wall_;
+    std::clock_t cpu_;
+    double thread_ = 0;
+};
+
+std::uint64_t morton(std::uint32_t x, std::uint32_t y, std::uint32_t z) {
+    auto spread = [](std::uint64_t v) {
+        v &= 0x1fffff;
+        v = (v | v << 32) & 0x1f00000000ffffULL;
+        v = (v | v << 16) & 0x1f0000ff0000ffULL;
+        v = (v | v << 8) & 0x100f00f00f00f00fULL;
+        v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
+        v = (v | v << 2) & 0x1249249249249249ULL;
+        return v;
+    };
+    return spread(x) | (spread(y) << 1) | (spread(z) << 2);
+}
+
+struct TmpNode {
+    std::uint64_t code;  // Morton code at the node's level
+    std::uint32_t x, y, z;
+    std::uint32_t corners = 0;  // leaves: inside corners (bit c = corner c), known from the flood
+};
+
+double median_spacing(const PointCloud& pc, const KdTree& tree) {
+    const std::size_t n = pc.points.size();
+    if (n < 2) return 0;
+    const std::size_t samples = std::min<std::size_t>(n, 2000);
+    std::vector<float> d;
+    d.reserve(samples);
+    for (std::size_t s = 0; s < samples; ++s) {
+        const std::size_t i = s * n / samples;
+        const float q[3] = {pc.points[i].x, pc.points[i].y, pc.points[i].z};
+        std::uint32_t idx[2];
+        float d2[2];
+        nanoflann::KNNResultSet<float, std::uint32_t> rs(2);
+        rs.init(idx, d2);
+        tree.findNeighbors(rs, q, nanoflann::SearchParams());
+        if (rs.size() == 2) d.push_back(std::sqrt(d2[1]));
+    }
+    if (d.empty()) return 0;
+    std::nth_element(d.begin(), d.begin() + std::ptrdiff_t(d.size() / 2), d.end());
+    return d[d.size() / 2];
+}
+
+}  // namespace
+
+McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& params, Progress* progress) {
+    check_progress(progress, 0, "mcoctree: points");
+    if (!(params.band >= 0) || !std::isfinite(params.band))
+        throw_error(Error::Kind::argument, input_name, "band must be 0 (unlimited) or a positive number");
+    if (!(params.cube_size >= 0) || !std::isfinite(params.cube_size))
+        throw_error(Error::Kind::argument, input_name, "cube size must be a positive number");
+    if (params.cube_size == 0 && params.resolution == 0)
+        throw_error(Error::Kind::argument, input_name, "resolution must be at least 1");
+    std::size_t skipped = 0;
+    const unsigned threads = thread_count(params.threads);
+    std::vector<Vec3f> unit_normals;
+    std::vector<std::uint32_t> point_ids;
+    PointCloud pc = points_of(input, skipped, threads, unit_normals, point_ids);
+    Bounds bounds;
+    for (const Vec3f& p : pc.points) bounds.add(p);
+    const Vec3f ext = bounds.size();
+    const double longest = std::max({double(ext.x), double(ext.y), double(ext.z)});
+    // Coordinates whose extent overflows float (read_mesh's validation refuses them; this guards other
+    // callers): the cube count below would be NaN, and casting it was a wild grid size and a crash.
+    if (!std::isfinite(longest) || !std::isfinite(bounds.diagonal()))
+        throw_error(Error::Kind::invalid, input_name, "coordinates too large: the points' extent overflows float");
+    double h = params.cube_size > 0 ? params.cube_size : longest / double(params.resolution);
+    if (!(h > 0)) {
+        if (params.cube_size > 0) h = params.cube_size;
+        else throw_error(Error::Kind::invalid, input_name, "all points coincide: give --cube-size");
+    }
+    const int pad = static_cast<int>(std::ceil(params.band > 0 ? params.band : 2.0)) + 1;
+    std::uint32_t dims = 0;
+    for (int a = 0; a < 3; ++a) {
+        const double cubes = std::ceil(double(ext[a]) / h) + 2.0 * pad;
+        if (cubes > 65536.0)
+            throw_error(Error::Kind::argument, input_name,
+                        "resolution too high: " + std::to_string(static_cast<long long>(cubes)) +
+                            " cubes along an axis (at most 65536)");
+        dims = std::max(dims, static_cast<std::uint32_t>(cubes));
+    }
+    const std::uint32_t grid = std::max<std::uint32_t>(2, std::bit_ceil(dims));
+    const auto levels = static_cast<std::uint32_t>(std::countr_zero(grid));
+
+    McOctreeBuildResult result;
+    McOctree& tree = result.tree;
+    StageClock clock(result.stages);
+    tree.cube_size = static_cast<float>(h);
+    tree.levels = levels;
+    tree.input_points = pc.points.size();
+    mc::WindingTree winding;  // for a low-poly mesh's sign (below)
+    if (!input.indices.empty() && mc::has_long_face(input, static_cast<float>(2 * h))) {
+        // Faces longer than two cubes get points a cube apart (docs/mcoctree.md D1, "Faces larger than a
+        // cube"). The scans' faces are shorter at the resolutions their density allows, and there the
+        // vertices alone do as well: the dragon at 256 gets 9,932 samples, at 512 (beyond its density)
+        // 439,142, which with the pseudo-normals below halve its mean error for about 0.8 s.
+        mc::FaceSampleParams sp;
+        sp.min_edge = static_cast<float>(2 * h);
+        sp.spacing = static_cast<float>(h);
+        sp.max_samples = std::size_t(1) << 25;  // 32 M points: about 2 GB for the points and the field
+        // The vertices' pseudo-normals (below) are made beside the samples: both only read the mesh.
+        mc::FaceSamples fs;
+        std::vector<Vec3f> pseudo;
+        detail::run_beside(
+            threads, [&] { fs = mc::sample_large_faces(input, unit_normals, point_ids, sp); },
+            [&] { pseudo = mc::vertex_pseudo_normals(input, point_ids); });
+        result.face_samples = fs.points.size();
+        result.sampled_faces = fs.faces;
+        pc.points.insert(pc.points.end(), fs.points.begin(), fs.points.end());
+        if (!fs.points.empty()) {
+            // With samples the vertices must tell their side as exactly as the samples: their pseudo-normals
+            // (Spot's control cage: a sheet to the grid's edge with the area-weighted ones, Hausdorff 0.92
+            // of the diagonal, 0.041 with these). Their old normals stay for shading. Without samples (the
+            // scans' faces are short) nothing changes.
+            pc.shading = pc.normals;
+            pc.shading.insert(pc.shading.end(), fs.shading.begin(), fs.shading.end());
+            // Every vertex, not only the long faces' corners: the horse's sharp parts are short faces, and
+            // with pseudo-normals at the long faces' corners alone its surface still ran to the grid's edge
+            // at 64 and 128 (Hausdorff 4.4 and 2.6 % of the diagonal against 1.3 and 0.95).
+            std::size_t k = 0;  // pc's vertex points are the first vertices of their positions, in order, less the skipped
+            for (std::size_t i = 0; i < input.positions.size(); ++i) {
+                if (point_ids[i] != i || unit_normals[i] == Vec3f{}) continue;
+                if (!(pseudo[i] == Vec3f{})) pc.normals[k] = pseudo[i];
+                ++k;
+            }
+        }
+        pc.normals.insert(pc.normals.end(), fs.normals.begin(), fs.normals.end());
+        pc.colors.insert(pc.colors.end(), fs.colors.begin(), fs.colors.end());
+        // A mesh that is mostly its samples (a low-poly model) is signed by its winding number: folds, slivers
+        // and ridges thinner than a cube fool the nearest point's normal there (the Duck's bill, Spot's cage).
+        // Not an open sheet, where the winding number never passes 1/2 (frag_115 at 512 went from 0.35 to
+        // 4.9 % of the diagonal); nor a scan with some long faces: over 871 K faces it would cost seconds.
+        if (fs.points.size() > tree.input_points && input.triangle_count() <= 200000 && mc::openness(input) < 0.1)
+            winding = mc::build_winding_tree(input);
+        for (const Vec3f& p : fs.points) pc.coords.push_back({p.x, p.y, p.z});
+    }
+    tree.origin = bounds.min - Vec3f{1, 1, 1} * static_cast<float>(pad * h);
+
+    // Built once, below (nanoflann's constructor builds the index too unless told not to: main built it twice).
+    // Leaves of 32 points: the closing's coarse samples, 1-8 cube sizes from the surface, are answered about
+    // 5 % faster than with 16 and the tree is built 10 % faster; the flood's queries take as long (8, 4, 64
+    // and 128 are slower; docs/mcoctree.md, eighth round). The values do not depend on it (D1).
+    KdTree kd(3, pc, nanoflann::KDTreeSingleIndexAdaptorParams(32, nanoflann::KDTreeSingleIndexAdaptorFlags::SkipInitialBuildIndex));
+    Field field(pc, kd, tree.origin, static_cast<float>(h), grid, threads);
+    if (!winding.nodes.empty()) field.sign_by_winding(&winding);
+    const float cap = params.band > 0 ? static_cast<float>(params.band * h) : INFINITY;
+
+    // The kd-tree is built on a second thread while this one finds the seed cubes and scatters the field
+    // near the points (D1); an exception there (bad_alloc) is rethrown here once both have ended.
+    auto build_kd = [&] {
+        kd.buildIndex();
+        result.point_spacing = median_spacing(pc, kd);
+    };
+    // Leaf cubes: flood along the surface from the cubes holding points, across every face the surface
+    // crosses, so no crossing face of a kept cube leads to an unexamined one (that would be a hole).
+    CubeSet visited(pc.points.size() * 2, grid);
+    std::vector<std::uint64_t> frontier;
+    bool scattering = false;
+    auto seeds_and_scatter = [&] {
+        for (const Vec3f& p : pc.points) {
+            const Vec3f r = (p - tree.origin) * static_cast<float>(1.0 / h);
+            std::uint32_t lo[3], hi[3];
+            for (int a = 0; a < 3; ++a) {
+                const auto c = static_cast<std::uint32_t>(std::clamp(r[a], 0.f, float(grid - 1)));
+                // A point on a lattice plane (as the field places that plane: `world`) also seeds the cube
+                // on the plane's other side. The plane's lattice points are on the point's tangent plane
+                // when the input is flat along that axis, so they count as outside (D1), and only the cube
+                // on the normal's back side has a sign change: a flat, axis-aligned cloud got no seed.
+                // The rounding of `r` may put the point in either cube, hence both tests.
+                lo[a] = hi[a] = c;
+                if (c > 0 && field.world(pack(c, c, c))[a] >= p[a]) lo[a] = c - 1;
+                if (c + 1 < grid && field.world(pack(c + 1, c + 1, c + 1))[a] <= p[a]) hi[a] = c + 1;
+            }
+            for (std::uint32_t z = lo[2]; z <= hi[2]; ++z)
+                for (std::uint32_t y = lo[1]; y <= hi[1]; ++y)
+                    for (std::uint32_t x = lo[0]; x <= hi[0]; ++x)
+                        if (visited.insert(pack(x, y, z))) frontier.push_back(pack(x, y, z));
+        }
+        std::sort(frontier.begin(), frontier.end());  // lattice order: the queries' hints are near
+        // The field's blocks number about a quarter to a half of the seeds on the scans (dragon, frag_115 at
+        // 64-512): room for half of them at once saves the copies and page faults of growing 1.3 KB per block
+        // (only what is written becomes resident).
+        field.reserve_blocks(frontier.size() / 2 + 4096);
+        // Scattering costs per point and per lattice point within the radius, a query per lattice point:
+        // within 2 cube sizes (nearly every value the flood asks for) where there are at most 2 points per
+        // cube holding points, within 1 (about 60 % of them, in the kd-tree's build time) up to 8.
+        const double per_cube = double(pc.points.size()) / double(frontier.size());
+        float radius = per_cube <= 2 ? 2.f : per_cube <= 8 ? 1.f : 0.f;
+        if (params.field != McFieldMethod::automatic) radius = params.field == McFieldMethod::scatter ? 2.f : 0.f;
+        scattering = radius > 0;
+        if (scattering) field.scatter(radius, threads);
+    };
+    detail::run_beside(threads, seeds_and_scatter, build_kd);
+    check_progress(progress, 0.05, "mcoctree: distance field");
+    const bool density_warned = result.point_spacing > h;
+    if (density_warned) {
+        char buf[256];
+        std::snprintf(buf, sizeof buf,
+                      "the cube size %.4g is below the typical point spacing %.4g: the resolution exceeds the data "
+                      "density, expect holes and bumps (a resolution near %zu or lower fits the data)",
+                      h, result.point_spacing,
+                      static_cast<std::size_t>(std::max(1.0, std::floor(longest / result.point_spacing))));
+        tree.warnings.push_back(buf);
+    }
+    if (skipped > 0)
+        tree.warnings.push_back(std::to_string(skipped) + " of " + std::to_string(input.positions.size()) +
+                                " points have no usable normal (zero, no face uses them, or their faces cancel: the "
+                                "same triangle with both windings, or folded back) and were skipped");
+    clock.mark(scattering ? "points, kd-tree + scatter" : "points, kd-tree");
+    std::vector<TmpNode> leaves;
+    std::vector<std::uint64_t> corner_keys, next;
+    std::size_t round = 0;
+    // A frontier cube examined on the worker threads: its inside corners, the faces to flood across
+    // (bit f: face f = 2 * axis + side), and what became of it.
+    struct CubeState {
+        enum : std::uint8_t { none, far, kept, serial };
+        std::uint8_t inside, faces, state;
+    };
+    std::vector<CubeState> cube_states;
+    // The neighbour of cube `k` across face f (inside the grid: the caller checks).
+    auto face_neighbour = [](std::uint64_t k, int f) {
+        const int a = f / 2;
+        const std::uint64_t step = std::uint64_t(1) << (17 * a);
+        return f & 1 ? k + step : k - step;
+    };
+    // The faces of cube `k` with corner signs `inside` that the surface crosses towards a neighbour
+    // inside the grid for which `wanted(neighbour)` holds.
+    auto crossed_faces = [&](std::uint64_t k, std::uint32_t inside, auto&& wanted) {
+        std::uint8_t faces = 0;
+        for (int f = 0; f < 6; ++f) {
+            const int a = f / 2, side = f & 1;
+            std::uint32_t fm = 0, count = 0;
+            for (int c = 0; c < 8; ++c)
+                if (((c >> a) & 1) == side) fm |= ((inside >> c) & 1u) << count++;
+            if (fm == 0 || fm == 15) continue;  // the surface does not cross this face
+            const auto coord = std::int64_t((k >> (17 * a)) & mc::max_lattice) + (side ? 1 : -1);
+            if (coord < 0 || coord >= std::int64_t(grid)) continue;
+            if (wanted(face_neighbour(k, f))) faces = static_cast<std::uint8_t>(faces | 1u << f);
+        }
+        return faces;
+    };
+    auto run_flood = [&] {
+        while (!frontier.empty()) {
+            check_progress(progress, 0.05 + 0.4 * (1.0 - 1.0 / double(++round + 1)), "mcoctree: leaf cubes");
+            corner_keys.clear();
+            for (std::uint64_t k : frontier)
+                for (int c = 0; c < 8; ++c)
+                    corner_keys.push_back(k + pack(c & 1, (c >> 1) & 1, (c >> 2) & 1));
+            field.evaluate(corner_keys);
+            // Each cube's corner signs and the faces the surface crosses towards cubes not examined before
+            // this round, on every thread (reads only); then, in frontier order, the leaves and the new
+            // frontier. A neighbour examined before the round would not be inserted anyway, so leaving it
+            // out changes nothing but the work.
+            cube_states.resize(frontier.size());
+            parallel_for(frontier.size(), threads, [&](std::size_t b, std::size_t e) {
+                std::vector<Blocks::Cached> field_cache(Blocks::cache_size), visited_cache(Blocks::cache_size);
+                for (std::size_t i = b; i < e; ++i) {
+                    const std::uint64_t k = frontier[i];
+                    CubeState& st = cube_states[i];
+                    st = {0, 0, 0};
+                    float far = 0;
+                    for (int c = 0; c < 8; ++c) {
+                        float d = 0;
+                        if (!field.peek_dist(k + pack(c & 1, (c >> 1) & 1, (c >> 2) & 1), field_cache.data(), d)) {
+                            st.state = CubeState::serial;
+                            break;
+                        }
+                        if (d < 0) st.inside = static_cast<std::uint8_t>(st.inside | 1u << c);
+                        far = std::max(far, std::fabs(d));
+                    }
+                    if (st.state == CubeState::serial) continue;
+                    if (st.inside == 0 || st.inside == 255) continue;
+                    if (far > cap) {
+                        st.state = CubeState::far;
+                        continue;
+                    }
+                    st.state = CubeState::kept;
+                    st.faces = crossed_faces(k, st.inside, [&](std::uint64_t nk) {
+                        return !visited.contains(nk, visited_cache.data());
+                    });
+                }
+            });
+            next.clear();
+            for (std::size_t i = 0; i < frontier.size(); ++i) {
+                const std::uint64_t k = frontier[i];
+                CubeState st = cube_states[i];
+                if (st.state == CubeState::serial) {  // a corner not evaluated (none, in practice): as before
+                    st = {0, 0, CubeState::none};
+                    float far = 0;
+                    for (int c = 0; c < 8; ++c) {
+                        const float d = field.dist(field.index(k + pack(c & 1, (c >> 1) & 1, (c >> 2) & 1)));
+                        if (d < 0) st.inside = static_cast<std::uint8_t>(st.inside | 1u << c);
+                        far = std::max(far, std::fabs(d));
+                    }
+                    if (st.inside != 0 && st.inside != 255) {
+                        st.state = far > cap ? CubeState::far : CubeState::kept;
+                        st.faces = crossed_faces(k, st.inside, [](std::uint64_t) { return true; });
+                    }
+                }
+                if (st.state == CubeState::far) ++result.dropped_far_cubes;
+                if (st.state != CubeState::kept) continue;
+                const auto x = std::uint32_t(k & mc::max_lattice), y = std::uint32_t((k >> 17) & mc::max_lattice),
+                           z = std::uint32_t((k >> 34) & mc::max_lattice);
+                leaves.push_back({morton(x, y, z), x, y, z, st.inside});
+                for (int f = 0; f < 6; ++f) {
+                    if (!(st.faces & (1u << f))) continue;
+                    const std::uint64_t nk = face_neighbour(k, f);
+                    if (visited.insert(nk)) next.push_back(nk);
+                }
+            }
+            frontier.swap(next);
+        }
+    };
+    run_flood();
+    clock.mark("flood");
+    if (leaves.empty())
+        throw_error(Error::Kind::invalid, input_name,
+                    "no surface: the signed distance never changes sign at cube size " + std::to_string(h) +
+                        " (a part thinner than a cube has no inside lattice point: try a finer --resolution or "
+                        "--cube-size)");
+
+    // Closing the coarse levels before building anything (D2): a node's samples are the field at lattice
+    // points, whichever of its children exist, so the coarse crossings are known from the set of nodes
+    // alone. Each new leaf adds its missing ancestors; each new ancestor's crossings descend (D5) to leaf
+    // edges whose four cubes must be examined; the flood from those may add leaves, and so on. Only the new
+    // nodes of a round are looked at, so the octree and its vertices are then built once.
+    // present[l]: the coarse nodes of level l so far, each with the index of its sample mask in
+    // coarse_inside (the octree below takes the masks from there instead of assembling them again).
+    std::vector<KeyMap> present;
+    std::vector<std::uint32_t> coarse_inside;
+    {
+        const auto& subs = mc::sub_edges();
+        present.reserve(levels + 1);
+        for (std::uint32_t l = 0; l <= levels; ++l) present.emplace_back(l == 0 ? 16 : leaves.size() >> (2 * l));
+        std::vector<std::pair<std::uint32_t, std::uint64_t>> fresh;  // new coarse nodes: (level, packed x, y, z)
+        std::vector<std::uint32_t> fresh_inside;  // their sample masks
+        std::vector<std::uint8_t> fresh_edges;    // their crossings' leaf edges found in parallel (255: none)
+        std::vector<std::uint64_t> sample_keys;
+        auto coarse_sample = [](std::uint32_t l, std::uint64_t node, int s) {
+            const std::uint32_t half = 1u << (l - 1);
+            const auto x = std::uint32_t(node & mc::max_lattice), y = std::uint32_t((node >> 17) & mc::max_lattice),
+                       z = std::uint32_t((node >> 34) & mc::max_lattice);
+            return pack((x << l) + std::uint32_t(s % 3) * half, (y << l) + std::uint32_t((s / 3) % 3) * half,
+                        (z << l) + std::uint32_t(s / 9) * half);
+        };
+        std::size_t seen = 0;
+        while (seen < leaves.size()) {
+            fresh.clear();
+            sample_keys.clear();
+            for (; seen < leaves.size(); ++seen) {
+                const TmpNode& leaf = leaves[seen];
+                for (std::uint32_t l = 1; l <= levels; ++l) {
+                    const std::uint64_t key = pack(leaf.x >> l, leaf.y >> l, leaf.z >> l);
+                    if (present[l].find(key) != none) break;
+                    present[l].insert(key, static_cast<std::uint32_t>(coarse_inside.size() + fresh.size()));
+                    fresh.emplace_back(l, key);
+                    for (int sm = 0; sm < 27; ++sm)
+                        if (sm != 13) sample_keys.push_back(coarse_sample(l, key, sm));
+                }
+            }
+            field.evaluate(sample_keys);  // in parallel; the descents below mostly find known values
+            // Each fresh node's mask, and the leaf edge of each of its crossings (the descent of D5), on
+            // every thread from the values known now; a node whose descent meets a value not evaluated yet
+            // is left to the serial pass below, which also adds the cubes around the leaf edges to the flood
+            // in node order.
+            fresh_inside.resize(fresh.size());
+            fresh_edges.assign(fresh.size(), 0);
+            // One contiguous range of fresh nodes per thread (one range when there are few), each with its
+            // own list of leaf edges, read back in node order below.
+            const std::size_t ranges = fresh.size() < 1024 ? 1 : std::max(1u, threads);
+            auto range_begin = [&](std::size_t r) { return r * fresh.size() / ranges; };
+            std::vector<std::vector<std::uint64_t>> edges_of_range(ranges);
+            constexpr std::uint8_t serial = 255;
+            auto descend = [&](std::uint32_t l, std::uint64_t key, const mc::SubEdge& se, bool a_inside,
+                               auto&& inside_at) -> std::uint64_t {
+                std::uint64_t a = coarse_sample(l, key, se.a);
+                for (std::uint32_t k = se.length == 2 ? l : l - 1; k > 0; --k) {
+                    const std::uint64_t mid = a + (std::uint64_t(1u << (k - 1)) << (17 * se.axis));
+                    const int in = inside_at(mid);
+                    if (in < 0) return none;
+                    if (bool(in) == a_inside) a = mid;
+                }
+                return a;
+            };
+            detail::parallel_for(ranges, unsigned(ranges), 1, [&](std::size_t first_range, std::size_t end_range) {
+                for (std::size_t range = first_range; range < end_range; ++range) {
+                    std::vector<std::uint64_t>& out = edges_of_range[range];
+                    std::vector<Blocks::Cached> cache(Blocks::cache_size), visited_cache(Blocks::cache_size);
+                    auto peek = [&](std::uint64_t k) { return field.peek_inside(k, cache.data()); };
+                    for (std::size_t i = range_begin(range), e = range_begin(range + 1); i < e; ++i) {
+                        const auto [l, key] = fresh[i];
+                        std::uint32_t inside = 0;
+                        bool known = true;
+                        for (int sm = 0; sm < 27 && known; ++sm) {
+                            if (sm == 13) continue;
+                            const int in = peek(coarse_sample(l, key, sm));
+                            known = in >= 0;
+                            if (in > 0) inside |= 1u << sm;
+                        }
+                        const std::size_t start = out.size();
+                        for (int se_i = 0; se_i < mc::sub_edge_count && known; ++se_i) {
+                            const mc::SubEdge& se = subs[se_i];
+                            const bool a_inside = (inside >> se.a) & 1u;
+                            if (a_inside == bool((inside >> se.b) & 1u)) continue;
+                            const std::uint64_t a = descend(l, key, se, a_inside, peek);
+                            known = a != none;
+                            // A leaf edge whose four cubes were all examined before this round adds
+                            // nothing to the flood: left out here, so the serial pass below skips it.
+                            bool examined = known;
+                            if (examined)
+                                for_cubes_around(a, se.axis, [&](std::uint64_t cube) {
+                                    examined = examined && visited.contains(cube, visited_cache.data());
+                                });
+                            if (known && !examined) out.push_back(a | std::uint64_t(se.axis) << 51);
+                        }
+                        fresh_inside[i] = inside;
+                        if (known) {
+                            fresh_edges[i] = static_cast<std::uint8_t>(out.size() - start);
+                        } else {
+                            out.resize(start);
+                            fresh_edges[i] = serial;
+                        }
+                    }
+                }
+            });
+            frontier.clear();
+            auto flood_around = [&](std::uint64_t a, int axis) {
+                for_cubes_around(a, axis, [&](std::uint64_t cube) {
+                    if (visited.insert(cube)) frontier.push_back(cube);
+                });
+            };
+            for (std::size_t range = 0; range < ranges; ++range) {
+                const std::vector<std::uint64_t>& edges = edges_of_range[range];
+                std::size_t at = 0;
+                for (std::size_t i = range_begin(range), e = range_begin(range + 1); i < e; ++i) {
+                    const auto [l, key] = fresh[i];
+                    if (fresh_edges[i] != serial) {
+                        coarse_inside.push_back(fresh_inside[i]);
+                        for (const std::size_t stop = at + fresh_edges[i]; at < stop; ++at)
+                            flood_around(edges[at] & ((std::uint64_t(1) << 51) - 1), int(edges[at] >> 51));
+                        continue;
+                    }
+                    std::uint32_t inside = 0;  // as above, evaluating what is missing
+                    for (int sm = 0; sm < 27; ++sm)
+                        if (sm != 13 && field.inside(coarse_sample(l, key, sm))) inside |= 1u << sm;
+                    coarse_inside.push_back(inside);
+                    for (int se_i = 0; se_i < mc::sub_edge_count; ++se_i) {
+                        const mc::SubEdge& se = subs[se_i];
+                        const bool a_inside = (inside >> se.a) & 1u;
+                        if (a_inside == bool((inside >> se.b) & 1u)) continue;
+                        flood_around(descend(l, key, se, a_inside, [&](std::uint64_t k) { return int(field.inside(k)); }),
+                                     se.axis);
+                    }
+                }
+            }
+            run_flood();
+        }
+    }
+
+    clock.mark("closing");
+    // The other sign of a resolution above the data density: more surface cubes than points, so most
+    // cubes get their corner values from points outside them (the spacing test above misses it where the
+    // sampling is uneven, e.g. the dragon at 512). Not for a mesh that is mostly its face samples (more
+    // samples than vertices: a low-poly model): there the faces are the data, sampled a cube apart, and
+    // cubes outnumber points by the sampling's spacing (Spot's control cage at 64, 188 vertices and 15,782
+    // samples for 24,829 cubes, was warned about). A scan with a few long faces is still judged by its
+    // vertices (the bunny at 100).
+    if (leaves.size() > tree.input_points && !density_warned && result.face_samples <= tree.input_points) {
+        char buf[256];
+        std::snprintf(buf, sizeof buf,
+                      "%zu surface cubes for %zu points: the resolution exceeds the data density, expect holes and "
+                      "bumps (a resolution near %zu or lower fits the data)",
+                      leaves.size(), tree.input_points,
+                      static_cast<std::size_t>(std::max(1.0, std::floor(longest / h * std::sqrt(double(tree.input_points) /
+                                                                                                 double(leaves.size()))))));
+        tree.warnings.push_back(buf);
+    }
+    // An open input: the zero set runs on past the input's border (an open scan, or a hole too wide for
+    // the field to bridge) until the grid's boundary, which counts as outside (D2), closes it there, far
+    // from any point. Nothing is wrong with the tree, but a user sees a skirt or sheet that is not in the
+    // input: say where, and what ends the surface near the border instead.
+    if (params.band == 0) {
+        std::uint32_t sides = 0;  // bit 2 * axis + (1 for the high side)
+        for (const TmpNode& leaf : leaves) {
+            const std::uint32_t c[3] = {leaf.x, leaf.y, leaf.z};
+            for (int a = 0; a < 3; ++a) {
+                if (c[a] == 0) sides |= 1u << (2 * a);
+                if (c[a] + 1 >= grid) sides |= 2u << (2 * a);
+            }
+        }
+        if (sides) {
+            std::string where;
+            for (int f = 0; f < 6; ++f)
+                if (sides & (1u << f)) where += std::string(where.empty() ? "" : ", ") + (f & 1 ? "+" : "-") + "xyz"[f / 2];
+            result.reaches_grid_edge = true;
+            tree.warnings.push_back("the surface runs to the grid's edge (" + where +
+                                    "): the input is open there (an open scan, or a hole too wide to bridge), and the "
+                                    "surface is closed along the grid's boundary, far from the input; a band (--band "
+                                    "2.5) ends it near the input's border instead");
+        }
+    }
+
+    // The octree and its vertices. The closing above makes the first pass the only one; the check at the
+    // end of a pass stays as a safety net (it rebuilds only if a required leaf cube was never examined).
+    std::vector<std::vector<TmpNode>> lv;
+    std::vector<std::size_t> offset;
+    std::size_t node_count = 0;
+    std::vector<KeyMap> maps;
+    const bool colors = !pc.colors.empty();
+    std::vector<std::uint64_t> vertex_edge;  // leaf edge of each vertex: lattice key | axis << 51
+    // Same-level neighbours (faces and edges) for the seams: they depend on the octree only, and are
+    // made on a second thread while this one numbers the vertices. Top-down, from the parents'
+    // neighbours: the cube next to a child across a face or edge is a sibling or a child of the parent's
+    // neighbour in the directions that leave the parent (a face or an edge slot too), so no look-up in the
+    // level maps is needed. Made per parent: its 18 neighbours' child masks are read once for all its
+    // children (instead of once per child and slot), and a table of (child octant, slot) → (parent-level
+    // direction, target octant) replaces the per-slot coordinate arithmetic. A target outside the grid
+    // needs no test: the parent's neighbour in that direction is outside too, so it is `none` (by induction
+    // from the root, whose row is all `none`). Each level reads only its parents' rows, so it could split
+    // over threads; measured no faster than beside the numbering (docs/mcoctree.md, seventh round).
+    auto build_neighbours = [&] {
+        constexpr int ns = mc::neighbour_slots;
+        tree.neighbours.assign(node_count * ns, none);
+        int slot_of[27];
+        for (int& v : slot_of) v = -1;
+        for (int sl = 0; sl < ns; ++sl) {
+            const auto o = mc::neighbour_offset(sl);
+            slot_of[(o[0] + 1) + 3 * (o[1] + 1) + 9 * (o[2] + 1)] = sl;
+        }
+        struct Step {
+            std::uint8_t dir, octant;  // dir: the parent-level cube, (dx + 1) + 3 (dy + 1) + 9 (dz + 1); 13 = the parent
+        };
+        std::array<std::array<Step, ns>, 8> step{};
+        for (int oc = 0; oc < 8; ++oc)
+            for (int sl = 0; sl < ns; ++sl) {
+                const auto o = mc::neighbour_offset(sl);
+                int dir = 0, octant = 0;
+                for (int a = 0, scale = 1; a < 3; ++a, scale *= 3) {
+                    const int c = ((oc >> a) & 1) + o[a];  // -1..2 in the parent's child coordinates
+                    dir += (c < 0 ? 0 : c < 2 ? 1 : 2) * scale;
+                    octant |= (c & 1) << a;  // -1 & 1 = 1: the far child of the lower neighbour
+                }
+                step[std::size_t(oc)][std::size_t(sl)] = {static_cast<std::uint8_t>(dir), static_cast<std::uint8_t>(octant)};
+            }
+        static constexpr std::array<std::uint8_t, 256> below = [] {
+            std::array<std::uint8_t, 256> t{};
+            for (unsigned m = 0; m < 256; ++m) t[m] = static_cast<std::uint8_t>((m & 1) + t[m >> 1]);
+            return t;
+        }();
+        auto rows_of_children = [&](std::size_t b, std::size_t e) {
+            std::uint8_t mask[27];
+            std::uint32_t first[27];
+            for (std::size_t pi = b; pi < e; ++pi) {
+                const McNode& p = tree.nodes[pi];
+                const std::uint32_t* pnb = &tree.neighbours[pi * ns];
+                for (int d = 0; d < 27; ++d) {
+                    const std::uint32_t q = d == 13 ? std::uint32_t(pi) : slot_of[d] < 0 ? none : pnb[slot_of[d]];
+                    mask[d] = q == none ? 0 : tree.nodes[q].child_mask;
+                    first[d] = q == none ? 0 : tree.nodes[q].first_child;
+                }
+                for (std::uint32_t m = p.child_mask, ci = p.first_child; m; m &= m - 1, ++ci) {
+                    const auto& st = step[std::size_t(std::countr_zero(m))];
+                    std::uint32_t* row = &tree.neighbours[std::size_t(ci) * ns];
+                    for (int sl = 0; sl < ns; ++sl) {
+                        const unsigned d = st[std::size_t(sl)].dir, o = st[std::size_t(sl)].octant;
+                        if ((mask[d] >> o) & 1u) row[sl] = first[d] + below[mask[d] & ((1u << o) - 1u)];
+                    }
+                }
+            }
+        };
+        for (std::uint32_t l = levels; l >= 1; --l)  // parents of level l - 1, coarsest first
+            rows_of_children(offset[l], offset[l] + lv[l].size());
+    };
+    for (int pass = 0;; ++pass) {
+        tree.nodes.clear();
+        tree.vertex_ids.clear();
+        tree.positions.clear();
+        tree.normals.clear();
+        tree.colors.clear();
+        vertex_edge.clear();
+        result.leaf_cubes = leaves.size();
+
+        // Levels bottom-up: each level sorted by Morton code, so a node's children are contiguous.
+        check_progress(progress, 0.5, "mcoctree: octree");
+        lv.assign(levels + 1, {});
+        lv[0] = leaves;
+        std::sort(lv[0].begin(), lv[0].end(), [](const TmpNode& a, const TmpNode& b) { return a.code < b.code; });
+        for (std::uint32_t l = 1; l <= levels; ++l) {
+            for (const TmpNode& c : lv[l - 1]) {
+                const std::uint64_t code = c.code >> 3;
+                if (lv[l].empty() || lv[l].back().code != code) lv[l].push_back({code, c.x >> 1, c.y >> 1, c.z >> 1, 0});
+            }
+        }
+        offset.assign(levels + 2, 0);
+        for (std::uint32_t l = levels + 1; l-- > 0;) offset[l] = (l == levels ? 0 : offset[l + 1] + lv[l + 1].size());
+        node_count = offset[0] + lv[0].size();
+        tree.nodes.resize(node_count);
+        for (std::uint32_t l = 0; l <= levels; ++l) {
+            std::size_t child = 0;
+            for (std::size_t i = 0; i < lv[l].size(); ++i) {
+                McNode& n = tree.nodes[offset[l] + i];
+                n.x = lv[l][i].x, n.y = lv[l][i].y, n.z = lv[l][i].z;
+                n.level = static_cast<std::uint8_t>(l);
+                if (l == 0)
+                    for (int c = 0; c < 8; ++c)
+                        if (lv[0][i].corners & (1u << c)) n.inside |= 1u << mc::corner_sample(c);
+                if (l == 0) continue;
+                n.first_child = static_cast<std::uint32_t>(offset[l - 1] + child);
+                while (child < lv[l - 1].size() && (lv[l - 1][child].code >> 3) == lv[l][i].code) {
+                    n.child_mask = static_cast<std::uint8_t>(n.child_mask | (1u << (lv[l - 1][child].code & 7)));
+                    tree.nodes[offset[l - 1] + child].parent = static_cast<std::uint32_t>(offset[l] + i);
+                    ++child;
+                }
+            }
+        }
+
+        // Each level's nodes by position, for the priority numbering's corner neighbours only (D7), so they
+        // are made on this thread after the vertex numbering below, while the neighbour table still runs
+        // beside it, instead of here in the serial octree stage.
+        auto build_maps = [&] {
+            maps.clear();
+            maps.reserve(levels + 1);
+            for (std::uint32_t l = 0; l <= levels; ++l) {
+                maps.emplace_back(lv[l].size());
+                for (std::size_t ni = offset[l], e = offset[l] + lv[l].size(); ni < e; ++ni)
+                    maps[l].insert(pack(tree.nodes[ni].x, tree.nodes[ni].y, tree.nodes[ni].z), static_cast<std::uint32_t>(ni));
+            }
+        };
+
+        // Samples of every node (corners of leaves; the 3x3x3 lattice of internal nodes, body centre aside).
+        auto sample_key = [&](const McNode& n, int s) {
+            const int i = s % 3, j = (s / 3) % 3, k = s / 9;
+            if (n.level == 0) return pack(n.x + std::uint32_t(i / 2), n.y + std::uint32_t(j / 2), n.z + std::uint32_t(k / 2));
+            const std::uint32_t half = 1u << (n.level - 1);
+            return pack((n.x << n.level) + std::uint32_t(i) * half, (n.y << n.level) + std::uint32_t(j) * half,
+                        (n.z << n.level) + std::uint32_t(k) * half);
+        };
+        // Every sample of an internal node is a corner of one of its children (a sample in the middle of an
+        // axis is the upper corner of the lower child and the lower corner of the upper one), so the masks are
+        // assembled bottom-up from the children's corners; only samples no existing child has are evaluated.
+        struct Source {
+            std::uint8_t octant, corner;
+        };
+        std::array<std::vector<Source>, 27> sources;
+        for (int sm = 0; sm < 27; ++sm) {
+            const int c3[3] = {sm % 3, (sm / 3) % 3, sm / 9};
+            for (int o = 0; o < 8; ++o) {
+                int corner = 0;
+                bool ok = true;
+                for (int a = 0; a < 3; ++a) {
+                    const int half = (o >> a) & 1, rel = c3[a] - half;  // position inside the child, 0 or 1
+                    if (rel < 0 || rel > 1) ok = false;
+                    else corner |= rel << a;
+                }
+                if (ok) sources[std::size_t(sm)].push_back({static_cast<std::uint8_t>(o), static_cast<std::uint8_t>(corner)});
+            }
+        }
+        std::array<std::uint8_t, 256> below{};  // popcount of the child-mask bits below an octant
+        for (int m = 0; m < 256; ++m) below[std::size_t(m)] = static_cast<std::uint8_t>(std::popcount(unsigned(m)));
+        std::vector<std::pair<std::uint32_t, int>> missing;
+        for (std::uint32_t l = 1; l <= levels; ++l) {
+            check_progress(progress, 0.55 + 0.1 * double(l) / double(levels), "mcoctree: octree");
+            missing.clear();
+            corner_keys.clear();
+            for (std::size_t i = 0; i < lv[l].size(); ++i) {
+                const auto ni = static_cast<std::uint32_t>(offset[l] + i);
+                McNode& n = tree.nodes[ni];
+                const std::uint32_t closed = present.empty() ? none : present[l].find(pack(n.x, n.y, n.z));
+                if (closed != none) {  // every node but those of a safety-net pass (below)
+                    n.inside = coarse_inside[closed];
+                    continue;
+                }
+                for (int sm = 0; sm < 27; ++sm) {
+                    if (sm == 13) continue;
+                    bool found = false;
+                    for (const Source& src : sources[std::size_t(sm)]) {
+                        if (!(n.child_mask & (1u << src.octant))) continue;
+                        const McNode& ch = tree.nodes[n.first_child + below[n.child_mask & ((1u << src.octant) - 1)]];
+                        if ((ch.inside >> mc::corner_sample(src.corner)) & 1u) n.inside |= 1u << sm;
+                        found = true;
+                        break;
+                    }
+                    if (!found) {
+                        missing.emplace_back(ni, sm);
+                        corner_keys.push_back(sample_key(n, sm));
+                    }
+                }
+            }
+            field.evaluate(corner_keys);
+            for (const auto& [ni, sm] : missing)
+                if (field.inside(sample_key(tree.nodes[ni], sm))) tree.nodes[ni].inside |= 1u << sm;
+        }
+        std::vector<KeyMap>().swap(present);  // used once: the peak memory comes later
+        std::vector<std::uint32_t>().swap(coarse_inside);
+
+        // Vertices: the crossing of an edge at any level is the crossing of the one leaf edge the recursive
+        // edge-ratio extension lands on, so all levels share vertices by index.
+        clock.mark("octree, samples");
+        check_progress(progress, 0.65, "mcoctree: vertices");
+        const auto& subs = mc::sub_edges();
+        constexpr std::uint64_t key_bits = (std::uint64_t(1) << 51) - 1, unknown = ~std::uint64_t(0);
+        // Each node's crossings (both threads); its slots in vertex_ids follow from the last node to the first.
+        parallel_for(node_count, threads, [&](std::size_t b, std::size_t e) {
+            for (std::size_t ni = b; ni < e; ++ni) {
+                McNode& n = tree.nodes[ni];
+                const int count = n.level == 0 ? mc::full_edges : mc::sub_edge_count;
+                std::uint64_t crossings = 0;
+                for (int se = 0; se < count; ++se)
+                    if (((n.inside >> subs[se].a) & 1u) != ((n.inside >> subs[se].b) & 1u)) crossings |= std::uint64_t(1) << se;
+                n.crossings = crossings;
+            }
+        });
+        std::size_t slots = 0;
+        for (std::size_t ni = node_count; ni-- > 0;) {
+            tree.nodes[ni].first_vertex = static_cast<std::uint32_t>(slots);
+            slots += std::size_t(std::popcount(tree.nodes[ni].crossings));
+        }
+        // The leaf edge of each crossing, by the edge-ratio extension's descent (both threads, reading the
+        // field only; a value not evaluated yet leaves the slot to the serial pass).
+        std::vector<std::uint64_t> slot_edge(slots);
+        std::vector<std::size_t> memo_of(slots);  // each slot's leaf-edge memo (Field::npos: find it serially)
+        field.clear_leaf_edge_vertices(threads);
+        auto descend = [&](const McNode& n, const mc::SubEdge& se, auto&& inside_at) -> std::uint64_t {
+            std::uint64_t a = sample_key(n, se.a);
+            const int a_inside = inside_at(a);
+            if (a_inside < 0) return unknown;
+            for (std::uint32_t l = n.level == 0 ? 0 : (se.length == 2 ? n.level : n.level - 1u); l > 0; --l) {
+                const std::uint64_t mid = a + (std::uint64_t(1u << (l - 1)) << (17 * se.axis));
+                const int in = inside_at(mid);
+                if (in < 0) return unknown;
+                if (in == a_inside) a = mid;  // the crossing is in the upper half
+            }
+            return a | std::uint64_t(se.axis) << 51;
+        };
+        parallel_for(node_count, threads, [&](std::size_t b, std::size_t e) {
+            std::vector<Blocks::Cached> cache(Blocks::cache_size);
+            auto peek = [&](std::uint64_t k) { return field.peek_inside(k, cache.data()); };
+            for (std::size_t ni = b; ni < e; ++ni) {
+                const McNode& n = tree.nodes[ni];
+                for (std::uint64_t c = n.crossings, sl = n.first_vertex; c; c &= c - 1, ++sl) {
+                    const std::uint64_t ek = descend(n, subs[std::size_t(std::countr_zero(c))], peek);
+                    slot_edge[sl] = ek;
+                    memo_of[sl] = ek == unknown ? Field::npos : field.peek_leaf_edge_slot(ek & key_bits, int(ek >> 51), cache.data());
+                }
+            }
+        });
+        // Vertex ids in the order the leaves (Morton order), then the coarser nodes, first use them, so an
+        // extraction reads vertex data nearly sequentially (serial: the leaf-edge memo is shared; the
+        // neighbour table is made beside it).
+        detail::run_beside(threads, [&] {
+            tree.vertex_ids.assign(slots, none);
+            auto number = [&](std::size_t ni) {
+                const McNode& n = tree.nodes[ni];
+                std::size_t sl = n.first_vertex;
+                for (std::uint64_t c = n.crossings; c; c &= c - 1, ++sl) {
+                    std::uint64_t ek = slot_edge[sl];
+                    if (ek == unknown)
+                        slot_edge[sl] = ek = descend(n, subs[std::size_t(std::countr_zero(c))],
+                                                     [&](std::uint64_t k) { return int(field.inside(k)); });
+                    std::size_t memo = memo_of[sl];
+                    if (memo == Field::npos) memo = field.leaf_edge_slot(ek & key_bits, int(ek >> 51));
+                    std::uint32_t& v = field.leaf_edge_vertex_at(memo);
+                    if (v == none) {
+                        v = static_cast<std::uint32_t>(vertex_edge.size());
+                        vertex_edge.push_back(ek);
+                    }
+                    tree.vertex_ids[sl] = v;
+                }
+            };
+            for (std::size_t ni = offset[0]; ni < node_count; ++ni) number(ni);
+            for (std::size_t ni = 0; ni < offset[0]; ++ni) number(ni);
+            build_maps();  // after the numbering: the neighbour table beside it takes longer
+        }, build_neighbours);
+        // The stage's parallel loops do not report; a cancel is seen here, between them.
+        check_progress(progress, 0.72, "mcoctree: vertices");
+        // Position, normal and colour of each vertex (both threads; a value not evaluated yet, serially).
+        const std::size_t vcount = vertex_edge.size();
+        tree.positions.resize(vcount);
+        tree.normals.resize(vcount);
+        if (colors) tree.colors.resize(vcount);
+        auto make_vertex = [&](std::size_t v, std::uint32_t ia, std::uint32_t ib) {
+            const std::uint64_t a_key = vertex_edge[v] & key_bits;
+            const int axis = int(vertex_edge[v] >> 51);
+            const float da = std::fabs(field.dist(ia)), db = std::fabs(field.dist(ib));
+            // Strictly inside the edge (D3): a lattice point on the surface (value 0) would otherwise hold
+            // the vertices of all its crossing edges at one position, and their triangles have zero area.
+            // |d| is a distance to a point, so a clamp of 1/1024 moves a vertex only where a lattice point
+            // lies within about h/1000 of an input point (cubically rare: none on the scans).
+            constexpr float min_t = 1.f / 1024;
+            const float t = da + db > 0 ? std::clamp(da / (da + db), min_t, 1 - min_t) : 0.5f;
+            Vec3f p = field.world(a_key);
+            if (axis == 0) p.x += t * float(h);
+            else if (axis == 1) p.y += t * float(h);
+            else p.z += t * float(h);
+            const std::uint32_t pa = field.nearest(ia), pb = field.nearest(ib);
+            const std::vector<Vec3f>& shade = pc.shading.empty() ? pc.normals : pc.shading;
+            Vec3f nrm = shade[pa] * (1 - t) + shade[pb] * t;
+            const float len = length(nrm);
+            if (len > 1e-12f) {
+                nrm = nrm * (1.f / len);
+            } else {  // opposite normals (a thin sheet): point from the inside corner to the outside one
+                nrm = Vec3f{};
+                const float dir = field.dist(ia) < 0 ? 1.f : -1.f;
+                if (axis == 0) nrm.x = dir;
+                else if (axis == 1) nrm.y = dir;
+                else nrm.z = dir;
+            }
+            tree.positions[v] = p;
+            tree.normals[v] = nrm;
+            if (colors) {
+                const Vec4f ca = pc.colors[pa], cb = pc.colors[pb];
+                tree.colors[v] = {ca.x + (cb.x - ca.x) * t, ca.y + (cb.y - ca.y) * t, ca.z + (cb.z - ca.z) * t,
+                                  ca.w + (cb.w - ca.w) * t};
+            }
+        };
+        auto b_of = [&](std::size_t v) {
+            return (vertex_edge[v] & key_bits) + (std::uint64_t(1) << (17 * int(vertex_edge[v] >> 51)));
+        };
+        std::vector<std::uint8_t> later(vcount, 0);
+        parallel_for(vcount, threads, [&](std::size_t b, std::size_t e) {
+            std::vector<Blocks::Cached> cache(Blocks::cache_size);
+            for (std::size_t v = b; v < e; ++v) {
+                const std::uint32_t ia = field.peek_index(vertex_edge[v] & key_bits, cache.data());
+                const std::uint32_t ib = field.peek_index(b_of(v), cache.data());
+                if (ia == none || ib == none) later[v] = 1;
+                else make_vertex(v, ia, ib);
+            }
+        });
+        for (std::size_t v = 0; v < vcount; ++v)
+            if (later[v]) {
+                const std::uint32_t ia = field.index(vertex_edge[v] & key_bits);
+                make_vertex(v, ia, field.index(b_of(v)));
+            }
+        clock.mark("vertices, neighbours");
+        frontier.clear();
+        // Cubes around a vertex's leaf edge not examined yet (none, in practice; both threads), then
+        // added in the order the vertices were first met from the last node to the first.
+        std::atomic<bool> unexamined{false};
+        parallel_for(vertex_edge.size(), threads, [&](std::size_t b, std::size_t e) {
+            std::vector<Blocks::Cached> cache(Blocks::cache_size);
+            bool found = false;
+            for (std::size_t v = b; v < e && !found; ++v)
+                for_cubes_around(vertex_edge[v] & ((std::uint64_t(1) << 51) - 1), int(vertex_edge[v] >> 51),
+                                 [&](std::uint64_t cube) { found = found || !visited.contains(cube, cache.data()); });
+            if (found) unexamined = true;
+        });
+        if (unexamined) {
+            std::vector<std::uint8_t> met(vertex_edge.size(), 0);
+            for (const std::uint32_t v : tree.vertex_ids) {
+                if (met[v]) continue;
+                met[v] = 1;
+                const std::uint64_t ek = vertex_edge[v];
+                for_cubes_around(ek & ((std::uint64_t(1) << 51) - 1), int(ek >> 51), [&](std::uint64_t cube) {
+                    if (visited.insert(cube)) frontier.push_back(cube);
+                });
+            }
+        }
+        if (frontier.empty() || pass >= 32) break;
+        // With a band, the cube diagonal to a kept one across a crossing edge may sit behind a dropped
+        // face neighbour and was never examined; it is usually dropped too, and then the tree stands.
+        const std::size_t kept = leaves.size();
+        run_flood();
+        if (leaves.size() == kept) break;
+    }
+
+    clock.mark("check");
+    // Area-difference metric: area of the children's triangles minus the node's own.
+    check_progress(progress, 0.8, "mcoctree: priorities");
+    std::vector<float> area(node_count, 0.f);
+    const mc::CaseTable& table = mc::case_table();
+    parallel_for(node_count, threads, [&](std::size_t b, std::size_t e) {
+        for (std::size_t ni = b; ni < e; ++ni) {
+            const McNode& n = tree.nodes[ni];
+            const std::uint32_t c = mc::corner_config(n.inside);
+            double sum = 0;
+            for (int t = 0; t < table.count[c]; ++t) {
+                const Vec3f p0 = tree.positions[mc::sub_edge_vertex(tree, n, table.edges[c][3 * t])];
+                const Vec3f p1 = tree.positions[mc::sub_edge_vertex(tree, n, table.edges[c][3 * t + 1])];
+                const Vec3f p2 = tree.positions[mc::sub_edge_vertex(tree, n, table.edges[c][3 * t + 2])];
+                sum += 0.5 * double(length(cross(p1 - p0, p2 - p0)));
+            }
+            area[ni] = static_cast<float>(sum);
+        }
+    });
+    tree.metric.assign(node_count, 0.f);
+    for (std::size_t ni = 0; ni < offset[0]; ++ni) {
+        const McNode& n = tree.nodes[ni];
+        double children = 0;
+        for (int k = 0, c = 0; k < 8; ++k)
+            if (n.child_mask & (1u << k)) children += area[n.first_child + std::uint32_t(c++)];
+        tree.metric[ni] = static_cast<float>(children - area[ni]);
+    }
+    clock.mark("area metric");
+    result.hidden_cuts = mc::number_mc_octree(tree, maps, threads, progress);
+    clock.mark("numbering");
+
+    result.field_samples = field.size() + field.scattered();
+    result.scattered_samples = field.scattered();
+    result.warnings = tree.warnings;
+    check_progress(progress, 1, "mcoctree: done");
+    return result;
+}
+
+}  // namespace lodforge

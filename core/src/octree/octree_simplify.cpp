@@ -1,0 +1,564 @@
+// Node simplification of the out-of-core octree.
+//
+// Shaffie (UTM report 2006, §3.5, the "000" document): a modified vertex clustering (Rossignac &
+// Borrel 1993) in which the node's boundary edges are preserved and fanned to one representative
+// vertex, every interior triangle dropped; the representative minimises the node's generalized quadric
+// (Garland & Heckbert, "Simplifying Surfaces with Color and Texture using Quadric Error Metrics",
+// IEEE Visualization 1998; stored in Hoppe's 1999 form, quadric.h), solved with a pseudo-inverse around
+// the mean vertex as in Lindstrom's OoCS (SIGGRAPH 2000) and clamped into the node cell. Boundary edges
+// are found with a hash map of edge use counts (the document's list search is its §5.4 bottleneck).
+#include "union_find.h"
+#include "lodforge/octree/octree_simplify.h"
+
+#include "octree/ooc_internal.h"
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numeric>
+
+namespace lodforge {
+namespace {
+
+constexpr std::uint32_t kNone = ~0u;
+constexpr std::uint64_t kClusterKey = std::uint64_t{1} << 62;  // with kRepresentativeKey: a cluster vertex
+
+double weight_or_floor(float w) { return std::max(static_cast<double>(w), 1e-4); }
+
+double texcoord_weight(const SimplifyWeights& w) {
+    return weight_or_floor(!w.texcoord_sets.empty() ? w.texcoord_sets[0] : w.texcoord);
+}
+
+
+// Chains of free edges (input border edges, and chords earlier nodes made of them) are shared with no
+// other node, so a node may replace each maximal chain by two chords through its middle vertex between its
+// pinned ends: vertices
+// that touch a kept edge that is not free, or where free edges branch. Every vertex keeps as many
+// kept uses coming in as going out, so the fan stays paired; a loop of free edges with no pinned vertex
+// (a hole wholly inside the node) is dropped, which fills the hole. docs/octree.md, "Coarse levels".
+std::vector<std::pair<std::uint32_t, std::uint32_t>> collapse_free_chains(
+    const NodeMesh& input, const std::vector<std::pair<std::uint32_t, std::uint32_t>>& kept, const NodeBorderEdges& border,
+    float cell_size, NodeSimplifyStats& st) {
+    const std::size_t n = input.vertex_count();
+    auto is_free = [&](std::uint32_t a, std::uint32_t b) {
+        const std::uint64_t ka = input.keys[a], kb = input.keys[b];
+        // Cluster vertices belong to one node's clustered component: edges between them (the border of
+        // a clustered component that had holes) are shared with nobody.
+        constexpr std::uint64_t cluster = kRepresentativeKey | kClusterKey;
+        if ((ka & cluster) == cluster && (kb & cluster) == cluster) return true;
+        if ((ka | kb) & kRepresentativeKey) return false;
+        if (border.input) {
+            const std::uint64_t x = ka & 0xffffffffu, y = kb & 0xffffffffu;
+            const std::uint64_t key = x < y ? (x << 32 | y) : (y << 32 | x);
+            if (std::binary_search(border.input->begin(), border.input->end(), key)) return true;
+        }
+        if (border.chords) {
+            const std::pair<std::uint64_t, std::uint64_t> c{std::min(ka, kb), std::max(ka, kb)};
+            if (std::binary_search(border.chords->begin(), border.chords->end(), c)) return true;
+        }
+        return false;
+    };
+    std::vector<std::uint8_t> free(kept.size());
+    std::vector<std::uint32_t> free_in(n, 0), free_out(n, 0);
+    std::vector<std::uint8_t> pinned(n, 0);
+    std::vector<std::uint32_t> next_use(n, kNone);  // the free use leaving an unpinned vertex
+    bool any = false;
+    for (std::size_t i = 0; i < kept.size(); ++i) {
+        const auto [a, b] = kept[i];
+        free[i] = is_free(a, b);
+        if (!free[i]) {
+            pinned[a] = pinned[b] = 1;
+            continue;
+        }
+        any = true;
+        ++free_out[a];
+        ++free_in[b];
+        next_use[a] = static_cast<std::uint32_t>(i);
+    }
+    if (!any) return kept;
+    for (std::size_t v = 0; v < n; ++v)
+        if (free_in[v] != 1 || free_out[v] != 1) pinned[v] = 1;
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> out;
+    out.reserve(kept.size());
+    std::vector<std::uint8_t> done(kept.size(), 0);
+    std::vector<std::uint32_t> chain;  // vertices of the chain being walked
+    auto chord = [&](std::uint32_t a, std::uint32_t b) {
+        out.emplace_back(a, b);
+        st.chords.emplace_back(std::min(input.keys[a], input.keys[b]), std::max(input.keys[a], input.keys[b]));
+    };
+    auto walk = [&](std::size_t i) {
+        chain.assign({kept[i].first});
+        done[i] = 1;
+        std::uint32_t end = kept[i].second;
+        while (!pinned[end] && end != chain.front()) {
+            chain.push_back(end);
+            const std::uint32_t u = next_use[end];
+            done[u] = 1;
+            end = kept[u].second;
+        }
+        return end;
+    };
+    for (std::size_t i = 0; i < kept.size(); ++i) {
+        if (!free[i]) {
+            out.push_back(kept[i]);
+            continue;
+        }
+        if (done[i] || !pinned[kept[i].first]) continue;
+        // From a pinned vertex to the next: a→m→d through the chain's middle vertex m. The chord ends
+        // are never joined by an input edge elsewhere (m's triangles all lie in this node), so a chord
+        // cannot merge with a real edge in a coarser node.
+        const std::uint32_t end = walk(i);
+        const std::uint32_t a = chain.front();
+        if (a == end) continue;  // a loop through one pinned vertex: in and out vanish together
+        if (chain.size() <= 2) {
+            for (std::size_t k = 0; k < chain.size(); ++k) out.emplace_back(chain[k], k + 1 < chain.size() ? chain[k + 1] : end);
+            continue;
+        }
+        const std::uint32_t m = chain[chain.size() / 2];
+        chord(a, m);
+        chord(m, end);
+    }
+    // Loops of unpinned vertices: a hole or an outer border wholly inside the node. Small ones (within
+    // one 16th of the cell) are dropped, which fills the hole; larger ones keep kLoopVertices vertices.
+    constexpr std::size_t kLoopVertices = 8;
+    for (std::size_t i = 0; i < kept.size(); ++i) {
+        if (!free[i] || done[i]) continue;
+        walk(i);
+        float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+        for (std::uint32_t v : chain)
+            for (int a = 0; a < 3; ++a) {
+                lo[a] = std::min(lo[a], input.vertex(v)[a]);
+                hi[a] = std::max(hi[a], input.vertex(v)[a]);
+            }
+        const float extent = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
+        if (extent < cell_size / 16) continue;
+        if (chain.size() <= kLoopVertices) {
+            for (std::size_t k = 0; k < chain.size(); ++k) out.emplace_back(chain[k], chain[(k + 1) % chain.size()]);
+            continue;
+        }
+        for (std::size_t k = 0; k < kLoopVertices; ++k)
+            chord(chain[k * chain.size() / kLoopVertices], chain[(k + 1) % kLoopVertices * chain.size() / kLoopVertices]);
+    }
+    st.free_uses_removed += kept.size() - out.size();
+    std::sort(st.chords.begin(), st.chords.end());
+    st.chords.erase(std::unique(st.chords.begin(), st.chords.end()), st.chords.end());
+    return out;
+}
+
+// Components with no boundary edge in the node touch no other node, so they may be simplified freely
+// as long as they stay closed: vertex clustering on a grid of kClosedGrid³ cells over the node cell,
+// keeping the clustered triangles as an oriented chain (opposite copies of one cell triple cancel, the
+// rest are kept with their multiplicity). The boundary of the clustered chain is the clustered boundary
+// of the component, zero, so no border edge appears; a component inside one grid cell vanishes.
+constexpr int kClosedGrid = 16;
+
+void cluster_closed(const NodeMesh& input, const std::vector<std::uint32_t>& closed, const float cell_min[3],
+                    float cell_size, std::uint64_t representative_key, NodeMesh& out, NodeSimplifyStats& st) {
+    const std::size_t f = input.layout.floats();
+    const std::uint32_t* idx = input.indices.data();
+    auto cell_of = [&](std::uint32_t v) {
+        const float* p = input.vertex(v);
+        std::uint32_t c = 0;
+        for (int a = 2; a >= 0; --a) {
+            const double x = (static_cast<double>(p[a]) - cell_min[a]) / cell_size * kClosedGrid;
+            const int i = std::clamp(static_cast<int>(std::floor(x)), 0, kClosedGrid - 1);
+            c = c * kClosedGrid + static_cast<std::uint32_t>(i);
+        }
+        return c;
+    };
+    std::vector<std::uint32_t> cell(input.vertex_count(), kNone);
+    for (std::uint32_t t : closed)
+        for (int k = 0; k < 3; ++k)
+            if (cell[idx[3 * t + k]] == kNone) cell[idx[3 * t + k]] = cell_of(idx[3 * t + k]);
+    // Net multiplicity per cell triple: +1 for a triangle in the triple's sorted cyclic order, −1 reversed.
+    ooc::FlatMap slot(closed.size() + 16);
+    std::vector<std::array<std::uint32_t, 3>> triples;
+    std::vector<std::int32_t> net;
+    for (std::uint32_t t : closed) {
+        std::array<std::uint32_t, 3> c{cell[idx[3 * t]], cell[idx[3 * t + 1]], cell[idx[3 * t + 2]]};
+        if (c[0] == c[1] || c[1] == c[2] || c[0] == c[2]) continue;
+        // Rotate the smallest first; then the order of the other two is the orientation.
+        while (c[0] > c[1] || c[0] > c[2]) std::rotate(c.begin(), c.begin() + 1, c.end());
+        const bool forward = c[1] < c[2];
+        if (!forward) std::swap(c[1], c[2]);
+        const std::uint64_t key = std::uint64_t{c[0]} << 24 | std::uint64_t{c[1]} << 12 | c[2];
+        bool inserted = false;
+        const std::uint32_t s = slot.find_or_insert(key, static_cast<std::uint32_t>(triples.size()), inserted);
+        if (inserted) {
+            triples.push_back(c);
+            net.push_back(0);
+        }
+        net[s] += forward ? 1 : -1;
+    }
+    // Cluster vertices: the mean record of the component vertices in the cell.
+    std::vector<double> sum;
+    std::vector<std::uint32_t> count;
+    ooc::FlatMap vertex_of(64);
+    auto cluster_vertex = [&](std::uint32_t c) {
+        bool inserted = false;
+        const std::uint32_t v = vertex_of.find_or_insert(c, static_cast<std::uint32_t>(count.size()), inserted);
+        if (inserted) {
+            count.push_back(0);
+            sum.resize(sum.size() + f, 0.0);
+        }
+        return v;
+    };
+    for (std::size_t s = 0; s < triples.size(); ++s)
+        if (net[s] != 0)
+            for (std::uint32_t c : triples[s]) cluster_vertex(c);
+    std::vector<std::uint8_t> seen(input.vertex_count(), 0);
+    for (std::uint32_t t : closed)
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t v = idx[3 * t + k];
+            if (seen[v]) continue;
+            seen[v] = 1;
+            const std::uint32_t* c = vertex_of.find(cell[v]);
+            if (!c) continue;
+            ++count[*c];
+            for (std::size_t j = 0; j < f; ++j) sum[*c * f + j] += input.vertex(v)[j];
+        }
+    const std::uint32_t base = static_cast<std::uint32_t>(out.keys.size());
+    std::vector<std::uint32_t> cell_id(count.size());
+    vertex_of.for_each([&](std::uint64_t c, std::uint32_t v) { cell_id[v] = static_cast<std::uint32_t>(c); });
+    for (std::size_t v = 0; v < count.size(); ++v) {
+        std::vector<float> r(f);
+        for (std::size_t j = 0; j < f; ++j) r[j] = static_cast<float>(sum[v * f + j] / std::max<std::uint32_t>(count[v], 1));
+        if (input.layout.normals) {
+            float* nrm = &r[input.layout.normal_offset()];
+            const float len = std::sqrt(nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]);
+            if (len > 0)
+                for (int a = 0; a < 3; ++a) nrm[a] /= len;
+        }
+        out.keys.push_back(representative_key | kClusterKey | (std::uint64_t{cell_id[v]} + 1) << 32);
+        out.vertices.insert(out.vertices.end(), r.begin(), r.end());
+    }
+    std::size_t emitted = 0;
+    for (std::size_t s = 0; s < triples.size(); ++s) {
+        if (net[s] == 0) continue;
+        const std::array<std::uint32_t, 3>& c = triples[s];
+        const std::uint32_t a = base + *vertex_of.find(c[0]), b = base + *vertex_of.find(c[1]), d = base + *vertex_of.find(c[2]);
+        for (std::int32_t m = 0; m < std::abs(net[s]); ++m) {
+            out.indices.push_back(a);
+            out.indices.push_back(net[s] > 0 ? b : d);
+            out.indices.push_back(net[s] > 0 ? d : b);
+            ++emitted;
+        }
+    }
+    st.closed_triangles_in += closed.size();
+    st.closed_triangles_out += emitted;
+    // Every cluster vertex lies within one grid cell of the surface it stands for.
+    st.error = std::max(st.error, static_cast<double>(cell_size) / kClosedGrid);
+}
+
+}  // namespace
+
+NodeMesh merge_node_meshes(const std::vector<const NodeMesh*>& parts) {
+    NodeMesh out;
+    std::size_t vertices = 0, indices = 0;
+    for (const NodeMesh* p : parts) {
+        vertices += p->vertex_count();
+        indices += p->indices.size();
+        out.layout = p->layout;
+    }
+    const std::size_t f = out.layout.floats();
+    out.keys.reserve(vertices);
+    out.vertices.reserve(vertices * f);
+    out.indices.reserve(indices);
+    ooc::FlatMap map(vertices);
+    std::vector<std::uint32_t> local;
+    for (const NodeMesh* p : parts) {
+        local.resize(p->vertex_count());
+        for (std::size_t i = 0; i < p->vertex_count(); ++i) {
+            bool inserted = false;
+            std::uint32_t& v = map.find_or_insert(p->keys[i], static_cast<std::uint32_t>(out.keys.size()), inserted);
+            if (inserted) {
+                out.keys.push_back(p->keys[i]);
+                out.vertices.insert(out.vertices.end(), p->vertex(i), p->vertex(i) + f);
+            }
+            local[i] = v;
+        }
+        for (std::uint32_t i : p->indices) out.indices.push_back(local[i]);
+    }
+    return out;
+}
+
+Vec3d QuadricFrame::to_frame(const float* v) const {
+    return {(v[0] - origin.x) / scale, (v[1] - origin.y) / scale, (v[2] - origin.z) / scale};
+}
+
+void QuadricFrame::attributes(const float* v, double* out) const {
+    std::size_t j = 0, k = 3;
+    if (layout.normals) {
+        const double w = weight_or_floor(weights.normal);
+        for (int a = 0; a < 3; ++a) out[j++] = w * v[k++];
+    }
+    if (layout.colors) {
+        const double w = weight_or_floor(weights.color);
+        for (int a = 0; a < 4; ++a) out[j++] = w * v[k++];
+    }
+    if (layout.texcoords) {
+        const double w = texcoord_weight(weights);
+        for (int a = 0; a < 2; ++a) out[j++] = w * v[k++];
+    }
+}
+
+void NodeQuadric::add_triangle(const QuadricFrame& frame, const float* v0, const float* v1, const float* v2) {
+    const Vec3d p0 = frame.to_frame(v0), p1 = frame.to_frame(v1), p2 = frame.to_frame(v2);
+    for (const Vec3d& p : {p0, p1, p2}) {
+        position_sum[0] += p.x;
+        position_sum[1] += p.y;
+        position_sum[2] += p.z;
+    }
+    position_count += 3;
+    const Vec3d e1{p1.x - p0.x, p1.y - p0.y, p1.z - p0.z}, e2{p2.x - p0.x, p2.y - p0.y, p2.z - p0.z};
+    Vec3d n{e1.y * e2.z - e1.z * e2.y, e1.z * e2.x - e1.x * e2.z, e1.x * e2.y - e1.y * e2.x};
+    const double len = std::sqrt(n.x * n.x + n.y * n.y + n.z * n.z);
+    if (!(len > 0)) return;
+    n = {n.x / len, n.y / len, n.z / len};
+    const double area = 0.5 * len;
+    geometry += Quadric::from_plane(n, -(n.x * p0.x + n.y * p0.y + n.z * p0.z), area);
+    const std::size_t m = frame.attribute_dimension();
+    if (m == 0) return;
+    double s[3][9];
+    frame.attributes(v0, s[0]);
+    frame.attributes(v1, s[1]);
+    frame.attributes(v2, s[2]);
+    attributes.add_triangle(0, p0, p1, p2, s[0], s[1], s[2], area);
+}
+
+void NodeQuadric::add(const NodeQuadric& other) {
+    geometry += other.geometry;
+    attributes.add(0, other.attributes, 0);
+    for (int a = 0; a < 3; ++a) position_sum[a] += other.position_sum[a];
+    position_count += other.position_count;
+}
+
+Vec3d clamped_minimizer(const Quadric& q, Vec3d around, const double lo[3], const double hi[3]) {
+    const Vec3d v = minimizer_near(q, around);
+    return {std::clamp(v.x, lo[0], hi[0]), std::clamp(v.y, lo[1], hi[1]), std::clamp(v.z, lo[2], hi[2])};
+}
+
+NodeMesh simplify_node(const NodeMesh& input, const NodeQuadric& quadric, const QuadricFrame& frame,
+                       const float cell_min[3], float cell_size, std::uint64_t representative_key,
+                       const std::vector<std::uint64_t>* odd_non_manifold_edges, NodeSimplifyStats* stats,
+                       const NodeBorderEdges* border) {
+    NodeSimplifyStats local_stats;
+    NodeSimplifyStats& st = stats ? *stats : local_stats;
+    st = {};
+    const std::size_t n = input.vertex_count();
+    const std::size_t tris = input.triangle_count();
+    const std::uint32_t* idx = input.indices.data();
+    auto degenerate = [&](std::size_t t) {
+        const std::uint32_t a = idx[3 * t], b = idx[3 * t + 1], c = idx[3 * t + 2];
+        return a == b || b == c || a == c;
+    };
+    auto edge_key = [](std::uint32_t a, std::uint32_t b) {
+        return a < b ? (std::uint64_t{a} << 32 | b) : (std::uint64_t{b} << 32 | a);
+    };
+    // Per undirected edge: its net use (uses min→max minus max→min). A degenerate triangle (a, a, b)
+    // would add a→b and b→a, which changes no net use, so dropping it changes no boundary.
+    ooc::FlatMap slot_of(tris * 3 / 2 + 16);
+    std::vector<std::int32_t> net;
+    std::vector<std::uint32_t> edge_of(3 * tris, ~0u);  // corner k of triangle t → edge t.k..t.k+1
+    for (std::size_t t = 0; t < tris; ++t) {
+        if (degenerate(t)) {
+            ++st.degenerate_dropped;
+            continue;
+        }
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t a = idx[3 * t + k], b = idx[3 * t + (k + 1) % 3];
+            bool inserted = false;
+            const std::uint32_t e = slot_of.find_or_insert(edge_key(a, b), static_cast<std::uint32_t>(net.size()), inserted);
+            if (inserted) net.push_back(0);
+            net[e] += a < b ? 1 : -1;
+            edge_of[3 * t + k] = e;
+        }
+    }
+    // Edges of the input used an odd number ≥ 3 of times keep every use in every node.
+    std::vector<std::uint8_t> keep_all(net.size(), 0);
+    if (odd_non_manifold_edges && !odd_non_manifold_edges->empty())
+        for (std::size_t t = 0; t < tris; ++t) {
+            if (degenerate(t)) continue;
+            for (int k = 0; k < 3; ++k) {
+                const std::uint64_t ka = input.keys[idx[3 * t + k]], kb = input.keys[idx[3 * t + (k + 1) % 3]];
+                if ((ka | kb) & kRepresentativeKey) continue;
+                // The low 32 bits are the input vertex (above them: a wedge UV hash, octree_build.cpp).
+                const std::uint64_t a = ka & 0xffffffffu, b = kb & 0xffffffffu;
+                const std::uint64_t key = a < b ? (a << 32 | b) : (b << 32 | a);
+                if (std::binary_search(odd_non_manifold_edges->begin(), odd_non_manifold_edges->end(), key))
+                    keep_all[edge_of[3 * t + k]] = 1;
+            }
+        }
+    // Copies of each edge still to emit in its net direction.
+    std::vector<std::int32_t> remaining(net.size());
+    for (std::size_t e = 0; e < net.size(); ++e) remaining[e] = net[e] < 0 ? -net[e] : net[e];
+    auto boundary = [&](std::size_t corner) {
+        const std::uint32_t e = edge_of[corner];
+        return keep_all[e] || net[e] != 0;
+    };
+    // Emits the use a→b (corner `corner`) when it belongs to the node's kept boundary.
+    auto take = [&](std::size_t corner, std::uint32_t a, std::uint32_t b) {
+        const std::uint32_t e = edge_of[corner];
+        if (keep_all[e]) return true;
+        if (remaining[e] == 0 || (net[e] > 0) != (a < b)) return false;
+        --remaining[e];
+        return true;
+    };
+
+    // Components (union-find over the triangles' vertices) and whether each has a boundary edge.
+    detail::UnionFind sets(n);
+    for (std::size_t t = 0; t < tris; ++t) {
+        if (degenerate(t)) continue;
+        sets.unite(idx[3 * t], idx[3 * t + 1]);
+        sets.unite(idx[3 * t], idx[3 * t + 2]);
+    }
+    std::vector<std::uint8_t> has_boundary(n, 0);
+    bool any_boundary = false;
+    for (std::size_t t = 0; t < tris; ++t) {
+        if (degenerate(t)) continue;
+        for (int k = 0; k < 3; ++k)
+            if (boundary(3 * t + k)) {
+                has_boundary[sets.find(idx[3 * t])] = 1;
+                any_boundary = true;
+            }
+    }
+
+    NodeMesh out;
+    out.layout = input.layout;
+    const std::size_t f = input.layout.floats();
+    std::vector<std::uint32_t> remap(n, kNone);
+    auto use = [&](std::uint32_t v) {
+        if (remap[v] == kNone) {
+            remap[v] = static_cast<std::uint32_t>(out.keys.size());
+            out.keys.push_back(input.keys[v]);
+            out.vertices.insert(out.vertices.end(), input.vertex(v), input.vertex(v) + f);
+        }
+        return remap[v];
+    };
+
+    std::vector<float> rep;
+    if (any_boundary) {
+        // The representative: pseudo-inverse solve of the generalized quadric (attributes eliminated)
+        // around the mean vertex, so flat and straight nodes stay put instead of flying off.
+        Quadric total = quadric.geometry;
+        if (frame.attribute_dimension() > 0) total += quadric.attributes.eliminated(0);
+        const double k = quadric.position_count > 0 ? 1.0 / quadric.position_count : 0.0;
+        Eigen::Vector3d xbar(quadric.position_sum[0] * k, quadric.position_sum[1] * k, quadric.position_sum[2] * k);
+        if (quadric.position_count == 0) {
+            xbar.setZero();
+            for (std::size_t v = 0; v < n; ++v) {
+                const Vec3d p = frame.to_frame(input.vertex(v));
+                xbar += Eigen::Vector3d(p.x, p.y, p.z);
+            }
+            if (n) xbar /= static_cast<double>(n);
+        }
+        double lo[3], hi[3];
+        const double o[3] = {frame.origin.x, frame.origin.y, frame.origin.z};
+        for (int a = 0; a < 3; ++a) {
+            lo[a] = (cell_min[a] - o[a]) / frame.scale;
+            hi[a] = lo[a] + cell_size / frame.scale;
+        }
+        const Vec3d p = clamped_minimizer(total, {xbar(0), xbar(1), xbar(2)}, lo, hi);
+        rep.assign(f, 0.f);
+        rep[0] = static_cast<float>(p.x * frame.scale + frame.origin.x);
+        rep[1] = static_cast<float>(p.y * frame.scale + frame.origin.y);
+        rep[2] = static_cast<float>(p.z * frame.scale + frame.origin.z);
+        const std::size_t m = frame.attribute_dimension();
+        if (m > 0) {
+            double s[9] = {};
+            if (!quadric.attributes.optimal_attributes(0, p, s)) {
+                // No area to weigh by (all triangles degenerate): the plain mean of the node's vertices.
+                double tmp[9];
+                for (std::size_t v = 0; v < n; ++v) {
+                    frame.attributes(input.vertex(v), tmp);
+                    for (std::size_t j = 0; j < m; ++j) s[j] += tmp[j] / static_cast<double>(std::max<std::size_t>(n, 1));
+                }
+            }
+            std::size_t j = 0, r = 3;
+            if (frame.layout.normals) {
+                const double w = weight_or_floor(frame.weights.normal);
+                double nx = s[j] / w, ny = s[j + 1] / w, nz = s[j + 2] / w;
+                const double len = std::sqrt(nx * nx + ny * ny + nz * nz);
+                if (len > 0) {
+                    nx /= len;
+                    ny /= len;
+                    nz /= len;
+                } else {
+                    nx = 0;
+                    ny = 0;
+                    nz = 1;
+                }
+                rep[r++] = static_cast<float>(nx);
+                rep[r++] = static_cast<float>(ny);
+                rep[r++] = static_cast<float>(nz);
+                j += 3;
+            }
+            if (frame.layout.colors) {
+                const double w = weight_or_floor(frame.weights.color);
+                for (int a = 0; a < 4; ++a) rep[r++] = static_cast<float>(std::clamp(s[j++] / w, 0.0, 1.0));
+            }
+            if (frame.layout.texcoords) {
+                const double w = texcoord_weight(frame.weights);
+                for (int a = 0; a < 2; ++a) rep[r++] = static_cast<float>(s[j++] / w);
+            }
+        }
+        if (quadric.geometry.weight > 0)
+            st.error = std::sqrt(quadric.geometry.evaluate(p) / quadric.geometry.weight) * frame.scale;
+    }
+    // Kept boundary uses (a→b, in triangle order) and the closed components' triangles.
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> kept;
+    std::vector<std::uint32_t> closed;
+    std::vector<std::uint8_t> counted(n, 0);
+    for (std::size_t t = 0; t < tris; ++t) {
+        if (degenerate(t)) continue;
+        const std::uint32_t root = sets.find(idx[3 * t]);
+        if (!has_boundary[root]) {
+            if (!counted[root]) {
+                counted[root] = 1;
+                ++st.closed_components;
+            }
+            closed.push_back(static_cast<std::uint32_t>(t));
+            continue;
+        }
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t a = idx[3 * t + k], b = idx[3 * t + (k + 1) % 3];
+            if (take(3 * t + k, a, b)) kept.emplace_back(a, b);
+        }
+    }
+    if (border && (border->input || border->chords) && !kept.empty()) {
+        kept = collapse_free_chains(input, kept, *border, cell_size, st);
+        // A component whose boundary was all free and is gone (an almost closed model whose holes were
+        // filled) shares nothing with another node: it is clustered like a closed one.
+        std::vector<std::uint8_t> alive(n, 0);
+        for (const auto& [a, b] : kept) alive[sets.find(a)] = 1;
+        for (std::size_t t = 0; t < tris; ++t) {
+            if (degenerate(t)) continue;
+            const std::uint32_t root = sets.find(idx[3 * t]);
+            if (has_boundary[root] && !alive[root]) closed.push_back(static_cast<std::uint32_t>(t));
+        }
+    }
+
+    // The fan: the edge keeps its direction in its source triangle, so the fan faces the same way.
+    if (!kept.empty()) {
+        out.keys.push_back(representative_key);
+        out.vertices.insert(out.vertices.end(), rep.begin(), rep.end());
+        for (const auto& [a, b] : kept) {
+            out.indices.push_back(use(a));
+            out.indices.push_back(use(b));
+            out.indices.push_back(0);
+        }
+    }
+    st.boundary_edges = kept.size();
+    if (!closed.empty()) {
+        if (border && border->cluster_closed)
+            cluster_closed(input, closed, cell_min, cell_size, representative_key, out, st);
+        else
+            for (std::uint32_t t : closed)
+                for (int k = 0; k < 3; ++k) out.indices.push_back(use(idx[3 * t + k]));
+    }
+    return out;
+}
+
+}  // namespace lodforge

@@ -1,0 +1,293 @@
+// LOD pack export: levels from a preset, measured, written as a .glb (MSFT_lod), per-level PLY/OBJ and
+// a pack.json manifest (docs/pack.md).
+//
+// The levels follow the method's own papers (lod_chain.cpp: Garland & Heckbert 1998 / Hoppe 1999
+// generalized quadrics; simplify_cluster.cpp: Rossignac & Borrel 1993, Lindstrom 2000); each is
+// measured against the input with the Metro distance (Cignoni et al. 1998). The screen-coverage hint
+// projects the measured error onto a reference screen (docs/pack.md, "Screen coverage"), as the
+// MSFT_lod extension's MSFT_screencoverage extras expect one switching threshold per level.
+//
+// Atomicity: everything is written into a staging directory beside output_dir (same file system) and
+// renamed into place at the end; the staging directory, and any parent directory this call created,
+// are removed on failure or cancellation.
+#include "lodforge/pack/lod_pack.h"
+
+#include "lodforge/io/atomic_file.h"
+#include "lodforge/error.h"
+#include "lodforge/io/file_hash.h"
+#include "lodforge/io/gltf_writer.h"
+#include "lodforge/simplify/lod_chain.h"
+#include "lodforge/pack/lod_methods.h"
+#include "lodforge/io/mesh_io.h"
+#include "lodforge/simplify/simplify_cluster.h"
+#include "lodforge/io/staged_directory.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <numbers>
+#include <optional>
+#include <system_error>
+
+namespace lodforge {
+namespace fs = std::filesystem;
+
+double screen_coverage_for_error(double error_relative) {
+    if (!(error_relative > 0)) return 1.0;
+    // Bounding sphere of radius r = diagonal / 2 projected to rho pixels: the error then spans
+    // error_relative * 2 * rho pixels, one pixel at rho = 1 / (2 e); the sphere covers pi rho^2 of W H.
+    const double rho = 1.0 / (2.0 * error_relative);
+    const double coverage = std::numbers::pi * rho * rho / (double(pack_reference_width) * pack_reference_height);
+    return std::min(1.0, coverage);
+}
+
+namespace {
+
+using nlohmann::ordered_json;
+
+// The levels of a pack, however they were made. `chain` is set when the levels share one vertex
+// buffer (edge collapse); `meshes` then point into it.
+struct BuiltLevels {
+    std::optional<LodChainResult> chain;
+    std::vector<Mesh> own;                  // levels 1.. when not from a chain
+    std::vector<const Mesh*> meshes;        // every level, level 0 = the input
+    std::vector<DistanceResult> distance;   // per level (level 0: zero)
+    std::vector<std::uint8_t> lodstrips_file;  // the encoded .lodstrips (lodstrips method)
+    std::vector<std::string> notes;         // what a method could not meet (shown, and kept in pack.json)
+};
+
+DistanceParams measurement(const PackParams& params) {
+    DistanceParams d = params.distance;
+    d.vertex_errors = false;
+    return d;
+}
+
+BuiltLevels collapse_levels(const Mesh& mesh, const PackParams& params, Progress* progress) {
+    const Preset& preset = params.preset;
+    LodChainParams p;
+    for (const LodTarget& t : preset.levels) {
+        LodLevelTarget level;
+        switch (t.kind) {
+        case LodTarget::Kind::ratio: level.ratio = static_cast<float>(t.value); break;
+        case LodTarget::Kind::triangles: level.triangles = static_cast<std::size_t>(t.value); break;
+        case LodTarget::Kind::error: level.max_error = static_cast<float>(t.value); break;
+        }
+        p.levels.push_back(level);
+    }
+    p.simplify.weights = preset.weights;
+    p.simplify.lock_border = preset.lock_border;
+    p.measure = true;
+    p.distance = measurement(params);
+    BuiltLevels built;
+    built.chain = build_lod_chain(mesh, p, progress);
+    for (const LodLevel& level : built.chain->levels) {
+        built.meshes.push_back(&level.mesh);
+        built.distance.push_back(level.distance);
+    }
+    return built;
+}
+
+// Levels 1.. held in `built.own`: the input becomes level 0 and every level is measured against it.
+void measure_own_levels(const Mesh& mesh, const PackParams& params, BuiltLevels& built, Progress* progress) {
+    built.meshes.push_back(&mesh);
+    built.distance.emplace_back();
+    for (const Mesh& level : built.own) {
+        built.meshes.push_back(&level);
+        built.distance.push_back(compare(mesh, level, measurement(params), progress));
+    }
+}
+
+BuiltLevels cluster_levels(const Mesh& mesh, const PackParams& params, Progress* progress) {
+    const Preset& preset = params.preset;
+    BuiltLevels built;
+    built.own.reserve(preset.levels.size());
+    for (std::size_t i = 0; i < preset.levels.size(); ++i) {
+        const LodTarget& t = preset.levels[i];
+        ClusterParams p;
+        p.weights = preset.weights;
+        if (t.kind == LodTarget::Kind::ratio) p.target_ratio = static_cast<float>(t.value);
+        else if (t.kind == LodTarget::Kind::triangles) p.target_triangles = static_cast<std::size_t>(t.value);
+        else
+            throw_error(Error::Kind::argument, params.source_path,
+                        "levels[" + std::to_string(i) + "]: the cluster method takes ratio or triangle targets, "
+                        "not error targets");
+        built.own.push_back(simplify_cluster(mesh, p, progress).mesh);
+    }
+    measure_own_levels(mesh, params, built, progress);
+    return built;
+}
+
+// LODStrips, the MC octree and the out-of-core octree: cuts of one structure (lod_methods.h).
+BuiltLevels method_levels(const Mesh& mesh, const PackParams& params, Progress* progress) {
+    MethodLevels m = build_method_levels(mesh, params.preset, params.source_path, progress);
+    BuiltLevels built;
+    built.own = std::move(m.levels);
+    built.lodstrips_file = std::move(m.lodstrips_file);
+    built.notes = std::move(m.notes);
+    measure_own_levels(mesh, params, built, progress);
+    return built;
+}
+
+// The one place a LOD method becomes levels.
+BuiltLevels make_levels(const Mesh& mesh, const PackParams& params, Progress* progress) {
+    switch (params.preset.method) {
+    case LodMethod::collapse: return collapse_levels(mesh, params, progress);
+    case LodMethod::cluster: return cluster_levels(mesh, params, progress);
+    case LodMethod::octree:
+    case LodMethod::lodstrips:
+    case LodMethod::mcoctree: break;
+    }
+    return method_levels(mesh, params, progress);
+}
+
+// Files a method adds beyond the levels (the .lodstrips file of the lodstrips method).
+void write_method_files(const BuiltLevels& built, const PackParams& params, const fs::path& dir,
+                        const std::string& stem) {
+    if (!params.preset.exports.lodstrips) return;
+    if (built.lodstrips_file.empty())
+        throw_error(Error::Kind::argument, params.source_path,
+                    "the .lodstrips export needs the lodstrips method (the preset's method is '" +
+                        std::string(to_string(params.preset.method)) + "')");
+    AtomicFile file((dir / (stem + ".lodstrips")).string(), true);
+    file.stream().write(reinterpret_cast<const char*>(built.lodstrips_file.data()),
+                        static_cast<std::streamsize>(built.lodstrips_file.size()));
+    file.commit();
+}
+
+ordered_json error_json(const DistanceResult& d) {
+    ordered_json e;
+    e["hausdorff"] = d.hausdorff;
+    e["hausdorff_relative"] = d.hausdorff_relative;
+    e["mean"] = d.mean;
+    e["mean_relative"] = d.mean_relative;
+    e["rms"] = d.rms;
+    e["rms_relative"] = d.rms_relative;
+    if (d.has_color_error) e["color_rms"] = d.color_rms;
+    if (d.has_texcoord_error) e["texcoord_rms"] = d.texcoord_rms;
+    return e;
+}
+
+std::string manifest(const Mesh& mesh, const PackParams& params, const BuiltLevels& built, const PackResult& r) {
+    ordered_json j;
+    j["format"] = "lodforge-pack";
+    j["version"] = pack_format_version;
+    // The file name only: the same source reached by another path (studio, CLI) gives the same pack.
+    j["source"] = {{"file", fs::path(params.source_path).filename().string()},
+                   {"sha256", r.source_sha256},
+                   {"triangles", mesh.triangle_count()},
+                   {"vertices", mesh.point_count()},
+                   {"diagonal", mesh.bounds().diagonal()}};
+    j["method"] = std::string(to_string(params.preset.method));
+    j["screen_reference"] = {{"width", pack_reference_width}, {"height", pack_reference_height}};
+    j["glb"] = r.glb.empty() ? ordered_json(nullptr) : ordered_json(r.glb);
+    ordered_json levels = ordered_json::array();
+    for (std::size_t k = 0; k < r.levels.size(); ++k) {
+        const PackLevel& level = r.levels[k];
+        ordered_json l;
+        l["level"] = k;
+        l["triangles"] = level.triangles;
+        l["vertices"] = level.vertices;
+        l["wedges"] = level.wedges;
+        l["ratio"] = static_cast<double>(level.triangles) / static_cast<double>(mesh.triangle_count());
+        l["error"] = error_json(built.distance[k]);
+        l["screen_coverage"] = level.screen_coverage;
+        l["screen_size"] = level.screen_size;
+        l["files"] = level.files;
+        levels.push_back(l);
+    }
+    j["levels"] = levels;
+    j["notes"] = built.notes;
+    std::vector<std::string> files = r.files;
+    files.push_back("pack.json");
+    j["files"] = files;
+    j["preset"] = ordered_json::parse(preset_to_json(params.preset));
+    return j.dump(2) + "\n";
+}
+
+}  // namespace
+
+PackResult write_lod_pack(const Mesh& mesh, const PackParams& params, Progress* progress) {
+    if (params.source_path.empty())
+        throw Error(Error::Kind::argument, "pack: no source path given (it names the outputs and is hashed)");
+    if (params.output_dir.empty()) throw Error(Error::Kind::argument, "pack: no output directory given");
+    if (mesh.triangle_count() == 0) throw_error(Error::Kind::invalid, params.source_path, "the mesh has no triangles");
+    if (params.preset.levels.empty()) throw_error(Error::Kind::argument, params.source_path, "the preset has no levels");
+
+    PackResult result;
+    check_progress(progress, 0.0, "hashing source");
+    result.source_sha256 = sha256_file(params.source_path);
+    check_progress(progress, 1.0, "hashing source");
+
+    // Before the long part, so an unwritable output fails at once.
+    StagedDirectory staging(params.output_dir);
+    const BuiltLevels built = make_levels(mesh, params, progress);
+    result.notes = built.notes;
+    const std::size_t n = built.meshes.size();
+
+    // Level k is shown down to the coverage at which level k+1's error is one pixel; the coarsest
+    // is never culled (0). Non-increasing even when a finer level measured worse than a coarser one.
+    result.levels.resize(n);
+    for (std::size_t k = 0; k < n; ++k) {
+        PackLevel& level = result.levels[k];
+        const Mesh& m = *built.meshes[k];
+        level.triangles = m.triangle_count();
+        level.vertices = m.point_count();
+        level.wedges = m.vertex_count();
+        level.error = built.distance[k].hausdorff;
+        level.error_relative = built.distance[k].hausdorff_relative;
+        level.mean_error = built.distance[k].mean;
+        level.mean_error_relative = built.distance[k].mean_relative;
+        double c = k + 1 < n ? screen_coverage_for_error(built.distance[k + 1].hausdorff_relative) : 0.0;
+        if (k > 0) c = std::min(c, result.levels[k - 1].screen_coverage);
+        level.screen_coverage = c;
+        level.screen_size = 2.0 * std::sqrt(c * pack_reference_width * pack_reference_height / std::numbers::pi) /
+                            pack_reference_height;
+    }
+
+    std::string stem = fs::path(params.source_path).stem().string();
+    if (stem.empty()) stem = "mesh";
+    const ExportOptions& exports = params.preset.exports;
+
+    if (exports.glb) {
+        GlbOptions o;
+        o.name = stem;
+        for (const PackLevel& level : result.levels) o.screen_coverage.push_back(level.screen_coverage);
+        result.glb = stem + ".glb";
+        const std::string path = staging.file(result.glb).string();
+        if (built.chain) {
+            write_glb(built.chain->shared, o, path, progress);
+        } else {
+            std::vector<Mesh> copies;  // the writer takes the levels by value-list; the input is level 0
+            copies.reserve(n);
+            for (const Mesh* m : built.meshes) copies.push_back(*m);
+            write_glb(copies, o, path, progress);
+        }
+        for (const std::string& f : staging.new_files()) result.files.push_back(f);
+    }
+    for (std::size_t k = 0; k < n; ++k) {
+        check_progress(progress, static_cast<double>(k) / static_cast<double>(n), "writing level files");
+        const std::string base = stem + "_lod" + std::to_string(k);
+        if (exports.ply) write_mesh(*built.meshes[k], staging.file(base + ".ply").string(), {}, progress);
+        if (exports.obj) write_mesh(*built.meshes[k], staging.file(base + ".obj").string(), {}, progress);
+        result.levels[k].files = staging.new_files();
+        for (const std::string& f : result.levels[k].files) result.files.push_back(f);
+    }
+    write_method_files(built, params, staging.dir(), stem);
+    for (const std::string& f : staging.new_files()) result.files.push_back(f);
+
+    check_progress(progress, 0.0, "writing pack.json");
+    result.manifest = manifest(mesh, params, built, result);
+    {
+        AtomicFile file(staging.file("pack.json").string(), true);
+        file.stream() << result.manifest;
+        file.commit();
+    }
+    result.files.push_back("pack.json");
+    check_progress(progress, 1.0, "writing pack.json");
+    staging.commit();
+    return result;
+}
+
+}  // namespace lodforge

@@ -1,0 +1,2006 @@
+// Edge-collapse simplification with quadric error metrics.
+//
+// Based on:
+//  - M. Garland, P. Heckbert, "Surface Simplification Using Quadric Error Metrics", SIGGRAPH 1997
+//    (plane quadrics, greedy collapse order by a priority queue, border constraint planes);
+//  - M. Garland, P. Heckbert, "Simplifying Surfaces with Color and Texture using Quadric Error Metrics",
+//    IEEE Visualization 1998 (attributes in the quadric);
+//  - H. Hoppe, "New Quadric Metric for Simplifying Meshes with Appearance Attributes", IEEE Visualization
+//    1999 (memory-efficient attribute quadrics per wedge, seams as wedges of one point);
+//  - T. Dey, H. Edelsbrunner et al., "Topology Preserving Edge Contraction", 1999 (link condition).
+//
+//  - A. Kapoulkine, meshoptimizer's simplifier (2016-, MIT): rounds of independent cheapest-first
+//    collapses over a sorted candidate list, adjacency rebuilt between rounds, seam edges constrained.
+//
+// Layout: flat arrays. Faces keep their input index and store wedge (vertex) ids. Default schedule
+// (passes, see run_passes): point → faces as a CSR rebuilt after each round; every point's cheapest
+// outgoing collapse is costed once, re-costed only when its neighbourhood changed. Greedy schedule: each
+// point has a list of its faces that grows by merging on collapse and one entry in an indexed binary heap;
+// a collapse u → v re-evaluates v and, around v, only what changed.
+#include "lodforge/simplify/simplify.h"
+#include "lodforge/simplify/identical_vertices.h"
+
+#include "lodforge/error.h"
+#include "lodforge/simplify/quadric.h"
+#include "huge_pages.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <functional>
+#include <numeric>
+#include <span>
+#include <string>
+#include <unordered_map>
+
+namespace lodforge {
+namespace {
+
+constexpr std::uint32_t kNone = 0xffffffffu;
+constexpr int kMaxClasses = 16;  // (wedge, material) classes around one point; more = locked point
+
+// ---------------------------------------------------------------------------------------------------
+// Welding and output layout (shared by weld_seams and simplify)
+
+std::uint32_t find_root(std::vector<std::uint32_t>& parent, std::uint32_t x) {
+    while (parent[x] != x) {
+        parent[x] = parent[parent[x]];
+        x = parent[x];
+    }
+    return x;
+}
+
+void unite(std::vector<std::uint32_t>& parent, std::uint32_t a, std::uint32_t b) {
+    a = find_root(parent, a);
+    b = find_root(parent, b);
+    if (a == b) return;
+    if (a < b) parent[b] = a;  // the smallest vertex index stays the root (the point's representative)
+    else parent[a] = b;
+}
+
+// Point id of every vertex: dense, numbered by first occurrence; `representative` gets the first vertex
+// of each point.
+std::vector<std::uint32_t> derive_points(const Mesh& mesh, bool weld, float tolerance,
+                                         std::vector<std::uint32_t>& representative) {
+    const std::size_t n = mesh.vertex_count();
+    std::vector<std::uint32_t> parent(n);
+    std::iota(parent.begin(), parent.end(), 0u);
+    if (mesh.position_ids.size() == n) {
+        std::vector<std::uint32_t> first(mesh.point_count(), kNone);
+        for (std::uint32_t v = 0; v < n; ++v) {
+            std::uint32_t& f = first[mesh.position_ids[v]];
+            if (f == kNone) f = v;
+            else unite(parent, f, v);
+        }
+    }
+    if (weld && tolerance <= 0.f) {
+        // Open-addressing hash of the position bits (linear, where a sort was 5% of a run): each vertex
+        // joins the first earlier vertex at an equal position. -0 is hashed as +0, since they compare
+        // equal; NaN equals nothing, as with ==.
+        auto bits = [](float f) {
+            std::uint32_t b;
+            if (f == 0.f) f = 0.f;
+            std::memcpy(&b, &f, sizeof b);
+            return b;
+        };
+        std::size_t size = 16;
+        while (size < 2 * n) size *= 2;
+        std::vector<std::uint32_t> table(size, kNone);
+        for (std::uint32_t v = 0; v < n; ++v) {
+            const Vec3f p = mesh.positions[v];
+            std::uint64_t h = (std::uint64_t(bits(p.x)) * 0x9E3779B97F4A7C15ull) ^
+                              (std::uint64_t(bits(p.y)) * 0xC2B2AE3D27D4EB4Full) ^
+                              (std::uint64_t(bits(p.z)) * 0x165667B19E3779F9ull);
+            h ^= h >> 29;
+            for (std::size_t i = h & (size - 1);; i = (i + 1) & (size - 1)) {
+                const std::uint32_t o = table[i];
+                if (o == kNone) {
+                    table[i] = v;
+                    break;
+                }
+                if (mesh.positions[o] == p) {
+                    unite(parent, o, v);
+                    break;
+                }
+            }
+        }
+    } else if (weld) {
+        // Grid of cell size `tolerance`: a vertex joins the first earlier vertex within tolerance found
+        // in the 27 cells around it.
+        auto key = [](std::int64_t x, std::int64_t y, std::int64_t z) {
+            return static_cast<std::uint64_t>((x * 73856093) ^ (y * 19349663) ^ (z * 83492791));
+        };
+        std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> grid;
+        const double inv = 1.0 / tolerance;
+        const double tol2 = static_cast<double>(tolerance) * tolerance;
+        for (std::uint32_t v = 0; v < n; ++v) {
+            const Vec3f p = mesh.positions[v];
+            const auto cx = static_cast<std::int64_t>(std::floor(p.x * inv));
+            const auto cy = static_cast<std::int64_t>(std::floor(p.y * inv));
+            const auto cz = static_cast<std::int64_t>(std::floor(p.z * inv));
+            std::uint32_t found = kNone;
+            for (int dx = -1; dx <= 1 && found == kNone; ++dx)
+                for (int dy = -1; dy <= 1 && found == kNone; ++dy)
+                    for (int dz = -1; dz <= 1 && found == kNone; ++dz) {
+                        auto it = grid.find(key(cx + dx, cy + dy, cz + dz));
+                        if (it == grid.end()) continue;
+                        for (std::uint32_t o : it->second) {
+                            const Vec3f d = mesh.positions[o] - p;
+                            if (static_cast<double>(dot(d, d)) <= tol2) { found = o; break; }
+                        }
+                    }
+            if (found != kNone) unite(parent, found, v);
+            else grid[key(cx, cy, cz)].push_back(v);
+        }
+    }
+    std::vector<std::uint32_t> point(n);
+    std::vector<std::uint32_t> id_of_root(n, kNone);
+    representative.clear();
+    for (std::uint32_t v = 0; v < n; ++v) {
+        const std::uint32_t r = find_root(parent, v);
+        if (id_of_root[r] == kNone) {
+            id_of_root[r] = static_cast<std::uint32_t>(representative.size());
+            representative.push_back(r);
+        }
+        point[v] = id_of_root[r];
+    }
+    return point;
+}
+
+// A mesh made of the faces `corners` (input vertex ids; `face_source` = input face of each) with the
+// vertices they use, laid out as Mesh requires: one vertex per point first (input order), extra wedges
+// after. `vertex_map` receives output vertex → input vertex. Normals are renormalised.
+Mesh build_mesh(const Mesh& src, const std::vector<std::uint32_t>& point_of, const std::vector<Vec3f>* positions,
+                const std::vector<std::uint32_t>& corners, const std::vector<std::uint32_t>& face_source,
+                std::vector<std::uint32_t>& vertex_map) {
+    const std::size_t n = src.vertex_count();
+    std::vector<std::uint8_t> used(n, 0);
+    for (std::uint32_t c : corners) used[c] = 1;
+    PointsFirstLayout layout = points_first_layout(
+        used, point_of, point_of.empty() ? 0 : *std::max_element(point_of.begin(), point_of.end()) + 1);
+    const std::vector<std::uint32_t>& new_point = layout.point_of_group;
+    vertex_map = std::move(layout.order);
+    std::vector<std::uint32_t> new_index(n, kNone);
+    for (std::uint32_t i = 0; i < vertex_map.size(); ++i) new_index[vertex_map[i]] = i;
+
+    Mesh out;
+    const std::size_t m = vertex_map.size();
+    out.positions.resize(m);
+    out.position_ids.resize(m);
+    if (src.has_normals()) out.normals.resize(m);
+    if (src.has_colors()) out.colors.resize(m);
+    out.texcoords.assign(src.texcoords.size(), std::vector<Vec2f>(m));
+    for (std::size_t i = 0; i < m; ++i) {
+        const std::uint32_t v = vertex_map[i];
+        out.positions[i] = positions ? (*positions)[point_of[v]] : src.positions[v];
+        out.position_ids[i] = new_point[point_of[v]];
+        if (src.has_normals()) {
+            Vec3f nn = src.normals[v];
+            const float len = length(nn);
+            if (len > 0.f) nn = nn * (1.f / len);
+            out.normals[i] = nn;
+        }
+        if (src.has_colors()) out.colors[i] = src.colors[v];
+        for (std::size_t s = 0; s < src.texcoords.size(); ++s) out.texcoords[s][i] = src.texcoords[s][v];
+    }
+    out.indices.resize(corners.size());
+    for (std::size_t i = 0; i < corners.size(); ++i) out.indices[i] = new_index[corners[i]];
+    if (!src.face_materials.empty()) {
+        out.face_materials.resize(face_source.size());
+        for (std::size_t f = 0; f < face_source.size(); ++f) out.face_materials[f] = src.face_materials[face_source[f]];
+    }
+    out.materials = src.materials;
+    out.source_dir = src.source_dir;
+    return out;
+}
+
+// Faces the simplifier starts from: not degenerate on points, and not a repeat of an earlier face's
+// points (scans carry such duplicates; they would pin their points as non-manifold).
+std::vector<std::uint8_t> initial_faces(const Mesh& mesh, const std::vector<std::uint32_t>& point) {
+    const std::size_t nf = mesh.triangle_count();
+    std::vector<std::uint8_t> keep(nf, 0);
+    // Faces bucketed by their smallest point (counting sort, input order within a bucket); a face stays
+    // unless an earlier face of its bucket has the same two other points.
+    std::vector<std::array<std::uint32_t, 3>> sorted(nf);
+    std::uint32_t points = 0;
+    for (std::uint32_t p : point) points = std::max(points, p + 1);
+    std::vector<std::uint32_t> begin(std::size_t(points) + 1, 0);
+    for (std::size_t f = 0; f < nf; ++f) {
+        std::array<std::uint32_t, 3> p{point[mesh.indices[3 * f]], point[mesh.indices[3 * f + 1]],
+                                       point[mesh.indices[3 * f + 2]]};
+        if (p[0] == p[1] || p[1] == p[2] || p[0] == p[2]) {
+            sorted[f][0] = kNone;
+            continue;
+        }
+        // Either winding: a face and its reverse are a zero-thickness sheet that no collapse can pass
+        // (the link condition sees two surfaces); the first one stays.
+        // Three compare-exchanges (std::sort of three was a call with its loops: a fifth of this function).
+        if (p[1] < p[0]) std::swap(p[0], p[1]);
+        if (p[2] < p[1]) std::swap(p[1], p[2]);
+        if (p[1] < p[0]) std::swap(p[0], p[1]);
+        sorted[f] = p;
+        ++begin[p[0] + 1];
+    }
+    for (std::size_t p = 0; p < points; ++p) begin[p + 1] += begin[p];
+    std::vector<std::uint32_t> bucket(begin.back());
+    {
+        std::vector<std::uint32_t> fill(begin.begin(), begin.end() - 1);
+        for (std::uint32_t f = 0; f < nf; ++f)
+            if (sorted[f][0] != kNone) bucket[fill[sorted[f][0]]++] = f;
+    }
+    auto same = [&](std::uint32_t a, std::uint32_t b) {
+        return sorted[a][1] == sorted[b][1] && sorted[a][2] == sorted[b][2];
+    };
+    for (std::size_t p = 0; p < points; ++p) {
+        const std::uint32_t b = begin[p], e = begin[p + 1];
+        if (e - b <= 32) {
+            for (std::uint32_t i = b; i < e; ++i) {
+                bool first = true;
+                for (std::uint32_t j = b; j < i && first; ++j) first = !same(bucket[j], bucket[i]);
+                if (first) keep[bucket[i]] = 1;
+            }
+            continue;
+        }
+        // A point with many faces: sort its bucket by the other two points, then by face index.
+        std::sort(bucket.begin() + b, bucket.begin() + e, [&](std::uint32_t x, std::uint32_t y) {
+            if (sorted[x][1] != sorted[y][1]) return sorted[x][1] < sorted[y][1];
+            if (sorted[x][2] != sorted[y][2]) return sorted[x][2] < sorted[y][2];
+            return x < y;
+        });
+        for (std::uint32_t i = b; i < e; ++i)
+            if (i == b || !same(bucket[i - 1], bucket[i])) keep[bucket[i]] = 1;
+    }
+    return keep;
+}
+
+// ---------------------------------------------------------------------------------------------------
+// The collapse engine
+
+// complex: on a non-manifold edge or where several fans meet; it may move along any edge the full link
+// condition allows (the quadric keeps its shape).
+enum class Kind : std::uint8_t { interior, border, complex, locked };
+
+// Indexed binary min-heap of points keyed by the cost of their best collapse: O(log n) insert, update and
+// remove of any point; ties go to the lower point id so runs are deterministic. Keys live in the heap
+// array next to their point, so sifting compares without touching per-point memory (one cache miss per
+// level instead of three).
+class PointHeap {
+public:
+    void reset(std::size_t n) {
+        slot_.assign(n, kNone);
+        key_.assign(n, 0.0);
+        heap_.clear();
+        heap_.reserve(n);
+    }
+    bool empty() const { return heap_.empty(); }
+    std::uint32_t top() const { return heap_[0].point; }
+    bool contains(std::uint32_t p) const { return slot_[p] != kNone; }
+    double key(std::uint32_t p) const { return key_[p]; }
+    void prefetch(std::uint32_t p) const {
+#if defined(__GNUC__)
+        __builtin_prefetch(&slot_[p]);
+        __builtin_prefetch(&key_[p]);
+#else
+        (void)p;
+#endif
+    }
+    void set(std::uint32_t p, double k) {
+        key_[p] = k;
+        if (slot_[p] == kNone) {
+            slot_[p] = static_cast<std::uint32_t>(heap_.size());
+            heap_.push_back({k, p});
+            up(slot_[p], {k, p});
+            return;
+        }
+        const std::uint32_t i = slot_[p];
+        const double old = heap_[i].key;
+        if (k < old) up(i, {k, p});
+        else down(i, {k, p});
+    }
+    void remove(std::uint32_t p) {
+        const std::uint32_t i = slot_[p];
+        if (i == kNone) return;
+        slot_[p] = kNone;
+        const Entry last = heap_.back();
+        heap_.pop_back();
+        if (last.point == p) return;
+        // Sift the moved entry up, and down from wherever it settled.
+        up(i, last);
+        down(slot_[last.point], last);
+    }
+
+private:
+    struct Entry {
+        double key;
+        std::uint32_t point;
+    };
+    static bool less(const Entry& a, const Entry& b) { return a.key < b.key || (a.key == b.key && a.point < b.point); }
+    void up(std::uint32_t i, Entry e) {
+        while (i > 0) {
+            const std::uint32_t parent = (i - 1) / 2;
+            if (!less(e, heap_[parent])) break;
+            heap_[i] = heap_[parent];
+            slot_[heap_[i].point] = i;
+            i = parent;
+        }
+        heap_[i] = e;
+        slot_[e.point] = i;
+    }
+    void down(std::uint32_t i, Entry e) {
+        const auto n = static_cast<std::uint32_t>(heap_.size());
+        while (true) {
+            std::uint32_t c = 2 * i + 1;
+            if (c >= n) break;
+            if (c + 1 < n && less(heap_[c + 1], heap_[c])) ++c;
+            if (!less(heap_[c], e)) break;
+            heap_[i] = heap_[c];
+            slot_[heap_[i].point] = i;
+            i = c;
+        }
+        heap_[i] = e;
+        slot_[e.point] = i;
+    }
+
+    std::vector<Entry> heap_;
+    std::vector<std::uint32_t> slot_;
+    std::vector<double> key_;
+};
+
+// How the (wedge, material) classes of the removed point map onto wedges of the kept point.
+struct Plan {
+    int count = 0;
+    std::uint32_t wedge[kMaxClasses];
+    std::uint32_t material[kMaxClasses];
+    std::uint32_t target[kMaxClasses];
+    int edge_faces = 0;
+    Vec3d position;
+};
+
+Vec3d to3d(Vec3f p) { return {p.x, p.y, p.z}; }
+Vec3d sub(Vec3d a, Vec3d b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+Vec3d crossd(Vec3d a, Vec3d b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
+double dotd(Vec3d a, Vec3d b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+
+// Faces of a border point that cheapest_plain_border() takes on its stack (more: the general path).
+constexpr std::size_t kPlainBorderFaces = 32;
+
+class Simplifier {
+public:
+    Simplifier(const Mesh& mesh, const SimplifyParams& params, Progress* progress)
+        : mesh_(mesh), params_(params), progress_(progress) {}
+
+    SimplifyResult run();
+
+private:
+    void setup();
+    void classify_points();
+    void add_edge_plane(std::uint32_t p, std::uint32_t q);
+    bool is_seam_edge(std::uint32_t p, std::uint32_t q) const;
+    std::uint32_t point(std::uint32_t wedge) const { return pid_[wedge]; }
+    const double* attr(std::uint32_t wedge) const { return &attrs_[wedge * dims_]; }
+    std::uint32_t material(std::uint32_t face) const {
+        return mesh_.face_materials.empty() ? 0 : mesh_.face_materials[face];
+    }
+    // Faces of p. Greedy: per-point lists holding live faces only (collapse_greedy() removes dead faces
+    // from every list that had them). Passes: a CSR rebuilt after every pass, exact for every point the
+    // running pass has not locked (see run_passes()).
+    std::span<const std::uint32_t> faces_of(std::uint32_t p) const {
+        if (!greedy_) return {csr_faces_.data() + csr_begin_[p], csr_begin_[p + 1] - csr_begin_[p]};
+        return {pfaces_[p].data(), pfaces_[p].size()};
+    }
+    void build_csr();
+    // A face killed earlier in the running pass: its CSR entries stay until the pass ends, and collapse()
+    // renamed its corners so that two coincide.
+    static bool killed(const std::uint32_t* fp) { return fp[0] == fp[1] || fp[1] == fp[2] || fp[0] == fp[2]; }
+    void neighbours(std::uint32_t p, std::vector<std::uint32_t>& out);
+    // The greedy order jumps across the mesh, so most of a collapse's points and faces are cold: their
+    // loads are issued together ahead of use instead of one miss after another.
+    static void prefetch(const void* address) {
+#if defined(__GNUC__)
+        __builtin_prefetch(address);
+#else
+        (void)address;
+#endif
+    }
+    void prefetch_point(std::uint32_t p) const {
+        prefetch(&pts_[p]);
+    }
+    double evaluate(std::uint32_t u, std::uint32_t v, Plan& plan, bool full);
+    // evaluate()'s checks and cost on a plan whose classes and targets are filled in.
+    double plan_cost(std::uint32_t u, std::uint32_t v, Plan& plan);
+    // evaluate(p, n, plan, false) for every neighbour n of p, in neighbours() order, from one walk over
+    // p's faces (evaluate() walks them once per neighbour): calls f(n, cost). False (nothing called) when
+    // p has more classes or neighbours than the walk keeps on its stack; the caller then evaluates one by one.
+    template <class F>
+    bool for_each_cost(std::uint32_t p, F&& f);
+    // Extra frames (SimplifyParams::extra_frames): per-frame quadrics and positions, [point * frames + f].
+    void setup_frames();
+    void add_frame_border_planes(std::uint32_t p, std::uint32_t q, std::uint32_t face);
+    double frames_cost(std::uint32_t u, std::uint32_t v, double geometric, double total, double weight) const;
+    bool frames_valid(std::uint32_t u, std::uint32_t v) const;
+    bool valid(std::uint32_t u, std::uint32_t v, const Plan& plan);
+    // Geometry only, half-edge: an interior or border point with one wedge onto a point with one wedge.
+    // The mapping is trivial and the cost is Q_u(p_v) over u's area, so plain_plan() and plain_valid()
+    // give evaluate(full) and valid() in one walk over u's faces (a border point's edge count, which
+    // evaluate() checks, included).
+    bool plain_pair(std::uint32_t u, std::uint32_t v) const {
+        return plain_ && (pts_[u].kind == Kind::interior || pts_[u].kind == Kind::border) && pts_[u].one_wedge &&
+               pts_[v].one_wedge;
+    }
+    std::uint32_t cheapest_plain_border(std::uint32_t p, double& best);
+    template <bool pen>
+    std::uint32_t cheapest_plain(std::uint32_t p, double& best, const Vec3d& nb);
+    double plain_plan(std::uint32_t u, std::uint32_t v, Plan& plan) const;
+    // evaluate(full) for a fused_pair(): the trivial mapping, attribute costs included (the edge count is
+    // left to plain_valid<true>(), as for plain pairs).
+    double fused_plan(std::uint32_t u, std::uint32_t v, Plan& plan);
+    // plan_cost() of the trivial plan (u's only wedge onto v's, one material, half-edge, no frames):
+    // the same arithmetic without the plan, the quadric copy and the class loops. Attribute runs cost
+    // most candidates this way (perf: plan_cost() and the two evaluations were the largest extra of an
+    // attribute-aware frag_115 run over a geometry-only one).
+    double fused_cost(std::uint32_t u, std::uint32_t v) const {
+        const Quadric& q = geo_[u];
+        const Vec3d pv = pts_[v].pos;
+        double cost = q.evaluate(pv);
+        if (dims_ > 0) cost += aq_.evaluate(pts_[u].wedge, pv, attr(pts_[v].wedge));
+        const double weight = q.weight;
+        return weight > 0 ? cost / weight : cost * 1e12;
+    }
+    // A face's quadric weight from its area (SimplifyParams::area_weight).
+    double face_weight(double area) const {
+        return params_.area_weight == SimplifyParams::AreaWeight::sqrt_area ? std::sqrt(area) : area;
+    }
+    // A constraint plane's weight: |e|² (GH97) scaled as its face's weight is scaled from the face's area
+    // (area > 0), so against that face it counts the same under either weighting.
+    double constraint_weight(double e2, double area) const {
+        return params_.area_weight == SimplifyParams::AreaWeight::area ? e2 : e2 * face_weight(area) / area;
+    }
+    // Height term of the pass schedule's order (SimplifyParams::height_weight; see penalty()).
+    // fan_normal(p): the unit area-weighted normal of p's live faces (their summed cross products; zero
+    // when they cancel).
+    Vec3d fan_normal(std::uint32_t p) const {
+        Vec3d s{0, 0, 0};
+        for (std::uint32_t f : faces_of(p)) {
+            const std::uint32_t* c = &fpt_[3 * f];
+            if (killed(c)) continue;
+            const Vec3d a = pts_[c[0]].pos;
+            const Vec3d n = crossd(sub(pts_[c[1]].pos, a), sub(pts_[c[2]].pos, a));
+            s = {s.x + n.x, s.y + n.y, s.z + n.z};
+        }
+        const double len = std::sqrt(dotd(s, s));
+        if (!(len > 0)) return {0, 0, 0};
+        return {s.x / len, s.y / len, s.z / len};
+    }
+    // The height of p_u over u's fan moved onto p_v: how far the removed point ends up from the surface
+    // that replaces it (exact for a flat fan), measured along the fan's unit normal `nb`.
+    double height(std::uint32_t u, std::uint32_t v, const Vec3d& nb) const {
+        return std::abs(dotd(nb, sub(pts_[u].pos, pts_[v].pos)));
+    }
+    // Added to the cost of u -> v for the order only: height_weight x (u's bound + the height of p_u)^2.
+    // The quadric's mean is diluted as a point's area grows, so a point that already stands for a region
+    // far from its faces (bumps bridged by large flat triangles) would keep collapsing cheaply; the bound
+    // carries that distance along undiluted (see PointRec::bound).
+    double penalty(std::uint32_t u, std::uint32_t v, const Vec3d& nb) const {
+        const double t = double(pts_[u].bound) + height(u, v, nb);
+        return height_weight_ * t * t;
+    }
+    double height_weight_ = 0;  // params_.height_weight where it applies (run()), else 0
+    // kFaceOrder: the flip test computes the normals as valid() does (edges from the face's first
+    // corner), so it decides exactly as valid(); without, from u (the fused geometry path's arithmetic).
+    template <bool kFaceOrder = false>
+    bool plain_valid(std::uint32_t u, std::uint32_t v, const Plan& plan);
+    // Attribute runs (one material, half-edge, no extra frames): a one-wedge interior or border point
+    // onto a one-wedge point is checked by plain_valid<true>() (valid() in one face walk); the cost
+    // still comes from evaluate().
+    bool fused_pair(std::uint32_t u, std::uint32_t v) const {
+        return fusable_ && (pts_[u].kind == Kind::interior || pts_[u].kind == Kind::border) && pts_[u].one_wedge &&
+               pts_[v].one_wedge;
+    }
+    void collapse(std::uint32_t u, std::uint32_t v, const Plan& plan);
+    std::uint32_t cheapest(std::uint32_t p, double& cost);
+    std::uint32_t cheapest_valid(std::uint32_t p, std::uint32_t rejected, double& cost);
+    void run_greedy(std::size_t target, double limit, double& max_cost);
+    void run_passes(std::size_t target, double limit, double& max_cost);
+    void update_best(std::uint32_t p);
+    void report(std::size_t target);
+    void reroute(std::uint32_t u, std::uint32_t rejected);
+    void after_collapse(std::uint32_t u, std::uint32_t v);
+
+    const Mesh& mesh_;
+    const SimplifyParams& params_;
+    Progress* progress_;
+
+    std::vector<std::uint32_t> pid_;          // wedge → point
+    std::vector<std::uint32_t> representative_;
+    std::size_t points_ = 0;
+    // Everything the walk and costing read or write of a *neighbour* in one cache line: its position and
+    // kind, the round schedule's state (entry cost, gained point, lock) and the stamped marks of
+    // neighbours() and valid(), so a neighbour touched by a collapse costs one cold line instead of four
+    // (record, round state, two mark arrays). The quadric, read only for the point being costed (in
+    // index order) or collapsed, lives apart. `constrained`: the point's entry is not its cheapest edge,
+    // that one being invalid; it is fully re-costed when its neighbourhood changes.
+    struct alignas(64) PointRec {
+        Vec3d pos;
+        std::uint32_t best_to = kNone;
+        Kind kind = Kind::interior;
+        std::uint8_t one_wedge = 0;
+        std::uint8_t constrained = 0;
+        std::uint8_t dirty = 0;  // pass schedule (see run_passes)
+        double cost = std::numeric_limits<double>::infinity();  // pass schedule: cost of the entry
+        std::uint32_t gained = kNone;  // pass schedule: the kept point of a collapse next to it (kGained)
+        std::uint32_t lock = 0;        // pass schedule: the round that locked it
+        std::uint32_t seen = 0;        // stamp of neighbours() / plain_valid() / classify_points()
+        std::uint32_t ring = 0;        // stamp of valid() / plain_valid(): in v's ring
+        float bound = 0;               // pass schedule with height_weight: how far the region this point
+                                       // stands for may be from its faces (grown by each collapse onto it)
+        std::uint32_t wedge = 0;       // its first wedge (the only one when one_wedge): the plain paths'
+                                       // mapping without two dependent loads from the wedge CSR
+    };
+    static_assert(sizeof(PointRec) == 64);
+    HugeVector<Quadric> geo_;
+    HugeVector<PointRec> pts_;
+    Vec3d centre_;
+    double scale_ = 1;                        // model units per normalised unit (the diagonal)
+    std::vector<std::uint32_t> corners_;      // per face, wedges
+    HugeVector<std::uint32_t> fpt_;          // per face, points (pid_ of corners_, kept in step)
+    std::vector<std::uint8_t> face_alive_;
+    bool greedy_ = false;
+    std::vector<std::vector<std::uint32_t>> pfaces_;          // greedy schedule
+    HugeVector<std::uint32_t> csr_begin_, csr_faces_;         // pass schedule
+    std::vector<std::uint32_t> live_faces_;                    // ascending; compacted by build_csr()
+    bool live_listed_ = false;
+    std::vector<std::uint32_t> wedge_begin_, wedge_list_;  // point → its wedges (CSR)
+    std::vector<std::uint8_t> point_alive_;
+    AttributeQuadrics aq_;
+    std::size_t dims_ = 0;
+    bool one_material_ = true;  // no face materials, or the same on every face
+    bool fusable_ = false;  // one material, no extra frames, half-edge placement
+    bool plain_ = false;    // fusable_ and no attribute cost
+    std::vector<double> attrs_;               // per wedge, weighted attribute vector
+    PointHeap heap_;
+    std::size_t alive_faces_ = 0;
+    std::size_t start_faces_ = 0;
+    std::vector<std::uint32_t> scratch_a_, scratch_b_, scratch_n_, ring_, scratch_fill_;
+    // Stamped membership marks in PointRec (no clearing between uses): neighbours() dedupes with
+    // `seen`, valid() marks v's ring in `ring`.
+    std::uint32_t seen_stamp_ = 0, ring_stamp_ = 0;
+    std::uint32_t next_seen() {
+        if (++seen_stamp_ == 0) {
+            for (PointRec& r : pts_) r.seen = 0;
+            seen_stamp_ = 1;
+        }
+        return seen_stamp_;
+    }
+    std::uint32_t next_ring() {
+        if (++ring_stamp_ == 0) {
+            for (PointRec& r : pts_) r.ring = 0;
+            ring_stamp_ = 1;
+        }
+        return ring_stamp_;
+    }
+    std::vector<std::pair<double, std::uint32_t>> options_;
+    std::size_t frames_ = 0;                  // extra frames
+    std::vector<Quadric> frame_geo_;
+    std::vector<Vec3d> frame_pos_;
+    SimplifyResult result_;
+};
+
+void Simplifier::setup() {
+    const std::size_t nv = mesh_.vertex_count();
+    pid_ = derive_points(mesh_, params_.weld, 0.f, representative_);
+    points_ = representative_.size();
+
+    const Bounds b = mesh_.bounds();
+    const double diag = b.diagonal();
+    scale_ = diag > 0 ? diag : 1.0;
+    centre_ = to3d(b.center());
+    pts_.assign(points_, PointRec{});
+    geo_.assign(points_, Quadric{});
+    for (std::size_t p = 0; p < points_; ++p) {
+        const Vec3d q = to3d(mesh_.positions[representative_[p]]);
+        pts_[p].pos = {(q.x - centre_.x) / scale_, (q.y - centre_.y) / scale_, (q.z - centre_.z) / scale_};
+    }
+
+    // Wedges of each point.
+    wedge_begin_.assign(points_ + 1, 0);
+    for (std::uint32_t w = 0; w < nv; ++w) ++wedge_begin_[pid_[w] + 1];
+    for (std::size_t p = 0; p < points_; ++p) wedge_begin_[p + 1] += wedge_begin_[p];
+    wedge_list_.resize(nv);
+    {
+        std::vector<std::uint32_t> fill(wedge_begin_.begin(), wedge_begin_.end() - 1);
+        for (std::uint32_t w = 0; w < nv; ++w) wedge_list_[fill[pid_[w]]++] = w;
+    }
+    for (std::size_t p = 0; p < points_; ++p) {
+        pts_[p].one_wedge = wedge_begin_[p + 1] - wedge_begin_[p] == 1;
+        pts_[p].wedge = wedge_list_[wedge_begin_[p]];
+    }
+
+    // Faces: drop those degenerate on points.
+    const std::size_t nf = mesh_.triangle_count();
+    corners_.assign(mesh_.indices.begin(), mesh_.indices.end());
+    face_alive_ = initial_faces(mesh_, pid_);
+    fpt_.resize(corners_.size());
+    for (std::size_t i = 0; i < corners_.size(); ++i) fpt_[i] = pid_[corners_[i]];
+    for (std::size_t f = 0; f < nf; ++f) alive_faces_ += face_alive_[f];
+    greedy_ = false;
+    build_csr();
+    if (params_.schedule == SimplifyParams::Schedule::greedy) {
+        pfaces_.resize(points_);
+        for (std::uint32_t p = 0; p < points_; ++p) {
+            const auto fs = faces_of(p);
+            pfaces_[p].assign(fs.begin(), fs.end());
+        }
+        greedy_ = true;
+        HugeVector<std::uint32_t>().swap(csr_faces_);
+    }
+
+    // Attributes, weighted so a difference of 1 costs like a deviation of `weight` diagonals.
+    const auto& w = params_.weights;
+    struct Channel { const float* base; std::size_t stride, count; double weight; };
+    std::vector<Channel> channels;
+    if (mesh_.has_normals() && w.normal > 0)
+        channels.push_back({&mesh_.normals[0].x, 3, 3, w.normal});
+    if (mesh_.has_colors() && w.color > 0)
+        channels.push_back({&mesh_.colors[0].x, 4, 4, w.color});
+    for (std::size_t s = 0; s < mesh_.texcoords.size(); ++s) {
+        const float ws = s < w.texcoord_sets.size() ? w.texcoord_sets[s] : w.texcoord;
+        if (ws > 0 && !mesh_.texcoords[s].empty()) channels.push_back({&mesh_.texcoords[s][0].x, 2, 2, ws});
+    }
+    dims_ = 0;
+    for (const Channel& c : channels) dims_ += c.count;
+    if (nv == 0) dims_ = 0;
+    attrs_.assign(nv * dims_, 0.0);
+    if (dims_ > 0) {
+        for (std::size_t v = 0; v < nv; ++v) {
+            std::size_t j = 0;
+            for (const Channel& c : channels)
+                for (std::size_t k = 0; k < c.count; ++k) attrs_[v * dims_ + j++] = c.weight * c.base[v * c.stride + k];
+        }
+    }
+    // Geometry only: no attribute quadrics at all (AttributeQuadrics of dimension 0 still holds 11 doubles a
+    // vertex, which were allocated and zeroed for nothing: callgrind put 3.2 M of the bunny's 247 M
+    // instructions at 10 % in that memset). Every use of aq_ is behind dims_ > 0.
+    aq_ = AttributeQuadrics(dims_ > 0 ? nv : 0, dims_);
+
+    // Quadrics.
+    for (std::uint32_t f = 0; f < nf; ++f) {
+        if (!face_alive_[f]) continue;
+        const std::uint32_t* c = &corners_[3 * f];
+        const Vec3d p0 = pts_[pid_[c[0]]].pos, p1 = pts_[pid_[c[1]]].pos, p2 = pts_[pid_[c[2]]].pos;
+        const Vec3d n = crossd(sub(p1, p0), sub(p2, p0));
+        const double len = std::sqrt(dotd(n, n));
+        if (!(len > 0)) continue;
+        const double area = face_weight(0.5 * len);
+        const Vec3d un{n.x / len, n.y / len, n.z / len};
+        const Quadric q = Quadric::from_plane(un, -dotd(un, p0), area);
+        for (int k = 0; k < 3; ++k) geo_[pid_[c[k]]] += q;
+        if (dims_ > 0) {
+            const std::size_t wedges[3] = {c[0], c[1], c[2]};
+            aq_.add_triangle(wedges, 3, p0, p1, p2, attr(c[0]), attr(c[1]), attr(c[2]), area);
+        }
+    }
+    point_alive_.assign(points_, 1);
+    // One material on every face (glTF meshes carry face_materials even with a single material) makes
+    // (wedge, material) classes the wedges alone, as without materials. Not for the greedy schedule,
+    // which is kept as it was (its after_collapse() reads a ring the fused paths do not leave behind).
+    one_material_ = greedy_ ? mesh_.face_materials.empty()
+                            : std::adjacent_find(mesh_.face_materials.begin(), mesh_.face_materials.end(),
+                                                 std::not_equal_to<>()) == mesh_.face_materials.end();
+    fusable_ = one_material_ && params_.extra_frames.empty() && params_.placement == Placement::half_edge;
+    plain_ = dims_ == 0 && fusable_;
+    if (greedy_) heap_.reset(points_);  // the pass schedule has no heap (28 bytes a point, set or reserved)
+    if (!params_.extra_frames.empty()) setup_frames();
+}
+
+// Point → live faces (ascending face index), from the corners as they are now. The live faces are kept as
+// a list compacted here, so late rounds (few faces left) do not scan the dead ones.
+void Simplifier::build_csr() {
+    if (!live_listed_) {
+        live_faces_.clear();
+        for (std::uint32_t f = 0; f < face_alive_.size(); ++f)
+            if (face_alive_[f]) live_faces_.push_back(f);
+        live_listed_ = true;
+    } else {
+        std::erase_if(live_faces_, [&](std::uint32_t f) { return !face_alive_[f]; });
+    }
+    csr_begin_.assign(points_ + 1, 0);
+    for (std::uint32_t f : live_faces_)
+        for (int k = 0; k < 3; ++k) ++csr_begin_[fpt_[3 * f + k] + 1];
+    for (std::size_t p = 0; p < points_; ++p) csr_begin_[p + 1] += csr_begin_[p];
+    csr_faces_.resize(csr_begin_[points_]);
+    scratch_fill_.assign(csr_begin_.begin(), csr_begin_.end() - 1);
+    for (std::uint32_t f : live_faces_)
+        for (int k = 0; k < 3; ++k) csr_faces_[scratch_fill_[fpt_[3 * f + k]]++] = f;
+}
+
+void Simplifier::setup_frames() {
+    frames_ = params_.extra_frames.size();
+    frame_pos_.resize(points_ * frames_);
+    frame_geo_.assign(points_ * frames_, Quadric{});
+    for (std::size_t f = 0; f < frames_; ++f) {
+        const std::vector<Vec3f>* frame = params_.extra_frames[f];
+        // Frame 0's normalisation for all: costs stay comparable across frames.
+        for (std::size_t p = 0; p < points_; ++p) {
+            const Vec3d q = to3d((*frame)[representative_[p]]);
+            frame_pos_[p * frames_ + f] = {(q.x - centre_.x) / scale_, (q.y - centre_.y) / scale_, (q.z - centre_.z) / scale_};
+        }
+    }
+    for (std::uint32_t face = 0; face < face_alive_.size(); ++face) {
+        if (!face_alive_[face]) continue;
+        const std::uint32_t* c = &fpt_[3 * face];
+        for (std::size_t f = 0; f < frames_; ++f) {
+            const Vec3d p0 = frame_pos_[c[0] * frames_ + f], p1 = frame_pos_[c[1] * frames_ + f],
+                        p2 = frame_pos_[c[2] * frames_ + f];
+            const Vec3d n = crossd(sub(p1, p0), sub(p2, p0));
+            const double len = std::sqrt(dotd(n, n));
+            if (!(len > 0)) continue;
+            const Vec3d un{n.x / len, n.y / len, n.z / len};
+            const Quadric q = Quadric::from_plane(un, -dotd(un, p0), face_weight(0.5 * len));
+            for (int k = 0; k < 3; ++k) frame_geo_[c[k] * frames_ + f] += q;
+        }
+    }
+}
+
+// The border constraint plane of edge pq (see classify_points) in every extra frame.
+void Simplifier::add_frame_border_planes(std::uint32_t p, std::uint32_t q, std::uint32_t face) {
+    const std::uint32_t* cc = &fpt_[3 * face];
+    for (std::size_t f = 0; f < frames_; ++f) {
+        auto at = [&](std::uint32_t point) { return frame_pos_[point * frames_ + f]; };
+        const Vec3d n = crossd(sub(at(cc[1]), at(cc[0])), sub(at(cc[2]), at(cc[0])));
+        const Vec3d e = sub(at(q), at(p));
+        Vec3d m = crossd(e, n);
+        const double len = std::sqrt(dotd(m, m));
+        if (!(len > 0)) continue;
+        m = {m.x / len, m.y / len, m.z / len};
+        Quadric bq = Quadric::from_plane(m, -dotd(m, at(p)), constraint_weight(dotd(e, e), 0.5 * std::sqrt(dotd(n, n))));
+        bq.weight = 0;
+        frame_geo_[p * frames_ + f] += bq;
+        frame_geo_[q * frames_ + f] += bq;
+    }
+}
+
+// Frame 0's geometric cost and its total (geometry plus attributes) over `weight`, combined with the
+// geometric cost of u's region at v in every extra frame.
+double Simplifier::frames_cost(std::uint32_t u, std::uint32_t v, double geometric, double total,
+                               double weight) const {
+    auto mean = [](double q, double w) { return w > 0 ? q / w : q * 1e12; };
+    // Accumulated as the excess over frame 0's geometric cost, so that frames equal to frame 0 add
+    // exactly nothing and the cost is bit for bit the one-frame cost (the greedy schedule's order
+    // depends on every last bit; tested by MorphLod.SingleOrderWithIdenticalFramesIsTheOneFrameOrder).
+    const double base = mean(geometric, weight);
+    double excess = 0;
+    for (std::size_t f = 0; f < frames_; ++f) {
+        const Quadric& q = frame_geo_[u * frames_ + f];
+        const double d = mean(q.evaluate(frame_pos_[v * frames_ + f]), q.weight) - base;
+        if (params_.frame_cost == SimplifyParams::FrameCost::max) excess = std::max(excess, d);
+        else excess += d;
+    }
+    if (params_.frame_cost == SimplifyParams::FrameCost::sum) excess /= double(frames_ + 1);
+    const double total_mean = mean(total, weight);
+    return total_mean + excess;
+}
+
+// No face around u flips or becomes a needle in any extra frame when u moves onto v. Other frames only
+// refuse real flips (normal turned past 90°): with the full normal limit in every pose of a strongly
+// deforming sequence few collapses stay legal and the coarse levels get stuck (docs/morph.md).
+constexpr double kFrameMinDot = 0.0;
+bool Simplifier::frames_valid(std::uint32_t u, std::uint32_t v) const {
+    const double min_dot = std::min(double(params_.min_normal_dot), kFrameMinDot);
+    for (std::uint32_t face : faces_of(u)) {
+        const std::uint32_t* c = &fpt_[3 * face];
+        if (c[0] == v || c[1] == v || c[2] == v || killed(c)) continue;
+        for (std::size_t f = 0; f < frames_; ++f) {
+            Vec3d p[3], q[3];
+            for (int k = 0; k < 3; ++k) {
+                p[k] = frame_pos_[c[k] * frames_ + f];
+                q[k] = c[k] == u ? frame_pos_[v * frames_ + f] : p[k];
+            }
+            const Vec3d n0 = crossd(sub(p[1], p[0]), sub(p[2], p[0]));
+            const Vec3d n1 = crossd(sub(q[1], q[0]), sub(q[2], q[0]));
+            const double l0 = dotd(n0, n0), l1 = dotd(n1, n1);
+            if (!(l0 > 0)) continue;
+            double longest = 0;
+            for (int k = 0; k < 3; ++k) {
+                const Vec3d e = sub(q[(k + 1) % 3], q[k]);
+                longest = std::max(longest, dotd(e, e));
+            }
+            if (!(l1 > 1e-12 * longest * longest)) return false;
+            if (dotd(n0, n1) < min_dot * std::sqrt(l0 * l1)) return false;
+        }
+    }
+    return true;
+}
+
+// Constraint plane through edge pq, perpendicular to its (first) face (GH97 §6.1), weighted |pq|².
+void Simplifier::add_edge_plane(std::uint32_t p, std::uint32_t q) {
+    for (std::uint32_t f : faces_of(p)) {
+        const std::uint32_t* cc = &fpt_[3 * f];
+        if (cc[0] != q && cc[1] != q && cc[2] != q) continue;
+        const Vec3d a0 = pts_[cc[0]].pos, a1 = pts_[cc[1]].pos, a2 = pts_[cc[2]].pos;
+        const Vec3d n = crossd(sub(a1, a0), sub(a2, a0));
+        const Vec3d e = sub(pts_[q].pos, pts_[p].pos);
+        Vec3d m = crossd(e, n);
+        const double len = std::sqrt(dotd(m, m));
+        if (!(len > 0)) return;
+        m = {m.x / len, m.y / len, m.z / len};
+        Quadric bq = Quadric::from_plane(m, -dotd(m, pts_[p].pos), constraint_weight(dotd(e, e), 0.5 * std::sqrt(dotd(n, n))));
+        bq.weight = 0;  // a constraint, not surface: it must not dilute the mean
+        geo_[p] += bq;
+        geo_[q] += bq;
+        if (frames_ > 0) add_frame_border_planes(p, q, f);
+        return;
+    }
+}
+
+// Edge pq (two faces) is a seam: the faces on either side use different wedges at p or at q (UV or
+// normal seams, and welded cracks of scans). Seams get the border constraint plane too, as
+// meshoptimizer does: a seam point only slides along its seam, and the plane keeps the seam's shape.
+bool Simplifier::is_seam_edge(std::uint32_t p, std::uint32_t q) const {
+    std::uint32_t wp = kNone, wq = kNone;
+    for (std::uint32_t f : faces_of(p)) {
+        const std::uint32_t* fp = &fpt_[3 * f];
+        const std::uint32_t* c = &corners_[3 * f];
+        std::uint32_t a = kNone, b = kNone;
+        for (int k = 0; k < 3; ++k) {
+            if (fp[k] == p) a = c[k];
+            else if (fp[k] == q) b = c[k];
+        }
+        if (b == kNone) continue;
+        if (wp == kNone) {
+            wp = a;
+            wq = b;
+        } else if (a != wp || b != wq) {
+            return true;
+        }
+    }
+    return false;
+}
+
+void Simplifier::classify_points() {
+    // Neighbour counts per point: an edge with one face is a border edge, with more than two non-manifold.
+    // The neighbours keep their order of first appearance (the constraint planes are added in it); the
+    // stamped marks replace a search of the list, and counts saturate (only 1, 2 and more matter).
+    std::vector<std::uint32_t> ring;
+    std::vector<std::uint8_t> count(points_, 0);
+    for (std::uint32_t p = 0; p < points_; ++p) {
+        ring.clear();
+        const std::uint32_t stamp = next_seen();
+        for (std::uint32_t f : faces_of(p))
+            for (int k = 0; k < 3; ++k) {
+                const std::uint32_t q = fpt_[3 * f + k];
+                if (q == p) continue;
+                if (pts_[q].seen != stamp) {
+                    pts_[q].seen = stamp;
+                    count[q] = 1;
+                    ring.push_back(q);
+                } else if (count[q] < 3) {
+                    ++count[q];
+                }
+            }
+        int border = 0;
+        bool complex = false;
+        for (const std::uint32_t q : ring) {
+            const int c = count[q];
+            if (c == 2 && q > p && !(pts_[p].one_wedge && pts_[q].one_wedge) && is_seam_edge(p, q)) {
+                add_edge_plane(p, q);
+            } else if (c == 1) {
+                ++border;
+                if (q > p) add_edge_plane(p, q);
+            } else if (c > 2) {
+                complex = true;
+            }
+        }
+        if (complex || (border != 0 && border != 2))
+            pts_[p].kind = params_.lock_border && border != 0 ? Kind::locked : Kind::complex;
+        else if (border == 2) pts_[p].kind = params_.lock_border ? Kind::locked : Kind::border;
+        // A point with many (wedge, material) classes (a corner of several seams) stays.
+        int classes = 0;
+        for (std::uint32_t i = wedge_begin_[p]; i < wedge_begin_[p + 1]; ++i) ++classes;
+        if (classes > kMaxClasses / 2) pts_[p].kind = Kind::locked;
+    }
+}
+
+void Simplifier::neighbours(std::uint32_t p, std::vector<std::uint32_t>& out) {
+    out.clear();
+    const auto faces = faces_of(p);
+    for (std::uint32_t f : faces) prefetch(&fpt_[3 * f]);
+    const std::uint32_t stamp = next_seen();
+    pts_[p].seen = stamp;
+    for (std::uint32_t f : faces) {
+        if (killed(&fpt_[3 * f])) continue;
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t q = fpt_[3 * f + k];
+            if (pts_[q].seen != stamp) {
+                pts_[q].seen = stamp;
+                out.push_back(q);
+            }
+        }
+    }
+}
+
+// Cost of moving point u onto point v (infinity when not allowed); fills the wedge mapping. Without
+// `full`, an interior point with one wedge moving onto a point with one wedge skips the face walk (the
+// mapping is trivial); the collapse itself always re-evaluates with `full`.
+double Simplifier::evaluate(std::uint32_t u, std::uint32_t v, Plan& plan, bool full) {
+    constexpr double inf = std::numeric_limits<double>::infinity();
+    if (pts_[u].kind == Kind::locked) return inf;  // locked points stay, but others may move onto them
+    // A complex point moving onto an interior or border point would make that one complex: it may only
+    // join complex or locked points (meshoptimizer's rule).
+    if (pts_[u].kind == Kind::complex && pts_[v].kind != Kind::complex && pts_[v].kind != Kind::locked) return inf;
+    plan.count = 0;
+    plan.edge_faces = 0;
+    if (!full && pts_[u].kind == Kind::interior && one_material_ && pts_[u].one_wedge &&
+        pts_[v].one_wedge) {
+        plan.count = 1;
+        plan.material[0] = 0;
+        // Only attribute costs read the wedges (0 stands in for geometry-only runs: unused, not kNone).
+        plan.wedge[0] = dims_ > 0 ? pts_[u].wedge : 0;
+        plan.target[0] = dims_ > 0 ? pts_[v].wedge : 0;
+        plan.edge_faces = -1;  // not counted
+    }
+    if (plan.count == 0) for (std::uint32_t f : faces_of(u)) {
+        const std::uint32_t* c = &corners_[3 * f];
+        const std::uint32_t* fp = &fpt_[3 * f];
+        if (killed(fp)) continue;
+        std::uint32_t wu = kNone, wv = kNone;
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t q = fp[k];
+            if (q == u) wu = c[k];
+            else if (q == v) wv = c[k];
+        }
+        const std::uint32_t mat = material(f);
+        int i = 0;
+        while (i < plan.count && !(plan.wedge[i] == wu && plan.material[i] == mat)) ++i;
+        if (i == plan.count) {
+            if (plan.count == kMaxClasses) return inf;
+            plan.wedge[i] = wu;
+            plan.material[i] = mat;
+            plan.target[i] = kNone;
+            ++plan.count;
+        }
+        if (wv == kNone) continue;
+        ++plan.edge_faces;
+        if (plan.target[i] == kNone) plan.target[i] = wv;
+        else if (plan.target[i] != wv) return inf;  // the class would have to split
+    }
+    return plan_cost(u, v, plan);
+}
+
+double Simplifier::plan_cost(std::uint32_t u, std::uint32_t v, Plan& plan) {
+    constexpr double inf = std::numeric_limits<double>::infinity();
+    if (plan.edge_faces == 0) return inf;
+    if (pts_[u].kind == Kind::border && plan.edge_faces != 1) return inf;  // border points slide along the border
+    // Every class must be carried by a collapsing face: otherwise a seam (or material border) through u
+    // would be dragged across the surface.
+    for (int i = 0; i < plan.count; ++i) {
+        if (plan.target[i] != kNone) continue;
+        if (params_.preserve_seams) return inf;
+        // Seams may close: take the target of another class of the same wedge, or any target.
+        for (int j = 0; j < plan.count; ++j)
+            if (plan.target[j] != kNone && (plan.wedge[j] == plan.wedge[i] || plan.target[i] == kNone))
+                plan.target[i] = plan.target[j];
+    }
+    // One wedge must map to one wedge (two materials sharing a wedge must agree).
+    for (int i = 0; i < plan.count; ++i)
+        for (int j = i + 1; j < plan.count; ++j)
+            if (plan.wedge[i] == plan.wedge[j] && plan.target[i] != plan.target[j]) return inf;
+
+    // Half-edge: v stays where it is, so its own error is already paid; the cost is the error of u's
+    // region at p_v, a mean over u's area (adding v's area would let large points swallow neighbours
+    // cheaply). Optimal placement moves both, so both quadrics count.
+    const bool half_edge = params_.placement == Placement::half_edge;
+    Quadric q = geo_[u];
+    if (!half_edge) q += geo_[v];
+    plan.position = pts_[v].pos;
+    if (params_.placement == Placement::optimal) {
+        Vec3d p;
+        if (optimal_position(q, p)) {
+            // Keep the optimum near the edge: far solutions come from nearly flat quadrics.
+            const Vec3d e = sub(pts_[u].pos, pts_[v].pos);
+            const Vec3d d = sub(p, pts_[v].pos);
+            if (dotd(d, d) <= 4 * dotd(e, e)) plan.position = p;
+        }
+        if (q.evaluate(pts_[u].pos) < q.evaluate(plan.position) && pts_[v].kind == Kind::interior) plan.position = pts_[u].pos;
+    }
+    double cost = q.evaluate(plan.position);
+    const double geometric = cost;
+    if (dims_ > 0) {
+        for (int i = 0; i < plan.count; ++i) {
+            bool first = true;  // a wedge with two material classes is counted once
+            for (int j = 0; j < i; ++j) first = first && plan.wedge[j] != plan.wedge[i];
+            if (first) cost += aq_.evaluate(plan.wedge[i], plan.position, attr(plan.target[i]));
+        }
+        if (!half_edge)
+            for (std::uint32_t k = wedge_begin_[v]; k < wedge_begin_[v + 1]; ++k) {
+                const std::uint32_t w = wedge_list_[k];
+                cost += aq_.evaluate(w, plan.position, attr(w));
+            }
+    }
+    const double weight = q.weight;
+    if (frames_ > 0) return frames_cost(u, v, geometric, cost, weight);
+    return weight > 0 ? cost / weight : cost * 1e12;
+}
+
+// Neighbours and classes kept on the stack by for_each_cost() (a point with more: evaluated one by one).
+constexpr int kBatchNeighbours = 32;
+
+template <class F>
+bool Simplifier::for_each_cost(std::uint32_t p, F&& f) {
+    constexpr double inf = std::numeric_limits<double>::infinity();
+    const PointRec& rp = pts_[p];
+    // The classes of p in evaluate()'s order (first appearance over p's live faces) and, per neighbour
+    // (first appearance, as neighbours() lists them), the wedge each class maps to, the faces along the
+    // edge and whether a class would split.
+    std::uint32_t cls_wedge[kMaxClasses], cls_material[kMaxClasses];
+    int classes = 0;
+    std::uint32_t cand[kBatchNeighbours];
+    std::uint32_t target[kBatchNeighbours][kMaxClasses];
+    int edges[kBatchNeighbours];
+    bool split[kBatchNeighbours];
+    int count = 0;
+    for (std::uint32_t face : faces_of(p)) {
+        const std::uint32_t* c = &corners_[3 * face];
+        const std::uint32_t* fp = &fpt_[3 * face];
+        if (killed(fp)) continue;
+        const int k = fp[0] == p ? 0 : fp[1] == p ? 1 : 2;
+        const std::uint32_t wu = c[k], mat = material(face);
+        int i = 0;
+        while (i < classes && !(cls_wedge[i] == wu && cls_material[i] == mat)) ++i;
+        if (i == classes) {
+            if (classes == kMaxClasses) return false;
+            cls_wedge[i] = wu;
+            cls_material[i] = mat;
+            ++classes;
+        }
+        for (int m = 0; m < 3; ++m) {
+            if (m == k) continue;
+            const std::uint32_t q = fp[m];
+            int j = 0;
+            while (j < count && cand[j] != q) ++j;
+            if (j == count) {
+                if (count == kBatchNeighbours) return false;
+                cand[j] = q;
+                for (int t = 0; t < kMaxClasses; ++t) target[j][t] = kNone;
+                edges[j] = 0;
+                split[j] = false;
+                ++count;
+            }
+            ++edges[j];
+            if (target[j][i] == kNone) target[j][i] = c[m];
+            else if (target[j][i] != c[m]) split[j] = true;
+        }
+    }
+    Plan plan;
+    for (int j = 0; j < count; ++j) {
+        const std::uint32_t v = cand[j];
+        // evaluate()'s checks before its face walk, then its plan.
+        if (rp.kind == Kind::locked ||
+            (rp.kind == Kind::complex && pts_[v].kind != Kind::complex && pts_[v].kind != Kind::locked)) {
+            f(v, inf);
+            continue;
+        }
+        if (rp.kind == Kind::interior && one_material_ && rp.one_wedge && pts_[v].one_wedge) {
+            plan.count = 1;
+            plan.material[0] = 0;
+            plan.wedge[0] = dims_ > 0 ? pts_[p].wedge : 0;
+            plan.target[0] = dims_ > 0 ? pts_[v].wedge : 0;
+            plan.edge_faces = -1;
+        } else {
+            if (split[j]) {
+                f(v, inf);
+                continue;
+            }
+            plan.count = classes;
+            for (int i = 0; i < classes; ++i) {
+                plan.wedge[i] = cls_wedge[i];
+                plan.material[i] = cls_material[i];
+                plan.target[i] = target[j][i];
+            }
+            plan.edge_faces = edges[j];
+        }
+        f(v, plan_cost(p, v, plan));
+    }
+    return true;
+}
+
+bool Simplifier::valid(std::uint32_t u, std::uint32_t v, const Plan& plan) {
+    // Link condition on points: the common neighbours of u and v are exactly the apexes of uv's faces.
+    neighbours(u, scratch_a_);
+    neighbours(v, scratch_b_);
+    const std::uint32_t ring = next_ring();
+    for (std::uint32_t b : scratch_b_) pts_[b].ring = ring;
+    int common = 0;
+    for (std::uint32_t a : scratch_a_) common += pts_[a].ring == ring;
+    if (common != plan.edge_faces) return false;
+    if (std::size_t(plan.edge_faces) >= alive_faces_) return false;  // it would remove the last faces
+
+    const double min_dot = params_.min_normal_dot;
+    auto face_ok = [&](std::uint32_t f, std::uint32_t moved) {
+        const std::uint32_t* c = &fpt_[3 * f];
+        Vec3d p[3], q[3];
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t pt = c[k];
+            p[k] = pts_[pt].pos;
+            q[k] = pt == moved ? plan.position : pts_[pt].pos;
+        }
+        const Vec3d n0 = crossd(sub(p[1], p[0]), sub(p[2], p[0]));
+        const Vec3d n1 = crossd(sub(q[1], q[0]), sub(q[2], q[0]));
+        const double l0 = dotd(n0, n0), l1 = dotd(n1, n1);
+        if (!(l0 > 0)) return true;  // was degenerate already: nothing to flip
+        double longest = 0;
+        for (int k = 0; k < 3; ++k) {
+            const Vec3d e = sub(q[(k + 1) % 3], q[k]);
+            longest = std::max(longest, dotd(e, e));
+        }
+        if (!(l1 > 1e-12 * longest * longest)) return false;  // would become a needle or collapse
+        return dotd(n0, n1) >= min_dot * std::sqrt(l0 * l1);
+    };
+    for (std::uint32_t f : faces_of(u)) {
+        const std::uint32_t* c = &fpt_[3 * f];
+        const std::uint32_t a = c[0], b = c[1], cc = c[2];
+        if (a == v || b == v || cc == v || killed(c)) continue;  // removed with the collapse (or before)
+        if (!face_ok(f, u)) return false;
+        // A face whose other two points are both common neighbours may already exist around v
+        // (tetrahedron-like configurations the vertex link test misses).
+        const std::uint32_t o1 = a == u ? b : a, o2 = cc == u ? b : cc;
+        const bool c1 = pts_[o1].ring == ring, c2 = pts_[o2].ring == ring;
+        if (c1 && c2) {
+            for (std::uint32_t g : faces_of(v)) {
+                const std::uint32_t* d = &fpt_[3 * g];
+                if (killed(d)) continue;
+                int hits = 0;
+                for (int k = 0; k < 3; ++k) hits += (d[k] == o1 || d[k] == o2);
+                if (hits == 2) return false;
+            }
+        }
+    }
+    if (params_.placement == Placement::optimal) {
+        for (std::uint32_t f : faces_of(v)) {
+            const std::uint32_t* c = &fpt_[3 * f];
+            if (c[0] == u || c[1] == u || c[2] == u || killed(c)) continue;
+            if (!face_ok(f, v)) return false;
+        }
+    }
+    return frames_ == 0 || frames_valid(u, v);
+}
+
+double Simplifier::plain_plan(std::uint32_t u, std::uint32_t v, Plan& plan) const {
+    plan.count = 1;
+    plan.material[0] = 0;
+    plan.wedge[0] = pts_[u].wedge;
+    plan.target[0] = pts_[v].wedge;
+    plan.position = pts_[v].pos;
+    plan.edge_faces = -1;  // plain_valid() counts them
+    const Quadric& q = geo_[u];
+    const double e = q.evaluate(plan.position);
+    return q.weight > 0 ? e / q.weight : e * 1e12;
+}
+
+double Simplifier::fused_plan(std::uint32_t u, std::uint32_t v, Plan& plan) {
+    plan.count = 1;
+    plan.material[0] = 0;
+    plan.wedge[0] = pts_[u].wedge;
+    plan.target[0] = pts_[v].wedge;
+    plan.edge_faces = 1;  // plain_valid() counts them
+    plan.position = pts_[v].pos;
+    return fused_cost(u, v);
+}
+
+// valid() for a plain pair: v's ring is marked first, so u's neighbours, the common count, the faces
+// along uv, the flip and needle checks and the twin-face check all come from one walk over u's faces.
+// Leaves u's ring in scratch_a_ as valid() does.
+template <bool kFaceOrder>
+bool Simplifier::plain_valid(std::uint32_t u, std::uint32_t v, const Plan& plan) {
+    const std::uint32_t ring = next_ring();
+    for (std::uint32_t g : faces_of(v)) {
+        const std::uint32_t* d = &fpt_[3 * g];
+        if (killed(d)) continue;
+        pts_[d[0]].ring = pts_[d[1]].ring = pts_[d[2]].ring = ring;
+    }
+    pts_[v].ring = 0;  // v's ring proper (u is in it, but never counted: it is not u's neighbour)
+    scratch_a_.clear();
+    const std::uint32_t stamp = next_seen();
+    pts_[u].seen = stamp;
+    int common = 0, edge_faces = 0;
+    bool ok = true;
+    const double min_dot = params_.min_normal_dot;
+    const Vec3d pu = pts_[u].pos, pv = plan.position;
+    for (std::uint32_t f : faces_of(u)) {
+        const std::uint32_t* c = &fpt_[3 * f];
+        if (killed(c)) continue;
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t q = c[k];
+            if (pts_[q].seen != stamp) {
+                pts_[q].seen = stamp;
+                scratch_a_.push_back(q);
+                common += pts_[q].ring == ring;
+            }
+        }
+        if (!ok) continue;  // the ring is still needed whole
+        if (c[0] == v || c[1] == v || c[2] == v) {
+            ++edge_faces;
+            continue;
+        }
+        // u's other two points, in the face's winding: (u, o1, o2).
+        const int k = c[0] == u ? 0 : c[1] == u ? 1 : 2;
+        const std::uint32_t o1 = c[(k + 1) % 3], o2 = c[(k + 2) % 3];
+        const Vec3d p1 = pts_[o1].pos, p2 = pts_[o2].pos;
+        Vec3d n0, n1;
+        if constexpr (kFaceOrder) {
+            Vec3d a[3], b[3];
+            for (int j = 0; j < 3; ++j) {
+                a[j] = c[j] == u ? pu : pts_[c[j]].pos;
+                b[j] = c[j] == u ? pv : a[j];
+            }
+            n0 = crossd(sub(a[1], a[0]), sub(a[2], a[0]));
+            n1 = crossd(sub(b[1], b[0]), sub(b[2], b[0]));
+        } else {
+            n0 = crossd(sub(p1, pu), sub(p2, pu));
+            n1 = crossd(sub(p1, pv), sub(p2, pv));
+        }
+        const double l0 = dotd(n0, n0), l1 = dotd(n1, n1);
+        if (l0 > 0) {
+            const Vec3d e0 = sub(p1, pv), e1 = sub(p2, p1), e2 = sub(pv, p2);
+            const double longest = std::max({dotd(e0, e0), dotd(e1, e1), dotd(e2, e2)});
+            if (!(l1 > 1e-12 * longest * longest) || dotd(n0, n1) < min_dot * std::sqrt(l0 * l1)) {
+                ok = false;
+                continue;
+            }
+        }
+        if (pts_[o1].ring == ring && pts_[o2].ring == ring) {
+            for (std::uint32_t g : faces_of(v)) {
+                const std::uint32_t* d = &fpt_[3 * g];
+                if (killed(d)) continue;
+                int hits = 0;
+                for (int j = 0; j < 3; ++j) hits += (d[j] == o1 || d[j] == o2);
+                if (hits == 2) {
+                    ok = false;
+                    break;
+                }
+            }
+        }
+    }
+    // A border point slides along its border: onto a neighbour over one face only (as in evaluate()).
+    if (pts_[u].kind == Kind::border && edge_faces != 1) return false;
+    // A collapse that would remove the last faces (a lone triangle, fins on one edge) is refused: a target
+    // of one triangle must not end in an empty mesh.
+    return ok && edge_faces > 0 && common == edge_faces && std::size_t(edge_faces) < alive_faces_;
+}
+
+void Simplifier::collapse(std::uint32_t u, std::uint32_t v, const Plan& plan) {
+    // Wedge targets (a wedge of u that no face uses follows the first class, so replays stay exact).
+    auto target_of = [&](std::uint32_t w) {
+        for (int i = 0; i < plan.count; ++i)
+            if (plan.wedge[i] == w) return plan.target[i];
+        return plan.target[0];
+    };
+    for (std::uint32_t f : faces_of(u)) {
+        std::uint32_t* c = &corners_[3 * f];
+        std::uint32_t* fp = &fpt_[3 * f];
+        if (killed(fp)) continue;
+        if (fp[0] == v || fp[1] == v || fp[2] == v) {
+            face_alive_[f] = 0;
+            --alive_faces_;
+            if (greedy_)
+                for (int k = 0; k < 3; ++k) {
+                    const std::uint32_t apex = fp[k];
+                    if (apex != u && apex != v) std::erase(pfaces_[apex], f);
+                }
+            // The apex's CSR entry stays for the rest of the pass; two equal corners mark the face killed.
+            for (int k = 0; k < 3; ++k)
+                if (fp[k] == u) fp[k] = v;
+            continue;
+        }
+        for (int k = 0; k < 3; ++k)
+            if (fp[k] == u) {
+                c[k] = target_of(c[k]);
+                fp[k] = v;
+            }
+        if (greedy_) pfaces_[v].push_back(f);
+    }
+    if (greedy_) {
+        std::vector<std::uint32_t>().swap(pfaces_[u]);
+        std::erase_if(pfaces_[v], [&](std::uint32_t f) { return !face_alive_[f]; });
+    }
+
+    geo_[v] += geo_[u];
+    for (std::size_t f = 0; f < frames_; ++f) frame_geo_[v * frames_ + f] += frame_geo_[u * frames_ + f];
+    Collapse rec;
+    rec.from_point = u;
+    rec.to_point = v;
+    rec.moves_begin = static_cast<std::uint32_t>(result_.moves.size());
+    const bool one = pts_[u].one_wedge;
+    for (std::uint32_t k = one ? 0 : wedge_begin_[u], e = one ? 1 : wedge_begin_[u + 1]; k < e; ++k) {
+        const std::uint32_t w = one ? pts_[u].wedge : wedge_list_[k];
+        const std::uint32_t t = target_of(w);
+        if (dims_ > 0) aq_.accumulate(t, w);
+        result_.moves.push_back({w, t});
+    }
+    rec.moves_end = static_cast<std::uint32_t>(result_.moves.size());
+    result_.collapses.push_back(rec);
+    pts_[v].pos = plan.position;
+    point_alive_[u] = 0;
+}
+
+// The cheapest outgoing collapse of p (validity is checked when it is popped).
+std::uint32_t Simplifier::cheapest(std::uint32_t p, double& best) {
+    best = std::numeric_limits<double>::infinity();
+    std::uint32_t to = kNone;
+    const bool pen = height_weight_ > 0;
+    const Vec3d nb = pen ? fan_normal(p) : Vec3d{0, 0, 0};
+    if (plain_ && pts_[p].kind == Kind::interior && pts_[p].one_wedge)
+        return pen ? cheapest_plain<true>(p, best, nb) : cheapest_plain<false>(p, best, nb);
+    if (plain_ && pts_[p].kind == Kind::border && pts_[p].one_wedge && faces_of(p).size() <= kPlainBorderFaces && !pen)
+        return cheapest_plain_border(p, best);
+    if (fusable_ && !greedy_ && pts_[p].kind == Kind::interior && pts_[p].one_wedge) {
+        // Attribute run, one-wedge interior point: what for_each_cost() gives (the same neighbours in the
+        // same order, the same plans), without its per-neighbour class table: a one-wedge neighbour
+        // has the trivial mapping, a seam neighbour's is evaluate()'s.
+        Plan plan;
+        const auto faces = faces_of(p);
+        for (std::uint32_t f : faces) prefetch(&fpt_[3 * f]);
+        for (std::uint32_t f : faces)
+            for (int k = 0; k < 3; ++k) prefetch_point(fpt_[3 * f + k]);
+        const std::uint32_t stamp = next_seen();
+        pts_[p].seen = stamp;
+        for (std::uint32_t f : faces) {
+            const std::uint32_t* fp = &fpt_[3 * f];
+            if (killed(fp)) continue;
+            for (int k = 0; k < 3; ++k) {
+                const std::uint32_t n = fp[k];
+                if (pts_[n].seen == stamp) continue;
+                pts_[n].seen = stamp;
+                double c = pts_[n].one_wedge ? fused_cost(p, n) : evaluate(p, n, plan, false);
+                if (pen && std::isfinite(c)) c += penalty(p, n, nb);
+                if (c < best) {
+                    best = c;
+                    to = n;
+                }
+            }
+        }
+        return to;
+    }
+    auto consider = [&](std::uint32_t n, double c) {
+        if (pen && std::isfinite(c)) c += penalty(p, n, nb);
+        if (c < best) {
+            best = c;
+            to = n;
+        }
+    };
+    // (The greedy schedule reads v's neighbours from scratch_n_ after update_best(v): it keeps the list.)
+    if (!greedy_ && for_each_cost(p, consider)) return to;
+    Plan plan;
+    neighbours(p, scratch_n_);
+    for (std::uint32_t n : scratch_n_) prefetch_point(n);
+    for (std::uint32_t n : scratch_n_) consider(n, evaluate(p, n, plan, false));
+    return to;
+}
+
+// cheapest() for a one-wedge interior point in a plain run (geometry only, half-edge): a function of its own,
+// with the height term a template argument, so that its loop is compiled alone (callgrind: inside cheapest()
+// GCC left Quadric::evaluate an out-of-line call, and forcing it inline there cost more than the call).
+template <bool pen>
+std::uint32_t Simplifier::cheapest_plain(std::uint32_t p, double& best, const Vec3d& nb) {
+    std::uint32_t to = kNone;
+    // Geometry only, half-edge, one wedge: the cost is Q_p at the neighbour over p's area (what
+    // evaluate() computes without a face walk). The neighbours are read straight off the faces.
+    // The one-wedge neighbours are compared by Q_p alone and only the least is divided by the
+    // area (a division per neighbour was a fifth of re-costing): the same cost, and the same
+    // target unless two errors round to one cost.
+    const Quadric& q = geo_[p];
+    Plan plan;
+    const auto faces = faces_of(p);
+    for (std::uint32_t f : faces) prefetch(&fpt_[3 * f]);
+    for (std::uint32_t f : faces)
+        for (int k = 0; k < 3; ++k) prefetch_point(fpt_[3 * f + k]);
+    double least = std::numeric_limits<double>::infinity();
+    std::uint32_t least_to = kNone;
+    std::size_t least_at = 0, best_at = 0, at = 0;
+    // A neighbour's second appearance (each interior edge has two faces) would give the same cost,
+    // which loses every comparison: it is skipped (same result, half the quadric evaluations).
+    const std::uint32_t stamp = next_seen();
+    pts_[p].seen = stamp;
+    for (std::uint32_t f : faces)
+        for (int k = 0; k < 3; ++k, ++at) {
+            const std::uint32_t n = fpt_[3 * f + k];
+            if (pts_[n].seen == stamp) continue;
+            pts_[n].seen = stamp;
+            if (pen) {
+                // The height term differs per neighbour, so each cost is complete (divided as evaluate()
+                // divides, so the plain and general paths give the same costs).
+                double c = pts_[n].one_wedge ? (q.weight > 0 ? q.evaluate(pts_[n].pos) / q.weight : q.evaluate(pts_[n].pos) * 1e12)
+                                             : evaluate(p, n, plan, false);
+                if (std::isfinite(c)) c += penalty(p, n, nb);
+                if (c < best) {
+                    best = c;
+                    to = n;
+                    best_at = at;
+                }
+            } else if (pts_[n].one_wedge) {
+                const double e = q.evaluate(pts_[n].pos);
+                if (e < least) {
+                    least = e;
+                    least_to = n;
+                    least_at = at;
+                }
+            } else {
+                const double c = evaluate(p, n, plan, false);  // onto a seam point: the wedge mapping decides
+                if (c < best) {
+                    best = c;
+                    to = n;
+                    best_at = at;
+                }
+            }
+        }
+    if (least_to != kNone) {
+        const double c = q.weight > 0 ? least / q.weight : least * 1e12;
+        if (c < best || (c == best && least_at < best_at)) {
+            best = c;
+            to = least_to;
+        }
+    }
+    return to;
+}
+
+// cheapest() for a one-wedge border point in a plain run: evaluate() allows only the neighbours that
+// share one live face with p (its border edges), at Q_p over p's area; they are found from one walk
+// over p's faces instead of one face walk per neighbour. Same candidates, order and costs.
+std::uint32_t Simplifier::cheapest_plain_border(std::uint32_t p, double& best) {
+    best = std::numeric_limits<double>::infinity();
+    std::uint32_t to = kNone;
+    std::uint32_t ring[2 * kPlainBorderFaces];
+    int count = 0;
+    for (std::uint32_t f : faces_of(p)) {
+        const std::uint32_t* c = &fpt_[3 * f];
+        if (killed(c)) continue;
+        for (int k = 0; k < 3; ++k)
+            if (c[k] != p) ring[count++] = c[k];
+    }
+    const Quadric& q = geo_[p];
+    Plan plan;
+    for (int i = 0; i < count; ++i) {
+        const std::uint32_t n = ring[i];
+        int seen = 0;
+        for (int j = 0; j < count; ++j) seen += ring[j] == n;
+        if (seen != 1) continue;  // an interior edge of p (evaluate(): infinite)
+        double c;
+        if (pts_[n].one_wedge) {
+            const double e = q.evaluate(pts_[n].pos);
+            c = q.weight > 0 ? e / q.weight : e * 1e12;
+        } else {
+            c = evaluate(p, n, plan, false);  // onto a seam point: the wedge mapping decides
+        }
+        if (c < best) {
+            best = c;
+            to = n;
+        }
+    }
+    return to;
+}
+
+// The cheapest collapse of p that is allowed now (other than onto `rejected`), or kNone.
+std::uint32_t Simplifier::cheapest_valid(std::uint32_t u, std::uint32_t rejected, double& cost) {
+    Plan plan;
+    options_.clear();
+    const bool pen = height_weight_ > 0;
+    const Vec3d nb = pen ? fan_normal(u) : Vec3d{0, 0, 0};
+    auto option = [&](std::uint32_t n, double c) {
+        if (n != rejected && std::isfinite(c)) options_.emplace_back(pen ? c + penalty(u, n, nb) : c, n);
+    };
+    if (greedy_ || !for_each_cost(u, option)) {
+        neighbours(u, scratch_n_);
+        for (std::uint32_t n : scratch_n_) option(n, evaluate(u, n, plan, false));
+    }
+    std::sort(options_.begin(), options_.end());
+    for (const auto& [estimate, n] : options_) {
+        const double c = evaluate(u, n, plan, true);
+        if (!std::isfinite(c) || !valid(u, n, plan)) continue;
+        cost = pen ? c + penalty(u, n, nb) : c;
+        return n;
+    }
+    return kNone;
+}
+
+void Simplifier::update_best(std::uint32_t p) {
+    pts_[p].constrained = 0;
+    double best;
+    const std::uint32_t to = cheapest(p, best);
+    if (to == kNone) {
+        heap_.remove(p);
+        return;
+    }
+    pts_[p].best_to = to;
+    heap_.set(p, best);
+}
+
+// u → rejected is not allowed now: u's entry becomes its cheapest valid collapse, or u leaves the heap
+// until its neighbourhood changes.
+void Simplifier::reroute(std::uint32_t u, std::uint32_t rejected) {
+    pts_[u].constrained = 1;
+    double c;
+    const std::uint32_t n = cheapest_valid(u, rejected, c);
+    if (n == kNone) {
+        heap_.remove(u);
+        return;
+    }
+    pts_[u].best_to = n;
+    heap_.set(u, c);
+}
+
+// After u → v: v's costs all changed; around v only edges to v changed, unless a point's best target was u
+// or v (or its entry was constrained), which is then fully re-evaluated.
+void Simplifier::after_collapse(std::uint32_t u, std::uint32_t v) {
+    heap_.remove(u);
+    update_best(v);
+    // v's neighbours, read here: update_best() leaves them in scratch_n_ only on its general path (the
+    // plain paths read the faces directly), and relying on that left a stale ring behind on plain runs.
+    neighbours(v, ring_);
+    for (std::uint32_t n : ring_) {
+        heap_.prefetch(n);
+        prefetch(faces_of(n).data());
+    }
+    Plan plan;
+    for (std::uint32_t n : ring_) {
+        if (pts_[n].best_to == u || pts_[n].best_to == v || pts_[n].constrained || !heap_.contains(n)) {
+            update_best(n);
+            continue;
+        }
+        const double c = evaluate(n, v, plan, false);
+        if (c < heap_.key(n)) {
+            pts_[n].best_to = v;
+            heap_.set(n, c);
+        }
+    }
+}
+
+// The classic schedule: one heap entry per point, the globally cheapest valid collapse first.
+void Simplifier::run_greedy(std::size_t target, double limit, double& max_cost) {
+    for (std::uint32_t a = 0; a < points_; ++a) {
+        update_best(a);
+        if ((a & 0xffff) == 0) check_progress(progress_, 0.0, "simplify");
+    }
+    std::size_t iterations = 0;
+    Plan plan;
+    while (true) {
+        if (alive_faces_ <= target) {
+            result_.reason = SimplifyResult::StopReason::target_reached;
+            break;
+        }
+        if (heap_.empty()) break;
+        if ((++iterations & 1023) == 0) report(target);
+        const std::uint32_t u = heap_.top(), v = pts_[u].best_to;
+        const double cost = evaluate(u, v, plan, true);
+        if (!std::isfinite(cost)) {  // the seam mapping forbids it
+            reroute(u, v);
+            continue;
+        }
+        if (cost > heap_.key(u) * (1 + 1e-9) + 1e-30) {  // dearer than estimated: requeue
+            heap_.set(u, cost);
+            continue;
+        }
+        if (cost > limit) {
+            result_.reason = SimplifyResult::StopReason::error_limit;
+            break;
+        }
+        if (!valid(u, v, plan)) {
+            reroute(u, v);
+            continue;
+        }
+        max_cost = std::max(max_cost, cost);
+        collapse(u, v, plan);
+        after_collapse(u, v);
+    }
+}
+
+void Simplifier::report(std::size_t target) {
+    if (!progress_) return;
+    const double span = double(start_faces_ - std::min(start_faces_, target));
+    check_progress(progress_, span > 0 ? double(start_faces_ - alive_faces_) / span : 1.0, "simplify");
+}
+
+// Pass schedule (after meshoptimizer's simplifier, Kapoulkine 2016-): every candidate (a point's cheapest
+// outgoing collapse) is costed once, all are sorted (radix sort on the float bits of the cost) and walked
+// cheapest first up to kPassSlack times the cost at rank kPassRank; a collapse u → v is applied when
+// neither u nor v is locked, and then locks u and v for the rest of the pass (meshoptimizer's rule; locking
+// u's whole ring as before took twice the passes). The CSR is not updated inside a pass, yet stays exact
+// for every unlocked point: a collapse only renames u to v in u's faces (v is locked, u is gone) and kills
+// uv's faces, which collapse() marks by making two corners equal (killed()), so every walk skips them. So
+// the link, flip and seam checks of a later collapse of the pass read the mesh as it is, and its cost is
+// unchanged (half-edge: Q_u and p_v only change when u or v collapse). After the pass the CSR is rebuilt
+// from the compacted live-face list and only the points whose neighbourhood changed are re-costed.
+// Nothing depends on the target except where the walk stops, so a run to a lower target starts with
+// exactly the collapses of a run to a higher one.
+constexpr double kPassRank = 0.25;
+constexpr double kPassSlack = 1.5;
+
+void Simplifier::run_passes(std::size_t target, double limit, double& max_cost) {
+    // Per point (in PointRec): cost of its entry, the kept point of a collapse next to it (see kGained)
+    // and the round that locked it.
+    // PointRec::dirty: 0 = entry current, kGained = compare the edge to Round::gained, else re-cost fully.
+    constexpr std::uint8_t kGained = 2;
+    for (PointRec& r : pts_) r.dirty = 1;
+    std::vector<std::uint32_t> alive(points_);
+    std::iota(alive.begin(), alive.end(), 0u);
+    HugeVector<std::uint64_t> order, tmp;
+    order.reserve(points_);
+    Plan plan;
+    const bool moves_kept = params_.placement == Placement::optimal;
+    for (std::uint32_t pass = 1;; ++pass) {
+        report(target);
+        // Re-cost what changed, in index order (coherent memory), and gather the candidates.
+        order.clear();
+        std::erase_if(alive, [&](std::uint32_t a) { return !point_alive_[a]; });
+        for (std::size_t i = 0; i < alive.size(); ++i) {
+            const std::uint32_t a = alive[i];
+            if ((i & 0xffff) == 0xffff) report(target);
+            // After the first pass the dirty points are sparse: their quadric and face list are cold
+            // when cheapest() reads them, so they are fetched a few points ahead.
+            if (i + 16 < alive.size()) prefetch_point(alive[i + 16]);
+            if (i + 8 < alive.size() && pts_[alive[i + 8]].dirty == 1) {
+                const std::uint32_t b = alive[i + 8];
+                prefetch(&geo_[b]);
+                prefetch(reinterpret_cast<const char*>(&geo_[b]) + 64);
+                prefetch(&csr_faces_[csr_begin_[b]]);
+            }
+            if (pts_[a].dirty == kGained) {
+                // Only a new edge to the kept point of a collapse appeared (half-edge: nothing else
+                // about this point's costs changed), so it is compared against the current entry.
+                pts_[a].dirty = 0;
+                const std::uint32_t v = pts_[a].gained;
+                if (point_alive_[v]) {
+                    // (evaluate() takes the trivial plan for such a pair; fused_cost() is its arithmetic.)
+                    const bool trivial = fusable_ && pts_[a].kind == Kind::interior && pts_[a].one_wedge &&
+                                         pts_[v].one_wedge;
+                    double c = trivial ? fused_cost(a, v) : evaluate(a, v, plan, false);
+                    if (height_weight_ > 0 && std::isfinite(c)) c += penalty(a, v, fan_normal(a));
+                    if (c < pts_[a].cost) {
+                        pts_[a].cost = c;
+                        pts_[a].best_to = v;
+                    }
+                }
+            } else if (pts_[a].dirty) {
+                pts_[a].dirty = 0;
+                double c;
+                const std::uint32_t to = pts_[a].constrained ? cheapest_valid(a, kNone, c) : cheapest(a, c);
+                pts_[a].constrained = 0;
+                pts_[a].best_to = to;
+                pts_[a].cost = to == kNone ? std::numeric_limits<double>::infinity() : c;
+            }
+            if (std::isfinite(pts_[a].cost)) {
+                // Non-negative floats order as their bit patterns; the cost is rounded up so a key never
+                // undercuts its cost.
+                // (The next float up of a non-negative finite float is its bit pattern plus one, FLT_MAX's
+                // being +inf: what std::nextafter gives, without its libm call per candidate.)
+                const float key = static_cast<float>(pts_[a].cost);
+                std::uint32_t bits;
+                std::memcpy(&bits, &key, sizeof bits);
+                if (double(key) < pts_[a].cost) ++bits;
+                order.push_back(std::uint64_t(bits) << 32 | a);
+            }
+        }
+        if (order.empty()) return;  // topology_limit
+        // LSD radix sort on the key (bits 32..63), stable, so equal costs keep the point order.
+        tmp.resize(order.size());
+        for (int shift = 32; shift < 64; shift += 11) {
+            std::uint32_t count[2049] = {};
+            for (std::uint64_t e : order) ++count[((e >> shift) & 2047) + 1];
+            for (int i = 0; i < 2048; ++i) count[i + 1] += count[i];
+            for (std::uint64_t e : order) tmp[count[(e >> shift) & 2047]++] = e;
+            order.swap(tmp);
+        }
+        const std::size_t rank = std::min(order.size() - 1, static_cast<std::size_t>(double(order.size()) * kPassRank));
+        const double threshold = kPassSlack * pts_[static_cast<std::uint32_t>(order[rank])].cost;
+        std::size_t applied = 0;
+        bool limited = false, changed = false;
+        // The walk jumps across the mesh in cost order, so each candidate's records are cold: they are
+        // prefetched in stages (the point, then its target and face list, then the faces' points) far
+        // enough ahead that each stage's addresses are loaded by the time the next needs them.
+        const std::size_t walk = order.size();
+        auto ahead = [&](std::size_t i) {
+            if (i + 16 < walk) {
+                const auto a = static_cast<std::uint32_t>(order[i + 16]);
+                prefetch(&pts_[a]);
+                prefetch(&csr_begin_[a]);
+            }
+            if (i + 8 < walk) {
+                const auto a = static_cast<std::uint32_t>(order[i + 8]);
+                prefetch(&csr_faces_[csr_begin_[a]]);
+                prefetch(&geo_[a]);  // the cost (plain_plan) and the collapse read Q_u (88 bytes)
+                prefetch(reinterpret_cast<const char*>(&geo_[a]) + 64);
+                const std::uint32_t b = pts_[a].best_to;
+                if (b != kNone) {
+                    prefetch(&pts_[b]);
+                    prefetch(&csr_begin_[b]);
+                }
+            }
+            if (i + 4 < walk) {
+                const auto a = static_cast<std::uint32_t>(order[i + 4]);
+                for (std::uint32_t k = csr_begin_[a], e = std::min(csr_begin_[a + 1], csr_begin_[a] + 8); k < e; ++k)
+                    prefetch(&fpt_[3 * csr_faces_[k]]);
+                const std::uint32_t b = pts_[a].best_to;
+                if (b != kNone) {
+                    prefetch(&csr_faces_[csr_begin_[b]]);
+                    prefetch(&geo_[b]);  // Q_v += Q_u
+                    prefetch(reinterpret_cast<const char*>(&geo_[b]) + 64);
+                }
+            }
+            if (i + 2 < walk) {
+                // v's faces (its ring is marked first) and the corners the collapse rewrites.
+                const auto a = static_cast<std::uint32_t>(order[i + 2]);
+                const std::uint32_t b = pts_[a].best_to;
+                if (b != kNone)
+                    for (std::uint32_t k = csr_begin_[b], e = std::min(csr_begin_[b + 1], csr_begin_[b] + 8); k < e; ++k)
+                        prefetch(&fpt_[3 * csr_faces_[k]]);
+            }
+        };
+        for (std::size_t i = 0; i < walk; ++i) {
+            ahead(i);
+            const auto u = static_cast<std::uint32_t>(order[i]);
+            if (pts_[u].cost > threshold && applied > 0) break;  // a pass never ends empty-handed
+            const std::uint32_t v = pts_[u].best_to;
+            if (pts_[u].lock == pass || pts_[v].lock == pass) continue;  // the next pass sees it again
+            bool plain = plain_pair(u, v), fused = !plain && fused_pair(u, v);
+            double c = plain ? plain_plan(u, v, plan) : fused ? fused_plan(u, v, plan) : evaluate(u, v, plan, true);
+            if ((plain || fused) && c > limit && pts_[u].kind == Kind::border) {
+                // plain_plan() and fused_plan() do not see a border point's edge count: evaluate() tells
+                // a forbidden collapse (infinite) from one over the limit, as for any other pair.
+                plain = fused = false;
+                c = evaluate(u, v, plan, true);
+            }
+            if (!std::isfinite(c)) {  // the seam mapping forbids it
+                pts_[u].constrained = pts_[u].dirty = 1;
+                changed = true;
+                continue;
+            }
+            if (c > limit) {
+                pts_[u].cost = c;
+                limited = true;
+                continue;
+            }
+            const bool ok = plain ? plain_valid(u, v, plan) : fused ? plain_valid<true>(u, v, plan) : valid(u, v, plan);
+            if (!ok) {
+                pts_[u].constrained = pts_[u].dirty = 1;
+                changed = true;
+                continue;
+            }
+            // valid() left u's ring in scratch_a_ and v's in scratch_b_.
+            for (std::uint32_t n : scratch_a_) {
+                if (moves_kept || n == v || pts_[n].best_to == u || pts_[n].best_to == v || pts_[n].constrained ||
+                    !std::isfinite(pts_[n].cost) || (pts_[n].dirty == kGained && pts_[n].gained != v))
+                    pts_[n].dirty = 1;
+                else if (pts_[n].dirty == 0) {
+                    pts_[n].dirty = kGained;
+                    pts_[n].gained = v;
+                }
+            }
+            pts_[v].lock = pass;
+            if (moves_kept)
+                for (std::uint32_t n : scratch_b_) pts_[n].dirty = 1;  // v moved: their edges to it changed
+            pts_[u].lock = pass;
+            max_cost = std::max(max_cost, c);  // the quadric cost: the height term only orders
+            if (height_weight_ > 0) {
+                // u's region is now within its bound plus p_u's height of v's faces (u's fan, before the
+                // collapse renames it).
+                const double h = height(u, v, fan_normal(u));
+                pts_[v].bound = std::max(pts_[v].bound, static_cast<float>(double(pts_[u].bound) + h));
+            }
+            collapse(u, v, plan);
+            pts_[u].cost = std::numeric_limits<double>::infinity();
+            changed = true;
+            if (alive_faces_ <= target) {
+                result_.reason = SimplifyResult::StopReason::target_reached;
+                return;
+            }
+            if ((++applied & 1023) == 0) report(target);
+        }
+        if (applied == 0 && !changed) {
+            if (limited) result_.reason = SimplifyResult::StopReason::error_limit;
+            return;
+        }
+        build_csr();
+    }
+}
+
+SimplifyResult Simplifier::run() {
+    const auto& p = params_;
+    if (!(p.target_ratio >= 0.f && p.target_ratio <= 1.f))
+        throw Error(Error::Kind::argument, "simplify: target_ratio must be in [0, 1], got " + std::to_string(p.target_ratio));
+    if (!(p.max_error >= 0.f))
+        throw Error(Error::Kind::argument, "simplify: max_error must be >= 0, got " + std::to_string(p.max_error));
+    if (p.target_triangles == 0 && p.target_ratio == 0.f && std::isinf(p.max_error))
+        throw Error(Error::Kind::argument, "simplify: set target_triangles, target_ratio or max_error");
+    const auto& w = p.weights;
+    bool weights_ok = w.normal >= 0 && w.color >= 0 && w.texcoord >= 0 && std::isfinite(w.normal) &&
+                      std::isfinite(w.color) && std::isfinite(w.texcoord);
+    for (float t : w.texcoord_sets) weights_ok = weights_ok && t >= 0 && std::isfinite(t);
+    if (!weights_ok) throw Error(Error::Kind::argument, "simplify: attribute weights must be finite and >= 0");
+    if (!(p.min_normal_dot >= -1.f && p.min_normal_dot <= 1.f))
+        throw Error(Error::Kind::argument, "simplify: min_normal_dot must be in [-1, 1]");
+    if (!(p.height_weight >= 0.f) || !std::isfinite(p.height_weight))
+        throw Error(Error::Kind::argument, "simplify: height_weight must be finite and >= 0");
+    if (!p.extra_frames.empty() && p.placement != Placement::half_edge)
+        throw Error(Error::Kind::argument, "simplify: extra_frames need Placement::half_edge");
+    for (std::size_t f = 0; f < p.extra_frames.size(); ++f) {
+        const std::vector<Vec3f>* frame = p.extra_frames[f];
+        if (!frame || frame->size() != mesh_.vertex_count())
+            throw Error(Error::Kind::argument, "simplify: extra frame " + std::to_string(f) + " has " +
+                                                   std::to_string(frame ? frame->size() : 0) + " positions for " +
+                                                   std::to_string(mesh_.vertex_count()) + " vertices");
+        for (const Vec3f& x : *frame)
+            if (!is_finite(x)) throw Error(Error::Kind::argument, "simplify: extra frame " + std::to_string(f) + " has a non-finite position");
+    }
+
+    check_progress(progress_, 0.0, "simplify");
+    // The height term orders the pass schedule's half-edge collapses (with extra frames, frame 0's heights);
+    // the greedy schedule and optimal placement (the kept point moves, so the height over p_v is not the
+    // height over the result) keep the quadric order.
+    if (p.schedule == SimplifyParams::Schedule::passes && p.placement == Placement::half_edge)
+        height_weight_ = double(p.height_weight);
+    setup();
+    classify_points();
+
+    std::size_t target = p.target_triangles;
+    if (p.target_ratio > 0.f)
+        // A ratio asks for a smaller mesh, never for none: a count that rounds to 0 is 1.
+        target = std::max({target, std::size_t(1),
+                           static_cast<std::size_t>(std::llround(p.target_ratio * double(mesh_.triangle_count())))});
+    start_faces_ = alive_faces_;
+    result_.target_triangles = target;
+    result_.dropped_faces = mesh_.triangle_count() - alive_faces_;
+
+    const double limit = std::isinf(p.max_error) ? std::numeric_limits<double>::infinity()
+                                                 : double(p.max_error) * double(p.max_error);
+    double max_cost = 0;
+    result_.reason = SimplifyResult::StopReason::topology_limit;
+    if (alive_faces_ <= target) result_.reason = SimplifyResult::StopReason::target_reached;
+    else if (greedy_) run_greedy(target, limit, max_cost);
+    else run_passes(target, limit, max_cost);
+    check_progress(progress_, 1.0, "simplify");
+
+    // Output: surviving faces in input order.
+    std::vector<std::uint32_t> corners, sources;
+    corners.reserve(alive_faces_ * 3);
+    sources.reserve(alive_faces_);
+    for (std::uint32_t f = 0; f < face_alive_.size(); ++f) {
+        if (!face_alive_[f]) continue;
+        corners.insert(corners.end(), &corners_[3 * f], &corners_[3 * f] + 3);
+        sources.push_back(f);
+    }
+    std::vector<Vec3f> moved;
+    if (p.placement == Placement::optimal) {
+        moved.resize(points_);
+        for (std::size_t i = 0; i < points_; ++i)
+            moved[i] = {static_cast<float>(pts_[i].pos.x * scale_ + centre_.x), static_cast<float>(pts_[i].pos.y * scale_ + centre_.y),
+                        static_cast<float>(pts_[i].pos.z * scale_ + centre_.z)};
+    }
+    result_.mesh = build_mesh(mesh_, pid_, moved.empty() ? nullptr : &moved, corners, sources, result_.vertex_map);
+    result_.triangles = result_.mesh.triangle_count();
+    result_.error_relative = static_cast<float>(std::sqrt(max_cost));
+    result_.error = static_cast<float>(std::sqrt(max_cost) * scale_);
+    result_.input_points = std::move(pid_);
+    return std::move(result_);
+}
+
+}  // namespace
+
+namespace {
+
+// A triangle soup (a quarter or more of the vertices repeat an earlier one in every attribute) is run on
+// its merged vertices and the result is told in the input's numbering: every copy of a removed vertex
+// moves with it. Indexed meshes with a few coincident vertices (the dragon's scan cracks) keep them as
+// wedges (the welding decision of docs/simplification.md).
+bool soup_worth_merging(const Mesh& mesh, const SimplifyParams& params, IdenticalVertices& iv) {
+    if (!params.weld || !params.extra_frames.empty() || mesh.vertex_count() == 0) return false;
+    // An indexed surface has about half a vertex per triangle (a little more with seams), a soup three:
+    // below three quarters the hash pass is not worth its time.
+    if (4 * mesh.vertex_count() < mesh.indices.size()) return false;
+    for (std::uint32_t i : mesh.indices)
+        if (i >= mesh.vertex_count()) return false;  // the engine reports it
+    iv = find_identical_vertices(mesh);
+    return iv.duplicates * 4 >= mesh.vertex_count();
+}
+
+void to_input_numbering(SimplifyResult& r, const IdenticalVertices& iv) {
+    const std::size_t n = iv.merged_of.size(), k = iv.first_of.size();
+    std::vector<std::uint32_t> start(k + 1, 0), copies(n);  // merged vertex -> its input vertices (CSR)
+    for (std::uint32_t m : iv.merged_of) ++start[m + 1];
+    for (std::size_t i = 0; i < k; ++i) start[i + 1] += start[i];
+    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+    for (std::uint32_t v = 0; v < n; ++v) copies[fill[iv.merged_of[v]]++] = v;
+    std::vector<VertexMove> moves;
+    moves.reserve(r.moves.size() * (n + k - 1) / k);
+    for (Collapse& c : r.collapses) {
+        const auto begin = static_cast<std::uint32_t>(moves.size());
+        for (std::uint32_t m = c.moves_begin; m < c.moves_end; ++m) {
+            const VertexMove mv = r.moves[m];
+            for (std::uint32_t j = start[mv.from]; j < start[mv.from + 1]; ++j)
+                moves.push_back({copies[j], iv.first_of[mv.to]});
+        }
+        c.moves_begin = begin;
+        c.moves_end = static_cast<std::uint32_t>(moves.size());
+    }
+    r.moves = std::move(moves);
+    for (std::uint32_t& v : r.vertex_map) v = iv.first_of[v];
+    std::vector<std::uint32_t> points(n);
+    for (std::uint32_t v = 0; v < n; ++v) points[v] = r.input_points[iv.merged_of[v]];
+    r.input_points = std::move(points);
+}
+
+}  // namespace
+
+SimplifyResult simplify(const Mesh& mesh, const SimplifyParams& params, Progress* progress) {
+    IdenticalVertices iv;
+    if (soup_worth_merging(mesh, params, iv)) {
+        const Mesh merged = iv.merged(mesh);
+        Simplifier s(merged, params, progress);
+        SimplifyResult r = s.run();
+        to_input_numbering(r, iv);
+        return r;
+    }
+    Simplifier s(mesh, params, progress);
+    return s.run();
+}
+
+std::vector<std::uint32_t> replay_collapses(const Mesh& input, const SimplifyResult& result, std::size_t k) {
+    if (k > result.collapses.size())
+        throw Error(Error::Kind::argument, "replay_collapses: " + std::to_string(k) + " collapses requested, " +
+                                               std::to_string(result.collapses.size()) + " recorded");
+    if (result.input_points.size() != input.vertex_count())
+        throw Error(Error::Kind::argument, "replay_collapses: the result was not made from this mesh");
+    std::vector<std::uint32_t> to(input.vertex_count());
+    std::iota(to.begin(), to.end(), 0u);
+    for (std::size_t i = 0; i < k; ++i) {
+        const Collapse& c = result.collapses[i];
+        for (std::uint32_t m = c.moves_begin; m < c.moves_end; ++m) to[result.moves[m].from] = result.moves[m].to;
+    }
+    auto resolve = [&](std::uint32_t w) {
+        std::uint32_t r = w;
+        while (to[r] != r) r = to[r];
+        while (to[w] != r) {  // path compression
+            const std::uint32_t next = to[w];
+            to[w] = r;
+            w = next;
+        }
+        return r;
+    };
+    std::vector<std::uint32_t> out;
+    const auto& pts = result.input_points;
+    const std::vector<std::uint8_t> start = initial_faces(input, pts);
+    for (std::size_t f = 0; f < input.triangle_count(); ++f) {
+        if (!start[f]) continue;
+        const std::uint32_t a = resolve(input.indices[3 * f]), b = resolve(input.indices[3 * f + 1]),
+                            c = resolve(input.indices[3 * f + 2]);
+        if (pts[a] == pts[b] || pts[b] == pts[c] || pts[a] == pts[c]) continue;
+        out.push_back(a);
+        out.push_back(b);
+        out.push_back(c);
+    }
+    return out;
+}
+
+Mesh weld_seams(const Mesh& mesh, float tolerance) {
+    if (!(tolerance >= 0.f) || !std::isfinite(tolerance))
+        throw Error(Error::Kind::argument, "weld_seams: tolerance must be finite and >= 0");
+    std::vector<std::uint32_t> representative;
+    const std::vector<std::uint32_t> point = derive_points(mesh, true, tolerance, representative);
+    std::vector<Vec3f> snapped(representative.size());
+    for (std::size_t i = 0; i < representative.size(); ++i) snapped[i] = mesh.positions[representative[i]];
+    // Keep every vertex (unused ones too): list them all as "corners" of a pseudo face set, then restore
+    // the real faces.
+    std::vector<std::uint32_t> all(mesh.vertex_count());
+    std::iota(all.begin(), all.end(), 0u);
+    std::vector<std::uint32_t> map;
+    Mesh out = build_mesh(mesh, point, &snapped, all, {}, map);
+    std::vector<std::uint32_t> inverse(mesh.vertex_count());
+    for (std::uint32_t i = 0; i < map.size(); ++i) inverse[map[i]] = i;
+    out.indices.resize(mesh.indices.size());
+    for (std::size_t i = 0; i < mesh.indices.size(); ++i) out.indices[i] = inverse[mesh.indices[i]];
+    out.face_materials = mesh.face_materials;
+    // build_mesh renormalises normals; welding must not change attributes.
+    if (mesh.has_normals())
+        for (std::uint32_t i = 0; i < map.size(); ++i) out.normals[i] = mesh.normals[map[i]];
+    return out;
+}
+
+}  // namespace lodforge
