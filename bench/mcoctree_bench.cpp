@@ -1,7 +1,8 @@
 // Marching-cube octree benchmark: build time and peak memory, extraction throughput at 10 priorities,
-// Metro error of each level against the input mesh, the triangle-count curve against the 003 document's
-// tables, and a single-resolution reference (vtkMarchingCubes on a dense signed-distance volume of the same
-// field) where the volume is small enough to be cheap.
+// Metro error of each level against the input mesh, the triangle-count curve against the tables of Hasup
+// Lee's thesis ("Efficient Level-of-Detail Model Generation of 3D Objects using Prioritized Marching Cube
+// Octree", KAIST 2007), and a single-resolution reference (vtkMarchingCubes on a dense signed-distance
+// volume of the same field) where the volume is small enough to be cheap.
 //
 //   lodforge_bench_mcoctree [--models dragon,frag] [--resolutions 64,128,256,512] [--metro-resolution 256]
 //                           [--vtk-max 128] [--samples N] [--repeat N] [--build-only] [--threads N]

@@ -1,6 +1,7 @@
 // Building the prioritized marching-cube octree: distance field, leaf cubes, octree, shared vertices.
 //
-// Follows the 003 document (KAIST thesis, "LOD with a prioritized marching-cube octree", 2007, ch. 4-5):
+// Follows Hasup Lee, "Efficient Level-of-Detail Model Generation of 3D Objects using Prioritized Marching
+// Cube Octree" (doctoral thesis, KAIST, 2007, ch. 4-5):
 // leaf cubes from the signed distance to the nearest input point, sign from (v - p) . n_p (after Hoppe,
 // DeRose, Duchamp, McDonald, Stuetzle, "Surface Reconstruction from Unorganized Points", SIGGRAPH 1992),
 // edge vertices at the crossing ratio |d_a| / (|d_a| + |d_b|), null cubes not stored, the octree built

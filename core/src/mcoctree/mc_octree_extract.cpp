@@ -1,6 +1,7 @@
 // Extracting a mesh from the prioritized marching-cube octree at a priority or a triangle budget.
 //
-// The 003 document (KAIST thesis, 2007, §6.1-6.2): for the nodes numbered i, i - 1, ..., 1 the children
+// Hasup Lee, "Efficient Level-of-Detail Model Generation of 3D Objects using Prioritized Marching Cube
+// Octree" (doctoral thesis, KAIST, 2007, §6.1-6.2): for the nodes numbered i, i - 1, ..., 1 the children
 // not expanded themselves are triangulated; the budget is turned into a priority through the cumulative
 // triangle table. We walk the order forwards instead (the same set of nodes, no 'expanded' flags to
 // reset), and triangulate each node of the cut by table look-up; a node with a finer neighbour uses a

@@ -1,6 +1,7 @@
 // Priority numbering of the marching-cube octree and the exact triangle count of every priority.
 //
-// The 003 document (KAIST thesis, 2007, §5.2 and §5.4.3): repeatedly expand the node with the largest
+// Hasup Lee, "Efficient Level-of-Detail Model Generation of 3D Objects using Prioritized Marching Cube
+// Octree" (doctoral thesis, KAIST, 2007, §5.2 and §5.4.3): repeatedly expand the node with the largest
 // area difference among those whose neighbours are all present, so that neighbouring nodes never differ
 // by more than one level (the 2:1 rule). The printed loop rescans a sorted list from its head and never
 // removes the chosen node; here a binary heap holds the expandable nodes and every node counts how many

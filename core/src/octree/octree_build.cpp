@@ -1,7 +1,9 @@
 // Adaptive octree construction on disk and bottom-up node simplification.
 //
-// Shaffie (UTM report 2006, §3.4 and §3.5.3, the "000" document): triangles of the soup stream into an
-// adaptive octree, a node splits while it holds more than max_tri triangles and lies above max_depth,
+// Bade, Daman, Sunar, Tan, "Out-of-Core Simplification with Appearance Preservation for Computer
+// Game Applications" (Universiti Teknologi Malaysia report, 2006, §3.4 and §3.5.3):
+// triangles of the soup stream into an adaptive octree, a node splits while it holds more than max_tri
+// triangles and lies above max_depth,
 // each triangle lives in exactly one node (no clipping, no replication); leaves are simplified first and
 // every coarser node from its children's output, up to the root. Differences, argued in docs/octree.md:
 // the root is a cube around the bounding box (the document centres it on the mean vertex, which can

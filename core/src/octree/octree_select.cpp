@@ -1,4 +1,4 @@
-// View-dependent cut of the octree LOD: Shaffie (UTM report 2006, §3.6) culls octree nodes against the
+// View-dependent cut of the octree LOD: Bade et al. (UTM report 2006, §3.6) culls octree nodes against the
 // view frustum and picks a discrete level per node by distance. The distance rule is made precise as
 // the usual screen-space error of hierarchical LOD (e.g. Luebke et al., "Level of Detail for 3D
 // Graphics", 2002, §4.3): a node of geometric error ε seen at distance d covers ε·h / (2 d tan(fov/2))

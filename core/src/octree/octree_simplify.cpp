@@ -1,7 +1,9 @@
 // Node simplification of the out-of-core octree.
 //
-// Shaffie (UTM report 2006, §3.5, the "000" document): a modified vertex clustering (Rossignac &
-// Borrel 1993) in which the node's boundary edges are preserved and fanned to one representative
+// Bade, Daman, Sunar, Tan, "Out-of-Core Simplification with Appearance Preservation for Computer
+// Game Applications" (Universiti Teknologi Malaysia report, 2006, §3.5): a modified
+// vertex clustering (Rossignac & Borrel 1993) in which the node's boundary edges are preserved and
+// fanned to one representative
 // vertex, every interior triangle dropped; the representative minimises the node's generalized quadric
 // (Garland & Heckbert, "Simplifying Surfaces with Color and Texture using Quadric Error Metrics",
 // IEEE Visualization 1998; stored in Hoppe's 1999 form, quadric.h), solved with a pseudo-inverse around

@@ -1,6 +1,8 @@
 // Indexed PLY → triangle soup within a memory budget.
 //
-// Follows the data-processing stage of Shaffie (UTM report 2006, §3.3 and §4.2, the "000" document):
+// Follows the data-processing stage of Bade, Daman, Sunar, Tan, "Out-of-Core Simplification with
+// Appearance Preservation for Computer Game Applications" (Universiti Teknologi Malaysia report,
+// 2006, §3.3 and §4.2):
 // dereference every triangle's corner indices against the vertex file by external sorting, so each
 // soup triangle carries its vertices' full records (Lindstrom, "Out-of-Core Simplification of Large
 // Polygonal Models", SIGGRAPH 2000, and Chiang/Silva's external-memory dereferencing). The document
