@@ -1,4 +1,4 @@
-// The .lfmorph writer and reader (format: docs/morph.md, "File format").
+// The .lfmorph writer and reader (format: docs/formats/lfmorph.md).
 //
 // Based on:
 //  - Q. Meyer et al., "On Floating-Point Normal Vectors", EGSR 2010, and Z. Cigolle et al., "A Survey of

@@ -98,7 +98,7 @@ void put_zigzag(std::vector<std::uint8_t>& out, std::int64_t v) {
     put_varint(out, (static_cast<std::uint64_t>(v) << 1) ^ static_cast<std::uint64_t>(v >> 63));
 }
 
-// Section SETS (version 2, docs/morph.md): every change set's frame, then per further set its numbering
+// Section SETS (version 2, docs/formats/lfmstrips.md): every change set's frame, then per further set its numbering
 // and its records (vertices, targets, rewrite positions, removals, triangles lost per collapse).
 std::vector<std::uint8_t> sets_payload(const lodstrips::MorphData& d) {
     const std::uint32_t n = d.strips.vertex_count;

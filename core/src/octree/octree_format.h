@@ -1,4 +1,4 @@
-// Byte layout of the octree asset file, version 1 (specified in docs/octree.md, "Asset file"). Private
+// Byte layout of the octree asset file, version 1 (specified in docs/formats/lfo.md). Private
 // to the builder and the store; all fields little endian.
 #pragma once
 

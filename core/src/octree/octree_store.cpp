@@ -1,4 +1,4 @@
-// The octree LOD asset: header, node table and node meshes (docs/octree.md, "Asset file"), read with a
+// The octree LOD asset: header, node table and node meshes (docs/formats/lfo.md), read with a
 // bounded LRU cache so a run-time cut over a model larger than memory only holds the nodes it draws
 // (Bade et al. 2006, §3.6: node data is loaded from disk on demand).
 #include "lodforge/octree/octree_store.h"

@@ -199,7 +199,7 @@ private:
 // One-shot convenience.
 McExtraction extract_mc_octree(const McOctree& tree, std::size_t priority);
 
-// The .mco file (docs/mcoctree.md). Both throw Error naming the file; the writer goes through AtomicFile.
+// The .mco file (docs/formats/mco.md). Both throw Error naming the file; the writer goes through AtomicFile.
 void write_mc_octree(const McOctree& tree, const std::string& path, Progress* progress = nullptr);
 McOctree read_mc_octree(const std::string& path, Progress* progress = nullptr);
 

@@ -1,4 +1,4 @@
-// The .lfmorph file: a morphing mesh with its LOD collapse sequences (format in docs/morph.md).
+// The .lfmorph file: a morphing mesh with its LOD collapse sequences (format in docs/formats/lfmorph.md).
 //
 //   write_morph_lod("horse.lfmorph", morph, lod);          // 16-bit positions by default
 //   MorphLodFile f = read_morph_lod("horse.lfmorph");      // f.morph, f.lod → extract_morph(...)

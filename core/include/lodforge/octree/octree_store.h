@@ -1,4 +1,4 @@
-// The out-of-core octree LOD asset on disk (format: docs/octree.md, "Asset file", version 1) and its
+// The out-of-core octree LOD asset on disk (format: docs/formats/lfo.md, version 1) and its
 // reader with a bounded cache of node meshes, shared by `lodforge octree info/extract`, the run-time
 // selection (octree_select.h) and the studio.
 //

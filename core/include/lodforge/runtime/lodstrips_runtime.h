@@ -1,6 +1,8 @@
 // LODStrips runtime: continuous level of detail on triangle strips, for game engines.
 // Single header, C++17, standard library only (no LodForge header, nothing to link; <sys/mman.h> on Linux). Format and design:
-// docs/lodstrips.md in the LodForge repository. Follows Ramos, "LodStrips" (UJI thesis, 2008), ch. 4, 5, 7.
+// docs/lodstrips.md and docs/formats/lodstrips.md in the LodForge repository. Follows J. F. Ramos Romero,
+// "LODStrips: Continuous Level of Detail using Triangle Strips" (PhD dissertation, Universitat Jaume I,
+// 2008), ch. 4, 5, 7.
 //
 //   lodstrips::LodStrips lod;
 //   std::string error;

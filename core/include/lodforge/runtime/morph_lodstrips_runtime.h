@@ -2,9 +2,10 @@
 // order (one for a single order, one per sampled frame for per-frame orders), with per-frame vertex
 // positions and normals blended on the GPU-facing vertex buffer.
 // Single header, C++17, standard library only; needs lodstrips_runtime.h next to it (same rules).
-// Format and design: docs/morph.md ("Morph LODStrips") in the LodForge repository. Follows Ramos,
-// "LodStrips" (UJI thesis, 2008), ch. 6: a supermesh whose frames share one connectivity, so one strip
-// set serves every frame, with the change set of the frame in force.
+// Design: docs/morph.md ("Morph LODStrips"), format: docs/formats/lfmstrips.md, in the LodForge
+// repository. Follows J. F. Ramos Romero, "LODStrips: Continuous Level of Detail using Triangle Strips"
+// (PhD dissertation, Universitat Jaume I, 2008), ch. 6: a supermesh whose frames share one
+// connectivity, so one strip set serves every frame, with the change set of the frame in force.
 //
 //   lodstrips::MorphLodStrips m;
 //   std::string error;
@@ -87,7 +88,7 @@ inline void oct_decode(std::int16_t a, std::int16_t b, float* out) {
 
 inline std::uint16_t u16_at(const std::uint8_t* p) { return static_cast<std::uint16_t>(p[0] | p[1] << 8); }
 
-// Section SETS of a version 2 file (docs/morph.md): the change sets' frames, then per further set its
+// Section SETS of a version 2 file (docs/formats/lfmstrips.md): the change sets' frames, then per further set its
 // numbering and records. Counts are bounded by the bytes left (every varint takes at least one byte), so
 // nothing is allocated beyond the file; the records themselves are checked by MorphLodStrips::assign.
 inline bool decode_sets(const std::uint8_t* p, std::size_t size, MorphData& d, std::string* error) {

@@ -69,7 +69,7 @@ struct LodStripsStorage {
     double ratio_to_indexed = 0;       // file_bytes / indexed_mesh_bytes
 };
 
-// The file image (format in docs/lodstrips.md). Throws Error(invalid) for data the runtime would refuse.
+// The file image (format in docs/formats/lodstrips.md). Throws Error(invalid) for data the runtime would refuse.
 std::vector<std::uint8_t> encode_lodstrips(const lodstrips::Data& data);
 LodStripsStorage lodstrips_storage(const lodstrips::Data& data);
 // Writes through AtomicFile; Error(io) names the file.
