@@ -840,7 +840,7 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
     // Built once, below (nanoflann's constructor builds the index too unless told not to: main built it twice).
     // Leaves of 32 points: the closing's coarse samples, 1-8 cube sizes from the surface, are answered about
     // 5 % faster than with 16 and the tree is built 10 % faster; the flood's queries take as long (8, 4, 64
-    // and 128 are slower; docs/mcoctree.md, eighth round). The values do not depend on it (D1).
+    // and 128 are slower; docs/mcoctree.md, "Build"). The values do not depend on it (D1).
     KdTree kd(3, pc, nanoflann::KDTreeSingleIndexAdaptorParams(32, nanoflann::KDTreeSingleIndexAdaptorFlags::SkipInitialBuildIndex));
     Field field(pc, kd, tree.origin, static_cast<float>(h), grid, threads);
     if (!winding.nodes.empty()) field.sign_by_winding(&winding);
@@ -1218,7 +1218,7 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
     // direction, target octant) replaces the per-slot coordinate arithmetic. A target outside the grid
     // needs no test: the parent's neighbour in that direction is outside too, so it is `none` (by induction
     // from the root, whose row is all `none`). Each level reads only its parents' rows, so it could split
-    // over threads; measured no faster than beside the numbering (docs/mcoctree.md, seventh round).
+    // over threads; measured no faster than beside the numbering (docs/mcoctree.md, "Build").
     auto build_neighbours = [&] {
         constexpr int ns = mc::neighbour_slots;
         tree.neighbours.assign(node_count * ns, none);
