@@ -77,7 +77,9 @@ TEST(GltfReader, EveryGltfInSharedDataLoads) {
                     EXPECT_TRUE(fs::is_regular_file(mesh.resolve_texture_path(*t))) << t->path;
                 }
     }
-    EXPECT_EQ(files, 6u);
+    // Eight files today (the Duck twice, the truck, the bottle, two morph and two skinned models); more may be
+    // added, but the walk must never silently find fewer.
+    EXPECT_GE(files, 8u);
 }
 
 TEST(GltfReader, DuckTextureAndTransform) {
