@@ -44,3 +44,11 @@ if [ ! -f "$root/tests/gltf_validator/node_modules/gltf-validator/package.json" 
   echo "install-deps: installing gltf-validator (npm)"
   (cd "$root/tests/gltf_validator" && npm ci --no-audit --no-fund --loglevel=error)
 fi
+
+# The fidelity benchmark's comparators (npm): gltfpack and meshoptimizer's JS simplifier, pinned in
+# bench/comparators/package-lock.json (bench/fidelity_bench.mjs).
+if [ ! -f "$root/bench/comparators/node_modules/gltfpack/package.json" ] ||
+   [ ! -f "$root/bench/comparators/node_modules/meshoptimizer/package.json" ]; then
+  echo "install-deps: installing gltfpack and meshoptimizer (npm, benchmark comparators)"
+  (cd "$root/bench/comparators" && npm ci --no-audit --no-fund --loglevel=error)
+fi

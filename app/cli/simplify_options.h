@@ -9,12 +9,12 @@
 
 namespace lodforge::cli {
 
-// "normal=0.05,color=0.1,uv=0.1,uv1=0.4" (keys: normal, color or colour, uv or texcoord, uvN or texcoordN
+// "normal=0.02,color=0.1,uv=0.1,uv1=0.4" (keys: normal, color or colour, uv or texcoord, uvN or texcoordN
 // for set N; values finite, >= 0)
 // applied over `weights`.
 // The --weights option's help, shared by every command that simplifies.
 inline constexpr const char* kWeightsHelp =
-    "Attribute weights, e.g. normal=0.05,color=0.1,uv=0.1; uv0=, uv1=, ... weigh one texcoord set";
+    "Attribute weights, e.g. normal=0.02,color=0.1,uv=0.1; uv0=, uv1=, ... weigh one texcoord set";
 void parse_weights(const std::string& text, SimplifyWeights& weights);
 
 // "0.5,0.25,0.1": finite numbers; `option` names the option in messages.

@@ -199,32 +199,8 @@ TEST(Simplify, ClosedTexturedSpotKeepsClosedAndSeamsIntact) {
     EXPECT_EQ(count_edges(s.mesh).non_manifold, 0u);
     EXPECT_EQ(count_degenerate(s.mesh), 0u);
 
-    // UV islands of the input: faces connected through edges whose both wedges are shared.
-    const std::size_t nf = in.triangle_count();
-    std::vector<std::uint32_t> parent(nf);
-    std::iota(parent.begin(), parent.end(), 0u);
-    auto find = [&](std::uint32_t x) {
-        while (parent[x] != x) x = parent[x] = parent[parent[x]];
-        return x;
-    };
-    std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> wedge_edges;
-    for (std::uint32_t f = 0; f < nf; ++f)
-        for (int k = 0; k < 3; ++k) {
-            std::uint32_t a = in.indices[3 * f + k], b = in.indices[3 * f + (k + 1) % 3];
-            if (a > b) std::swap(a, b);
-            auto [it, inserted] = wedge_edges.emplace(std::make_pair(a, b), f);
-            if (!inserted) parent[find(f)] = find(it->second);
-        }
-    std::vector<std::uint32_t> island_of_wedge(in.vertex_count(), 0);
-    for (std::uint32_t f = 0; f < nf; ++f)
-        for (int k = 0; k < 3; ++k) island_of_wedge[in.indices[3 * f + k]] = find(f);
-    std::size_t across = 0;
-    for (std::size_t f = 0; f < s.mesh.triangle_count(); ++f) {
-        const std::uint32_t* i = &s.mesh.indices[3 * f];
-        const std::uint32_t a = island_of_wedge[s.vertex_map[i[0]]], b = island_of_wedge[s.vertex_map[i[1]]],
-                            c = island_of_wedge[s.vertex_map[i[2]]];
-        across += (a != b || b != c);
-    }
+    // No face of the output mixes UV islands (charts) of the input.
+    const std::size_t across = test::faces_across_islands(in, s.mesh, s.vertex_map);
     EXPECT_EQ(across, 0u);
     // Seam wedges stay welded: output points still carry several wedges where seams run.
     EXPECT_GT(s.mesh.vertex_count(), s.mesh.point_count());

@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cstdint>
 #include <map>
+#include <numeric>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -45,6 +47,45 @@ inline std::size_t count_degenerate(const Mesh& m) {
         if (!(dot(c, c) > 0.f)) ++n;
     }
     return n;
+}
+
+// UV islands (charts) of a mesh: faces joined through a shared wedge (vertex), or through wedges at one
+// point with the same texture coordinates (duplicates across glTF primitives are no seam). Returns the
+// island of every vertex.
+inline std::vector<std::uint32_t> wedge_islands(const Mesh& in) {
+    const std::size_t nf = in.triangle_count();
+    std::vector<std::uint32_t> parent(nf);
+    std::iota(parent.begin(), parent.end(), 0u);
+    auto find = [&](std::uint32_t x) {
+        while (parent[x] != x) x = parent[x] = parent[parent[x]];
+        return x;
+    };
+    auto pid = [&](std::uint32_t v) { return in.position_ids.empty() ? v : in.position_ids[v]; };
+    std::map<std::tuple<std::uint32_t, float, float>, std::uint32_t> first_face;  // (point, u, v) -> face
+    for (std::uint32_t f = 0; f < nf; ++f)
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t v = in.indices[3 * f + k];
+            const Vec2f t = in.has_texcoords() ? in.texcoords[0][v] : Vec2f{};
+            auto [it, inserted] = first_face.emplace(std::make_tuple(pid(v), t.x, t.y), f);
+            if (!inserted) parent[find(f)] = find(it->second);
+        }
+    std::vector<std::uint32_t> island(in.vertex_count(), 0);
+    for (std::uint32_t f = 0; f < nf; ++f)
+        for (int k = 0; k < 3; ++k) island[in.indices[3 * f + k]] = find(f);
+    return island;
+}
+
+// Faces of `out` (vertex_map: output vertex -> input vertex) whose corners come from different UV islands
+// of `in`: their texture would be interpolated across charts (slits along the seams).
+inline std::size_t faces_across_islands(const Mesh& in, const Mesh& out, const std::vector<std::uint32_t>& vertex_map) {
+    const std::vector<std::uint32_t> island = wedge_islands(in);
+    std::size_t across = 0;
+    for (std::size_t f = 0; f < out.triangle_count(); ++f) {
+        const std::uint32_t* i = &out.indices[3 * f];
+        const std::uint32_t a = island[vertex_map[i[0]]], b = island[vertex_map[i[1]]], c = island[vertex_map[i[2]]];
+        across += (a != b || b != c);
+    }
+    return across;
 }
 
 }  // namespace lodforge::test

@@ -30,7 +30,7 @@ struct ClusterParams {
     // `max_passes` counting passes with the closest count found).
     float tolerance = 0.01f;
     int max_passes = 16;
-    SimplifyWeights weights;  // same meaning as for simplify()
+    SimplifyWeights weights;  // a difference of 1 costs like a deviation of w diagonals (SimplifyWeights)
     // Keep separate wedges per cell for vertices that are not connected inside the cell (UV charts,
     // hard-normal creases, material borders), each with its own attributes; false merges them.
     bool preserve_seams = true;
