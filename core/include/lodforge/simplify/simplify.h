@@ -35,8 +35,11 @@ struct SimplifyWeights {
 
 enum class Placement {
     half_edge,  // the removed point moves onto the kept one (vertex subset; replayable sequence)
-    optimal,    // the kept point moves to the quadric-optimal position (lower error; positions change,
-                // the collapse sequence still reproduces the connectivity)
+    optimal,    // the kept point moves to the quadric-optimal position and every wedge of it gets the
+                // attributes minimising its attribute quadric there (Hoppe 1999; normals renormalised,
+                // colours clamped to [0, 1], a wedge with an empty quadric keeps its value); the cost is
+                // taken at those attributes. Lower error; positions and attributes change, so levels
+                // cannot share one vertex buffer (the collapse sequence still reproduces the connectivity)
 };
 
 struct SimplifyParams {
