@@ -83,6 +83,38 @@ TEST(CliSimplify, AreaAndHeightWeightsReachTheLibrary) {
     EXPECT_EQ(a.indices, lib.mesh.indices);
     EXPECT_NE(a.positions, b.positions);
 }
+TEST(CliSimplify, PlacementReachesTheLibrary) {
+    // --placement optimal gives what simplify() gives with Placement::optimal: vertices that are not
+    // input vertices; half-edge (the default) keeps input positions.
+    lodforge::test::ScratchDir dir("cli-simplify-placement");
+    const std::string opt = dir.file("opt.ply"), half = dir.file("half.ply");
+    CliRun r = run("simplify " + q(bunny()) + " -o " + q(opt) + " --ratio 0.05 --placement optimal");
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    EXPECT_TRUE(contains(r.out, "placement: optimal")) << r.out;
+    r = run("simplify " + q(bunny()) + " -o " + q(half) + " --ratio 0.05 --placement half-edge");
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    lodforge::SimplifyParams p;
+    p.target_ratio = 0.05f;
+    p.placement = lodforge::Placement::optimal;
+    const lodforge::Mesh in = lodforge::read_mesh(bunny());
+    const lodforge::SimplifyResult lib = lodforge::simplify(in, p);
+    const lodforge::Mesh a = lodforge::read_mesh(opt), b = lodforge::read_mesh(half);
+    EXPECT_EQ(a.positions, lib.mesh.positions);
+    EXPECT_EQ(a.indices, lib.mesh.indices);
+    const std::set<std::tuple<float, float, float>> input = [&] {
+        std::set<std::tuple<float, float, float>> s;
+        for (const lodforge::Vec3f& x : in.positions) s.emplace(x.x, x.y, x.z);
+        return s;
+    }();
+    auto moved = [&](const lodforge::Mesh& m) {
+        std::size_t n = 0;
+        for (const lodforge::Vec3f& x : m.positions) n += !input.count({x.x, x.y, x.z});
+        return n;
+    };
+    EXPECT_GT(moved(a), a.positions.size() / 2);
+    EXPECT_EQ(moved(b), 0u);
+}
+
 TEST(CliSimplify, PerSetUvWeightsReachTheLibrary) {
     // Spot with a second texcoord set (the first one mirrored and tiled): --weights uv1=W weighs set 1
     // alone; set 0 keeps the plain uv weight.
@@ -149,7 +181,9 @@ TEST(CliSimplify, BadTargetsExitNonZeroWithAMessage) {
         {" --max-error -1", "--max-error must be > 0"},
         {" --max-error 0.01 --mode cluster", "--max-error needs --mode collapse"},
         {" --ratio 0.5 --mode cluster --lock-border", "--lock-border needs --mode collapse"},
-        {" --ratio 0.5 --mode cluster --height-weight 0.1", "--height-weight need --mode collapse"},
+        {" --ratio 0.5 --mode cluster --height-weight 0.1", "--placement need --mode collapse"},
+        {" --ratio 0.5 --mode cluster --placement optimal", "--placement need --mode collapse"},
+        {" --ratio 0.5 --placement midpoint", "midpoint"},
         {" --ratio 0.5 --height-weight -1", "--height-weight must be finite and >= 0"},
         {" --ratio 0.5 --weights normal", "expected name=value"},
         {" --ratio 0.5 --weights shininess=1", "unknown attribute 'shininess'"},
