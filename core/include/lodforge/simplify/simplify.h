@@ -4,9 +4,10 @@
 //   SimplifyResult r = simplify(mesh, p);   // r.mesh, r.reason, r.error, r.collapses
 //
 // Collapses are half-edge collapses on *points* (Mesh::position_ids): all wedges of the removed point move
-// onto wedges of the kept point, so UV seams and hard-normal creases move together and stay welded. The
-// kept vertices are a subset of the input vertices with their attributes unchanged, which makes the
-// collapse sequence replayable (progressive meshes, LODStrips).
+// onto wedges of the kept point, so UV seams and hard-normal creases move together and stay welded. With
+// half-edge placement (the default of SimplifyParams) the kept vertices are a subset of the input vertices
+// with their attributes unchanged, which makes the collapse sequence replayable (progressive meshes,
+// LODStrips); optimal placement moves them and re-solves their attributes (lower error, see Placement).
 #pragma once
 
 #include "lodforge/mesh.h"
