@@ -7,11 +7,13 @@
 //
 //   node bench/fidelity_bench.mjs [--lodforge build/bin/lodforge] [--data ../shared/data] [--work DIR]
 //        [--ratios 0.5,0.2,0.05] [--assets spot,duck,...] [--quick] [--markdown FILE] [--json FILE]
+//        [--placement half-edge|optimal]
 //
 // The comparators are pinned in bench/comparators/package-lock.json (packaging/install-deps.sh installs
 // them). Columns: geometric max / mean (symmetric, relative to the diagonal), colour RMS (0-255), UV RMS,
 // image-space error (`lodforge compare --render`, when the build has it), wall time of the simplifying
 // command (LodForge also geometry-only, for the "attribute-aware time <= 2x geometry-only" rule).
+// --placement is passed to LodForge's `simplify` runs (both of them); without it they use its default.
 import { execFileSync } from 'node:child_process';
 import fs from 'node:fs';
 import os from 'node:os';
@@ -30,6 +32,7 @@ function parseArgs(argv) {
 		assets: null,
 		markdown: null,
 		json: null,
+		placement: null,
 	};
 	for (let i = 2; i < argv.length; ++i) {
 		const k = argv[i];
@@ -47,9 +50,11 @@ function parseArgs(argv) {
 			a.ratios = [0.2];
 		} else if (k === '--markdown') a.markdown = path.resolve(v());
 		else if (k === '--json') a.json = path.resolve(v());
+		else if (k === '--placement') a.placement = v();
 		else usage(`unknown option ${k}`);
 	}
 	if (a.ratios.some((r) => !(r > 0 && r < 1))) usage('--ratios: values in (0, 1)');
+	if (a.placement !== null && !['half-edge', 'optimal'].includes(a.placement)) usage('--placement: half-edge or optimal');
 	return a;
 }
 
@@ -296,10 +301,11 @@ function main() {
 			}
 			const target = gpM.triangles;
 			const lfOut = path.join(a.work, `${tag}.lodforge.glb`);
-			const lfRun = lf('simplify', ref, '-o', lfOut, '--triangles', String(target));
+			const placement = a.placement ? ['--placement', a.placement] : [];
+			const lfRun = lf('simplify', ref, '-o', lfOut, '--triangles', String(target), ...placement);
 			const lfM = measure(ref, lfOut);
 			const geoOut = path.join(a.work, `${tag}.geometry.glb`);
-			const geoRun = lf('simplify', ref, '-o', geoOut, '--triangles', String(target), '--weights', 'normal=0,color=0,uv=0');
+			const geoRun = lf('simplify', ref, '-o', geoOut, '--triangles', String(target), '--weights', 'normal=0,color=0,uv=0', ...placement);
 			const geoM = measure(ref, geoOut);
 			const moOut = path.join(a.work, `${tag}.meshopt.ply`);
 			const moSeconds = meshoptSeconds(refPly, moOut, target);
@@ -309,7 +315,7 @@ function main() {
 			console.error(`${tag}: ${target} triangles; mean gltfpack ${gpM.mean.toExponential(2)}, lodforge ${lfM.mean.toExponential(2)}`);
 		}
 	}
-	const md = table(cells, renders);
+	const md = (a.placement ? `LodForge placement: ${a.placement}\n\n` : '') + table(cells, renders);
 	console.log(md);
 	if (a.markdown) fs.writeFileSync(a.markdown, md + '\n');
 	if (a.json) fs.writeFileSync(a.json, JSON.stringify(cells, null, 1) + '\n');

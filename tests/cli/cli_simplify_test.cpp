@@ -65,11 +65,11 @@ TEST(CliSimplify, TriangleCountAndErrorTargetsAndBorderLock) {
 }
 
 TEST(CliSimplify, AreaAndHeightWeightsReachTheLibrary) {
-    // --area-weight sqrt --height-weight 0.3 give what simplify() gives with those parameters, and not
-    // the default result.
+    // --area-weight sqrt --height-weight 0.3 (half-edge placement) give what simplify() gives with those
+    // parameters, and not the default result.
     lodforge::test::ScratchDir dir("cli-simplify-order");
     const std::string opt = dir.file("opt.ply"), plain = dir.file("plain.ply");
-    CliRun r = run("simplify " + q(bunny()) + " -o " + q(opt) + " --ratio 0.02 --area-weight sqrt --height-weight 0.3");
+    CliRun r = run("simplify " + q(bunny()) + " -o " + q(opt) + " --ratio 0.02 --area-weight sqrt --height-weight 0.3 --placement half-edge");
     ASSERT_EQ(r.exit_code, 0) << r.out;
     r = run("simplify " + q(bunny()) + " -o " + q(plain) + " --ratio 0.02");
     ASSERT_EQ(r.exit_code, 0) << r.out;
@@ -83,6 +83,38 @@ TEST(CliSimplify, AreaAndHeightWeightsReachTheLibrary) {
     EXPECT_EQ(a.indices, lib.mesh.indices);
     EXPECT_NE(a.positions, b.positions);
 }
+TEST(CliSimplify, PlacementReachesTheLibrary) {
+    // --placement optimal (the default) gives what simplify() gives with Placement::optimal: vertices
+    // that are not input vertices; half-edge keeps input positions.
+    lodforge::test::ScratchDir dir("cli-simplify-placement");
+    const std::string opt = dir.file("opt.ply"), half = dir.file("half.ply");
+    CliRun r = run("simplify " + q(bunny()) + " -o " + q(opt) + " --ratio 0.05");
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    EXPECT_TRUE(contains(r.out, "placement: optimal")) << r.out;
+    r = run("simplify " + q(bunny()) + " -o " + q(half) + " --ratio 0.05 --placement half-edge");
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    lodforge::SimplifyParams p;
+    p.target_ratio = 0.05f;
+    p.placement = lodforge::Placement::optimal;
+    const lodforge::Mesh in = lodforge::read_mesh(bunny());
+    const lodforge::SimplifyResult lib = lodforge::simplify(in, p);
+    const lodforge::Mesh a = lodforge::read_mesh(opt), b = lodforge::read_mesh(half);
+    EXPECT_EQ(a.positions, lib.mesh.positions);
+    EXPECT_EQ(a.indices, lib.mesh.indices);
+    const std::set<std::tuple<float, float, float>> input = [&] {
+        std::set<std::tuple<float, float, float>> s;
+        for (const lodforge::Vec3f& x : in.positions) s.emplace(x.x, x.y, x.z);
+        return s;
+    }();
+    auto moved = [&](const lodforge::Mesh& m) {
+        std::size_t n = 0;
+        for (const lodforge::Vec3f& x : m.positions) n += !input.count({x.x, x.y, x.z});
+        return n;
+    };
+    EXPECT_GT(moved(a), a.positions.size() / 2);
+    EXPECT_EQ(moved(b), 0u);
+}
+
 TEST(CliSimplify, PerSetUvWeightsReachTheLibrary) {
     // Spot with a second texcoord set (the first one mirrored and tiled): --weights uv1=W weighs set 1
     // alone; set 0 keeps the plain uv weight.
@@ -106,6 +138,7 @@ TEST(CliSimplify, PerSetUvWeightsReachTheLibrary) {
     p.target_ratio = 0.2f;
     p.weights.texcoord = 0.2f;
     p.weights.texcoord_sets = {0.2f, 3.f};
+    p.placement = lodforge::Placement::optimal;  // the command's default
     lodforge::write_mesh(lodforge::simplify(in, p).mesh, lib_out);
     const lodforge::Mesh a = lodforge::read_mesh(heavy), b = lodforge::read_mesh(plain), lib = lodforge::read_mesh(lib_out);
     EXPECT_EQ(a.positions, lib.positions);
@@ -149,8 +182,11 @@ TEST(CliSimplify, BadTargetsExitNonZeroWithAMessage) {
         {" --max-error -1", "--max-error must be > 0"},
         {" --max-error 0.01 --mode cluster", "--max-error needs --mode collapse"},
         {" --ratio 0.5 --mode cluster --lock-border", "--lock-border needs --mode collapse"},
-        {" --ratio 0.5 --mode cluster --height-weight 0.1", "--height-weight need --mode collapse"},
-        {" --ratio 0.5 --height-weight -1", "--height-weight must be finite and >= 0"},
+        {" --ratio 0.5 --mode cluster --height-weight 0.1", "--placement need --mode collapse"},
+        {" --ratio 0.5 --mode cluster --placement optimal", "--placement need --mode collapse"},
+        {" --ratio 0.5 --placement midpoint", "midpoint"},
+        {" --ratio 0.5 --height-weight -1 --placement half-edge", "--height-weight must be finite and >= 0"},
+        {" --ratio 0.5 --height-weight 0.3", "--height-weight needs --placement half-edge"},
         {" --ratio 0.5 --weights normal", "expected name=value"},
         {" --ratio 0.5 --weights shininess=1", "unknown attribute 'shininess'"},
         {" --ratio 0.5 --weights color=-1", "must be >= 0"},
@@ -277,7 +313,7 @@ TEST(CliCompare, JsonHasTheMetricsAndTheHeatmapHasColours) {
 
     // On the reference: the field of a half-edge simplification (whose vertices lie on the input).
     const std::string collapsed = dir.file("bunny-collapse.ply");
-    ASSERT_EQ(run("simplify " + q(bunny()) + " -o " + q(collapsed) + " --ratio 0.05").exit_code, 0);
+    ASSERT_EQ(run("simplify " + q(bunny()) + " -o " + q(collapsed) + " --ratio 0.05 --placement half-edge").exit_code, 0);
     // On the test: a collapse's vertices lie on REF, but the field around them still shows the error.
     const std::string heat_test = dir.file("heat-test.ply");
     const CliRun c = run("compare --json --samples 50000 --heatmap " + q(heat_test) + " " + q(bunny()) + " " + q(collapsed), false);

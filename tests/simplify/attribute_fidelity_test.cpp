@@ -126,3 +126,98 @@ TEST(AttributeFidelity, KeyCellsStayWithinTheirMeasuredBounds) {
     EXPECT_LT(spot_mean, 1.5e-3);  // measured 1.29e-3; gltfpack 8.1e-4
     EXPECT_LT(duck_mean, 2.4e-3);  // measured 2.08e-3 (4.51e-3 before); gltfpack 1.79e-3
 }
+
+namespace {
+
+SimplifyParams optimal_at(float ratio) {
+    SimplifyParams p = at(ratio);
+    p.placement = Placement::optimal;
+    return p;
+}
+
+// Normal error, measured as compare() measures colour: the unit normals written as colours (n + 1) / 2,
+// interpolated at the test samples and at their closest reference points; RMS on the 0-255 scale.
+double normal_rms(const Mesh& in, const Mesh& out) {
+    auto as_colours = [](Mesh m) {
+        m.colors.resize(m.vertex_count());
+        for (std::size_t i = 0; i < m.vertex_count(); ++i) {
+            const Vec3f n = m.normals[i];
+            m.colors[i] = {0.5f * (n.x + 1), 0.5f * (n.y + 1), 0.5f * (n.z + 1), 1.f};
+        }
+        return m;
+    };
+    DistanceParams d;
+    d.vertex_errors = false;
+    const DistanceResult r = compare(as_colours(in), as_colours(out), d);
+    EXPECT_TRUE(r.has_color_error);
+    return r.color_rms;
+}
+
+DistanceResult distances(const Mesh& in, const Mesh& out) {
+    DistanceParams d;
+    d.vertex_errors = false;
+    return compare(in, out, d);
+}
+
+}  // namespace
+
+// Optimal placement moves the kept point and re-solves its wedges' attributes there (docs/
+// simplification.md "Placement"): the texture and shading must not get worse than half-edge's, which keeps
+// the input values, while the geometric error drops.
+TEST(AttributeFidelity, OptimalPlacementLowersGeometricErrorWithoutWorseAttributes) {
+    const std::pair<std::string, Mesh> assets[] = {
+        {"spot", read_mesh(test::sample("spot/spot_triangulated.obj"))},
+        {"duck", read_mesh(test::shared_data("tex-duck/glTF/Duck.gltf"))},
+    };
+    for (const auto& [name, in] : assets) {
+        const SimplifyResult half = simplify(in, at(0.2f));
+        const SimplifyResult opt = simplify(in, optimal_at(0.2f));
+        const DistanceResult dh = distances(in, half.mesh), dopt = distances(in, opt.mesh);
+        std::printf("%s 20%%: mean %.3e -> %.3e, UV RMS %.3e -> %.3e (half-edge -> optimal)\n", name.c_str(),
+                    dh.mean_relative, dopt.mean_relative, dh.texcoord_rms, dopt.texcoord_rms);
+        EXPECT_LT(dopt.mean_relative, dh.mean_relative) << name;
+        ASSERT_TRUE(dopt.has_texcoord_error) << name;
+        EXPECT_LE(dopt.texcoord_rms, dh.texcoord_rms) << name;
+        if (in.has_normals()) {
+            const double nh = normal_rms(in, half.mesh), nopt = normal_rms(in, opt.mesh);
+            std::printf("%s 20%%: normal RMS %.3f -> %.3f\n", name.c_str(), nh, nopt);
+            EXPECT_LE(nopt, nh) << name;
+        }
+    }
+}
+
+// The solved attributes come from one wedge's quadric, which only holds faces of that wedge's chart: on
+// an atlas of many small charts (each in its own slot of the texture) every output UV stays inside the
+// UV box of its input chart, no face spans two charts, and every normal is unit length.
+TEST(AttributeFidelity, OptimalPlacementSolvesUvsWithinTheirChart) {
+    const Mesh spot = read_mesh(test::sample("spot/spot_triangulated.obj"));
+    const Mesh duck = read_mesh(test::shared_data("tex-duck/glTF/Duck.gltf"));
+    const std::pair<std::string, Mesh> assets[] = {{"many-chart atlas", many_chart_atlas(spot)}, {"duck", duck}};
+    for (const auto& [name, in] : assets) {
+        const std::vector<std::uint32_t> island = test::wedge_islands(in);
+        std::map<std::uint32_t, std::pair<Vec2f, Vec2f>> box;  // island -> UV min, max
+        for (std::size_t v = 0; v < in.vertex_count(); ++v) {
+            const Vec2f t = in.texcoords[0][v];
+            auto [it, inserted] = box.emplace(island[v], std::make_pair(t, t));
+            auto& [lo, hi] = it->second;
+            lo = {std::min(lo.x, t.x), std::min(lo.y, t.y)};
+            hi = {std::max(hi.x, t.x), std::max(hi.y, t.y)};
+        }
+        for (float ratio : {0.2f, 0.05f}) {
+            const SimplifyResult r = simplify(in, optimal_at(ratio));
+            EXPECT_EQ(test::faces_across_islands(in, r.mesh, r.vertex_map), 0u) << name << " at " << ratio;
+            std::size_t outside = 0, moved = 0;
+            for (std::size_t i = 0; i < r.mesh.vertex_count(); ++i) {
+                const std::uint32_t v = r.vertex_map[i];
+                const auto& [lo, hi] = box.at(island[v]);
+                const Vec2f t = r.mesh.texcoords[0][i];
+                constexpr float eps = 1e-4f;
+                outside += t.x < lo.x - eps || t.y < lo.y - eps || t.x > hi.x + eps || t.y > hi.y + eps;
+                moved += t.x != in.texcoords[0][v].x || t.y != in.texcoords[0][v].y;
+            }
+            EXPECT_EQ(outside, 0u) << name << " at " << ratio;
+            EXPECT_GT(moved, r.mesh.vertex_count() / 2) << name << " at " << ratio << ": UVs were not re-solved";
+            for (const Vec3f& n : r.mesh.normals) EXPECT_NEAR(length(n), 1.f, 1e-4f) << name;
+        }
+    }
+}

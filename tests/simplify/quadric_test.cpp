@@ -61,6 +61,32 @@ TEST(AttributeQuadric, AccumulateAddsErrors) {
     EXPECT_DOUBLE_EQ(aq.weight(0), 2.0);
 }
 
+// minimum() of several quadrics is the merged quadric evaluated at its optimal attributes, and no
+// other attribute value does better (optimal placement's cost).
+TEST(AttributeQuadric, MinimumOfASumIsTheMergedQuadricAtItsOptimum) {
+    AttributeQuadrics aq(3, 2);
+    const double a[2] = {0, 1}, b[2] = {1, 0.5}, c[2] = {0.2, 0}, d[2] = {0.9, 0.3};
+    aq.add_triangle(0, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, a, b, c, 1.0);
+    aq.add_triangle(1, {0, 0, 0}, {0, 1, 0}, {-1, 0.2, 0.3}, a, c, d, 0.7);
+    const Vec3d p{0.1, 0.2, 0.05};
+    const std::size_t both[2] = {0, 1};
+    const double m = aq.minimum(both, 2, p);
+    EXPECT_GT(m, 0.0);  // the two faces' fields disagree at p
+    aq.accumulate(2, 0);
+    aq.accumulate(2, 1);
+    double best[2];
+    ASSERT_TRUE(aq.optimal_attributes(2, p, best));
+    EXPECT_NEAR(m, aq.evaluate(2, p, best), 1e-12);
+    for (double dx : {-0.01, 0.01}) {
+        const double other[2] = {best[0] + dx, best[1] - dx};
+        EXPECT_GT(aq.evaluate(2, p, other), m);
+    }
+    const std::size_t one[1] = {0};
+    double own[2];
+    ASSERT_TRUE(aq.optimal_attributes(0, p, own));
+    EXPECT_NEAR(aq.minimum(one, 1, p), aq.evaluate(0, p, own), 1e-12);
+}
+
 // The simplifier adds each face to its three corners' wedges in one call; the sums must be bit for bit
 // those of one call per wedge (its results are compared against runs made that way).
 TEST(AttributeQuadric, OneCallForSeveralTargetsGivesTheSameSums) {

@@ -140,6 +140,36 @@ bool AttributeQuadrics::optimal_attributes(std::size_t index, Vec3d p, double* s
     return true;
 }
 
+double AttributeQuadrics::minimum(const std::size_t* indices, std::size_t count, Vec3d p) const {
+    if (m_ == 0 || count == 0) return 0;
+    // Σ_i Q_i(p, s) = geo(p) + area |s|² − 2 s·lin(p), minimised by s = lin/area: geo − |lin|²/area.
+    constexpr std::size_t kStack = 32;
+    double stack[kStack];
+    std::vector<double> heap;
+    double* lin = stack;
+    if (m_ > kStack) {
+        heap.assign(m_, 0.0);
+        lin = heap.data();
+    } else {
+        std::fill(stack, stack + m_, 0.0);
+    }
+    const double x = p.x, y = p.y, z = p.z;
+    double geo = 0, area = 0;
+    for (std::size_t i = 0; i < count; ++i) {
+        const double* q = &data_[indices[i] * stride()];
+        geo += q[0] * x * x + q[3] * y * y + q[5] * z * z + 2 * (q[1] * x * y + q[2] * x * z + q[4] * y * z) +
+               2 * (q[6] * x + q[7] * y + q[8] * z) + q[9];
+        area += q[10];
+        const double* G = q + 11;
+        const double* D = q + 11 + 3 * m_;
+        for (std::size_t j = 0; j < m_; ++j) lin[j] += G[j] * x + G[m_ + j] * y + G[2 * m_ + j] * z + D[j];
+    }
+    if (!(area > 0)) return geo > 0 ? geo : 0;
+    double r = geo;
+    for (std::size_t j = 0; j < m_; ++j) r -= lin[j] * lin[j] / area;
+    return r > 0 ? r : 0;
+}
+
 Quadric AttributeQuadrics::eliminated(std::size_t index) const {
     Quadric r;
     if (m_ == 0) return r;

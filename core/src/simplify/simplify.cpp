@@ -413,6 +413,16 @@ private:
     double evaluate(std::uint32_t u, std::uint32_t v, Plan& plan, bool full);
     // evaluate()'s checks and cost on a plan whose classes and targets are filled in.
     double plan_cost(std::uint32_t u, std::uint32_t v, Plan& plan);
+    double merged_attribute_cost(std::uint32_t v, const Plan& plan) const;
+    void merge_box(std::uint32_t wedge, const double* lo, const double* hi) {
+        double* l = &attr_lo_[wedge * dims_];
+        double* h = &attr_hi_[wedge * dims_];
+        for (std::size_t j = 0; j < dims_; ++j) {
+            l[j] = std::min(l[j], lo[j]);
+            h[j] = std::max(h[j], hi[j]);
+        }
+    }
+    void write_solved_attributes(Mesh& out, const std::vector<std::uint32_t>& vertex_map) const;
     // evaluate(p, n, plan, false) for every neighbour n of p, in neighbours() order, from one walk over
     // p's faces (evaluate() walks them once per neighbour): calls f(n, cost). False (nothing called) when
     // p has more classes or neighbours than the walk keeps on its stack; the caller then evaluates one by one.
@@ -571,6 +581,17 @@ private:
     bool fusable_ = false;  // one material, no extra frames, half-edge placement
     bool plain_ = false;    // fusable_ and no attribute cost
     std::vector<double> attrs_;               // per wedge, weighted attribute vector
+    // Where each attribute channel lies in attrs_ (optimal placement unpacks the solved values).
+    struct AttrChannel {
+        enum class Kind { normal, color, texcoord } kind;
+        std::size_t set, offset, count;
+        double scale;  // attrs_ value = scale * attribute
+    };
+    std::vector<AttrChannel> attr_channels_;
+    // Optimal placement: per wedge, the box of the (weighted) attribute values at the corners of the
+    // faces its quadric holds; the solved values are clamped into it, since the face planes extrapolate
+    // once the point moves past a chart's edge (UVs outside the chart sample the atlas's gutter).
+    std::vector<double> attr_lo_, attr_hi_;
     PointHeap heap_;
     std::size_t alive_faces_ = 0;
     std::size_t start_faces_ = 0;
@@ -654,16 +675,20 @@ void Simplifier::setup() {
     const auto& w = params_.weights;
     struct Channel { const float* base; std::size_t stride, count; double weight; };
     std::vector<Channel> channels;
-    if (mesh_.has_normals() && w.normal > 0)
-        channels.push_back({&mesh_.normals[0].x, 3, 3, w.normal});
-    if (mesh_.has_colors() && w.color > 0)
-        channels.push_back({&mesh_.colors[0].x, 4, 4, w.color});
+    attr_channels_.clear();
+    using AK = AttrChannel::Kind;
+    auto add_channel = [&](const float* base, std::size_t count, double weight, AK kind, std::size_t set) {
+        channels.push_back({base, count, count, weight});
+        attr_channels_.push_back({kind, set, dims_, count, kAttributeScale * weight});
+        dims_ += count;
+    };
+    dims_ = 0;
+    if (mesh_.has_normals() && w.normal > 0) add_channel(&mesh_.normals[0].x, 3, w.normal, AK::normal, 0);
+    if (mesh_.has_colors() && w.color > 0) add_channel(&mesh_.colors[0].x, 4, w.color, AK::color, 0);
     for (std::size_t s = 0; s < mesh_.texcoords.size(); ++s) {
         const float ws = s < w.texcoord_sets.size() ? w.texcoord_sets[s] : w.texcoord;
-        if (ws > 0 && !mesh_.texcoords[s].empty()) channels.push_back({&mesh_.texcoords[s][0].x, 2, 2, ws});
+        if (ws > 0 && !mesh_.texcoords[s].empty()) add_channel(&mesh_.texcoords[s][0].x, 2, ws, AK::texcoord, s);
     }
-    dims_ = 0;
-    for (const Channel& c : channels) dims_ += c.count;
     if (nv == 0) dims_ = 0;
     attrs_.assign(nv * dims_, 0.0);
     if (dims_ > 0) {
@@ -677,6 +702,11 @@ void Simplifier::setup() {
     // vertex, which were allocated and zeroed for nothing: callgrind put 3.2 M of the bunny's 247 M
     // instructions at 10 % in that memset). Every use of aq_ is behind dims_ > 0.
     aq_ = AttributeQuadrics(dims_ > 0 ? nv : 0, dims_);
+    const bool boxes = dims_ > 0 && params_.placement == Placement::optimal;
+    if (boxes) {
+        attr_lo_.assign(nv * dims_, std::numeric_limits<double>::infinity());
+        attr_hi_.assign(nv * dims_, -std::numeric_limits<double>::infinity());
+    }
 
     // Quadrics.
     for (std::uint32_t f = 0; f < nf; ++f) {
@@ -694,6 +724,9 @@ void Simplifier::setup() {
             const std::size_t wedges[3] = {c[0], c[1], c[2]};
             // The plain area whatever area_weight says: the attribute error is an integral (combine()).
             aq_.add_triangle(wedges, 3, p0, p1, p2, attr(c[0]), attr(c[1]), attr(c[2]), 0.5 * len);
+            if (boxes)
+                for (int k = 0; k < 3; ++k)
+                    for (int m = 0; m < 3; ++m) merge_box(c[k], attr(c[m]), attr(c[m]));
         }
     }
     point_alive_.assign(points_, 1);
@@ -1020,20 +1053,39 @@ double Simplifier::plan_cost(std::uint32_t u, std::uint32_t v, Plan& plan) {
     }
     const double geometric = q.evaluate(plan.position);
     double cost = 0;  // attributes
-    if (dims_ > 0) {
+    if (dims_ > 0 && !half_edge) {
+        cost = merged_attribute_cost(v, plan);
+    } else if (dims_ > 0) {
         for (int i = 0; i < plan.count; ++i) {
             bool first = true;  // a wedge with two material classes is counted once
             for (int j = 0; j < i; ++j) first = first && plan.wedge[j] != plan.wedge[i];
             if (first) cost += aq_.evaluate(plan.wedge[i], plan.position, attr(plan.target[i]));
         }
-        if (!half_edge)
-            for (std::uint32_t k = wedge_begin_[v]; k < wedge_begin_[v + 1]; ++k) {
-                const std::uint32_t w = wedge_list_[k];
-                cost += aq_.evaluate(w, plan.position, attr(w));
-            }
     }
     if (frames_ > 0) return frames_cost(u, v, geometric, cost, q.weight);
     return combine(geometric, cost, q.weight);
+}
+
+// Optimal placement re-solves every wedge's attributes at the new position (run() writes them out), so a
+// collapse costs, per wedge of v, the minimum over attribute values of its quadric merged with those of
+// u's wedges that map onto it: the cost is taken at the attributes the result will have (as
+// meshoptimizer's vertex update does), not at v's old ones.
+double Simplifier::merged_attribute_cost(std::uint32_t v, const Plan& plan) const {
+    double cost = 0;
+    std::size_t idx[kMaxClasses + 1];
+    for (std::uint32_t k = wedge_begin_[v]; k < wedge_begin_[v + 1]; ++k) {
+        const std::uint32_t w = wedge_list_[k];
+        std::size_t n = 0;
+        idx[n++] = w;
+        for (int i = 0; i < plan.count; ++i) {
+            if (plan.target[i] != w) continue;
+            bool first = true;  // a wedge with two material classes is counted once
+            for (std::size_t j = 1; j < n; ++j) first = first && idx[j] != plan.wedge[i];
+            if (first) idx[n++] = plan.wedge[i];
+        }
+        cost += aq_.minimum(idx, n, plan.position);
+    }
+    return cost;
 }
 
 // Neighbours and classes kept on the stack by for_each_cost() (a point with more: evaluated one by one).
@@ -1328,7 +1380,12 @@ void Simplifier::collapse(std::uint32_t u, std::uint32_t v, const Plan& plan) {
     for (std::uint32_t k = one ? 0 : wedge_begin_[u], e = one ? 1 : wedge_begin_[u + 1]; k < e; ++k) {
         const std::uint32_t w = one ? pts_[u].wedge : wedge_list_[k];
         const std::uint32_t t = target_of(w);
-        if (dims_ > 0) aq_.accumulate(t, w);
+        // A wedge no live face uses may still hold faces of another chart in its quadric; optimal
+        // placement solves attributes from the quadrics, so it drops them rather than mix charts.
+        bool in_plan = false;
+        for (int i = 0; i < plan.count; ++i) in_plan = in_plan || plan.wedge[i] == w;
+        if (dims_ > 0 && (attr_lo_.empty() || in_plan)) aq_.accumulate(t, w);
+        if (!attr_lo_.empty() && in_plan && t != w) merge_box(t, &attr_lo_[w * dims_], &attr_hi_[w * dims_]);
         result_.moves.push_back({w, t});
     }
     rec.moves_end = static_cast<std::uint32_t>(result_.moves.size());
@@ -1889,6 +1946,7 @@ SimplifyResult Simplifier::run() {
                         static_cast<float>(pts_[i].pos.z * scale_ + centre_.z)};
     }
     result_.mesh = build_mesh(mesh_, pid_, moved.empty() ? nullptr : &moved, corners, sources, result_.vertex_map);
+    if (p.placement == Placement::optimal) write_solved_attributes(result_.mesh, result_.vertex_map);
     result_.triangles = result_.mesh.triangle_count();
     result_.error_relative = static_cast<float>(std::sqrt(max_cost));
     result_.error = static_cast<float>(std::sqrt(max_cost) * scale_);
@@ -1899,6 +1957,46 @@ SimplifyResult Simplifier::run() {
 }  // namespace
 
 namespace {
+
+// Writes the attributes that minimise each surviving wedge's attribute quadric at its point's final
+// position (Hoppe 1999: the area-weighted mean of its faces' attribute planes there). A wedge's quadric
+// only ever holds faces that had that wedge or a wedge mapped onto it along a shared face, so one UV
+// chart's faces: the solve never mixes charts. Empty quadrics keep the input value; normals are
+// renormalised (a zero mean keeps the input normal) and colours clamped to [0, 1]. Every value is first
+// clamped into the box of the attribute values of the faces the quadric holds (see attr_lo_).
+void Simplifier::write_solved_attributes(Mesh& out, const std::vector<std::uint32_t>& vertex_map) const {
+    if (dims_ == 0) return;
+    std::vector<double> s(dims_);
+    for (std::size_t i = 0; i < vertex_map.size(); ++i) {
+        const std::uint32_t w = vertex_map[i];
+        if (!aq_.optimal_attributes(w, pts_[pid_[w]].pos, s.data())) continue;
+        for (std::size_t j = 0; j < dims_; ++j)
+            if (attr_lo_[w * dims_ + j] <= attr_hi_[w * dims_ + j])
+                s[j] = std::clamp(s[j], attr_lo_[w * dims_ + j], attr_hi_[w * dims_ + j]);
+        for (const AttrChannel& c : attr_channels_) {
+            const double* a = &s[c.offset];
+            bool finite = true;
+            for (std::size_t k = 0; k < c.count; ++k) finite = finite && std::isfinite(a[k]);
+            if (!finite) continue;
+            auto value = [&](std::size_t k) { return static_cast<float>(a[k] / c.scale); };
+            switch (c.kind) {
+                case AttrChannel::Kind::normal: {
+                    const Vec3f n{value(0), value(1), value(2)};
+                    const float len = length(n);
+                    if (len > 1e-6f) out.normals[i] = n * (1.f / len);
+                    break;
+                }
+                case AttrChannel::Kind::color:
+                    out.colors[i] = {std::clamp(value(0), 0.f, 1.f), std::clamp(value(1), 0.f, 1.f),
+                                     std::clamp(value(2), 0.f, 1.f), std::clamp(value(3), 0.f, 1.f)};
+                    break;
+                case AttrChannel::Kind::texcoord:
+                    out.texcoords[c.set][i] = {value(0), value(1)};
+                    break;
+            }
+        }
+    }
+}
 
 // A triangle soup (a quarter or more of the vertices repeat an earlier one in every attribute) is run on
 // its merged vertices and the result is told in the input's numbering: every copy of a removed vertex

@@ -87,6 +87,10 @@ public:
     }
     // The attribute vector minimising the error at p (s_j = (G_j·p + D_j) / area); false when empty.
     bool optimal_attributes(std::size_t index, Vec3d p, double* s) const;
+    // min over s of Σ_i quadric[indices[i]](p, s): the error when the quadrics are merged and the
+    // attributes re-solved at p (optimal placement's cost; the minimiser is optimal_attributes() of the
+    // sum). 0 when the sum is empty.
+    double minimum(const std::size_t* indices, std::size_t count, Vec3d p) const;
     double weight(std::size_t index) const { return m_ ? data_[index * stride() + 10] : 0.0; }
     // The quadric in p alone obtained by setting the attributes to their optimum for every p
     // (Hoppe 1999, §4): A − Σ G_j G_jᵀ/α, b − Σ D_j G_j/α, c − Σ D_j²/α. Its weight is 0.

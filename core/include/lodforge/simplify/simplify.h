@@ -4,9 +4,10 @@
 //   SimplifyResult r = simplify(mesh, p);   // r.mesh, r.reason, r.error, r.collapses
 //
 // Collapses are half-edge collapses on *points* (Mesh::position_ids): all wedges of the removed point move
-// onto wedges of the kept point, so UV seams and hard-normal creases move together and stay welded. The
-// kept vertices are a subset of the input vertices with their attributes unchanged, which makes the
-// collapse sequence replayable (progressive meshes, LODStrips).
+// onto wedges of the kept point, so UV seams and hard-normal creases move together and stay welded. With
+// half-edge placement (the default of SimplifyParams) the kept vertices are a subset of the input vertices
+// with their attributes unchanged, which makes the collapse sequence replayable (progressive meshes,
+// LODStrips); optimal placement moves them and re-solves their attributes (lower error, see Placement).
 #pragma once
 
 #include "lodforge/mesh.h"
@@ -35,8 +36,11 @@ struct SimplifyWeights {
 
 enum class Placement {
     half_edge,  // the removed point moves onto the kept one (vertex subset; replayable sequence)
-    optimal,    // the kept point moves to the quadric-optimal position (lower error; positions change,
-                // the collapse sequence still reproduces the connectivity)
+    optimal,    // the kept point moves to the quadric-optimal position and every wedge of it gets the
+                // attributes minimising its attribute quadric there (Hoppe 1999; normals renormalised,
+                // colours clamped to [0, 1], a wedge with an empty quadric keeps its value); the cost is
+                // taken at those attributes. Lower error; positions and attributes change, so levels
+                // cannot share one vertex buffer (the collapse sequence still reproduces the connectivity)
 };
 
 struct SimplifyParams {
