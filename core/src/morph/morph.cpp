@@ -16,6 +16,7 @@
 #include "lodforge/error.h"
 #include "lodforge/io/gltf_reader.h"
 #include "lodforge/io/mesh_io.h"
+#include "union_find.h"
 
 #include <algorithm>
 #include <cctype>
@@ -170,11 +171,6 @@ MorphMesh load_gltf_morph(const std::string& path, const MorphLoadOptions& optio
     return morph;
 }
 
-std::uint32_t find_root(std::vector<std::uint32_t>& parent, std::uint32_t x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-}
-
 // Blends frame arrays a and b at fraction s, renormalising when asked.
 void blend_frames(const std::vector<Vec3f>& a, const std::vector<Vec3f>* b, float s, bool unit, std::vector<Vec3f>& out) {
     out.resize(a.size());
@@ -261,19 +257,13 @@ std::vector<Vec3f> vertex_normals(const Mesh& mesh, const std::vector<Vec3f>& po
 
 std::vector<std::uint32_t> morph_points(const MorphMesh& morph) {
     const std::size_t n = morph.vertex_count();
-    std::vector<std::uint32_t> parent(n);
-    std::iota(parent.begin(), parent.end(), 0u);
-    auto unite = [&](std::uint32_t a, std::uint32_t b) {
-        a = find_root(parent, a);
-        b = find_root(parent, b);
-        if (a != b) parent[std::max(a, b)] = std::min(a, b);
-    };
+    detail::UnionFind sets(n);
     const auto& ids = morph.base.position_ids;
     if (ids.size() == n) {
         std::vector<std::uint32_t> first(morph.base.point_count(), 0xffffffffu);
         for (std::uint32_t v = 0; v < n; ++v) {
             if (first[ids[v]] == 0xffffffffu) first[ids[v]] = v;
-            else unite(first[ids[v]], v);
+            else sets.unite(first[ids[v]], v);
         }
     }
     // Bit-identical in every frame, by a lexicographic sort over the frames.
@@ -295,12 +285,12 @@ std::vector<std::uint32_t> morph_points(const MorphMesh& morph) {
     for (std::size_t i = 1; i < n; ++i) {
         const std::uint32_t a = order[i - 1], b = order[i];
         const bool same = std::all_of(frames.begin(), frames.end(), [&](const auto& f) { return f[a] == f[b]; });
-        if (same) unite(a, b);
+        if (same) sets.unite(a, b);
     }
     std::vector<std::uint32_t> id(n), id_of_root(n, 0xffffffffu);
     std::uint32_t next = 0;
     for (std::uint32_t v = 0; v < n; ++v) {
-        const std::uint32_t r = find_root(parent, v);
+        const std::uint32_t r = sets.find(v);
         if (id_of_root[r] == 0xffffffffu) id_of_root[r] = next++;
         id[v] = id_of_root[r];
     }

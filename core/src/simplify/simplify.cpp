@@ -23,6 +23,7 @@
 #include "lodforge/error.h"
 #include "lodforge/simplify/quadric.h"
 #include "huge_pages.h"
+#include "union_find.h"
 
 #include <algorithm>
 #include <array>
@@ -47,35 +48,20 @@ constexpr double kAttributeScale = 10.0;  // (wedge, material) classes around on
 // ---------------------------------------------------------------------------------------------------
 // Welding and output layout (shared by weld_seams and simplify)
 
-std::uint32_t find_root(std::vector<std::uint32_t>& parent, std::uint32_t x) {
-    while (parent[x] != x) {
-        parent[x] = parent[parent[x]];
-        x = parent[x];
-    }
-    return x;
-}
-
-void unite(std::vector<std::uint32_t>& parent, std::uint32_t a, std::uint32_t b) {
-    a = find_root(parent, a);
-    b = find_root(parent, b);
-    if (a == b) return;
-    if (a < b) parent[b] = a;  // the smallest vertex index stays the root (the point's representative)
-    else parent[a] = b;
-}
 
 // Point id of every vertex: dense, numbered by first occurrence; `representative` gets the first vertex
 // of each point.
 std::vector<std::uint32_t> derive_points(const Mesh& mesh, bool weld, float tolerance,
                                          std::vector<std::uint32_t>& representative) {
     const std::size_t n = mesh.vertex_count();
-    std::vector<std::uint32_t> parent(n);
-    std::iota(parent.begin(), parent.end(), 0u);
+    // The smallest vertex index of a set stays its root: the point's representative.
+    detail::UnionFind sets(n);
     if (mesh.position_ids.size() == n) {
         std::vector<std::uint32_t> first(mesh.point_count(), kNone);
         for (std::uint32_t v = 0; v < n; ++v) {
             std::uint32_t& f = first[mesh.position_ids[v]];
             if (f == kNone) f = v;
-            else unite(parent, f, v);
+            else sets.unite(f, v);
         }
     }
     if (weld && tolerance <= 0.f) {
@@ -104,7 +90,7 @@ std::vector<std::uint32_t> derive_points(const Mesh& mesh, bool weld, float tole
                     break;
                 }
                 if (mesh.positions[o] == p) {
-                    unite(parent, o, v);
+                    sets.unite(o, v);
                     break;
                 }
             }
@@ -134,7 +120,7 @@ std::vector<std::uint32_t> derive_points(const Mesh& mesh, bool weld, float tole
                             if (static_cast<double>(dot(d, d)) <= tol2) { found = o; break; }
                         }
                     }
-            if (found != kNone) unite(parent, found, v);
+            if (found != kNone) sets.unite(found, v);
             else grid[key(cx, cy, cz)].push_back(v);
         }
     }
@@ -142,7 +128,7 @@ std::vector<std::uint32_t> derive_points(const Mesh& mesh, bool weld, float tole
     std::vector<std::uint32_t> id_of_root(n, kNone);
     representative.clear();
     for (std::uint32_t v = 0; v < n; ++v) {
-        const std::uint32_t r = find_root(parent, v);
+        const std::uint32_t r = sets.find(v);
         if (id_of_root[r] == kNone) {
             id_of_root[r] = static_cast<std::uint32_t>(representative.size());
             representative.push_back(r);
