@@ -120,7 +120,7 @@ TEST(CliPreset, StripsTakesJoinsAndCoarsestLevelFromThePreset) {
 TEST(CliPreset, OctreeBuildTakesTheOctreeKeysAndFlagsOverrideThem) {
     lodforge::test::ScratchDir dir("cli-preset-octree");
     const std::string ply = dir.file("spot.ply");
-    ASSERT_EQ(run_cli("convert " + quoted(spot()) + " -o " + quoted(ply)).exit_code, 0);
+    ASSERT_EQ(run_cli("convert " + quoted(spot()) + " " + quoted(ply)).exit_code, 0);
     const std::string file = write_preset(
         dir, "p.json", R"({"method": "octree", "octree": {"max_triangles_per_node": 300, "max_depth": 2}})");
     CliRun r = run_cli("octree build " + quoted(ply) + " -o " + quoted(dir.file("a.lfo")) + " --preset " + quoted(file));

@@ -378,8 +378,11 @@ TEST(LodPack, StructureMethodsReturnTheirCells) {
         return true;
     };
 
+    PresetLevelsParams unmeasured;
+    unmeasured.source_path = "spot.obj";
+    unmeasured.measure = false;
     preset.method = LodMethod::octree;
-    const PresetLevels octree = build_preset_levels(mesh, preset, {.source_path = "spot.obj", .measure = false});
+    const PresetLevels octree = build_preset_levels(mesh, preset, unmeasured);
     const OctreeStats& s = octree.octree_stats;
     ASSERT_EQ(octree.cells.size(), s.nodes);
     ASSERT_GT(s.leaves, 1u);
@@ -404,7 +407,7 @@ TEST(LodPack, StructureMethodsReturnTheirCells) {
     EXPECT_EQ(s.triangles_per_level.front(), mesh.triangle_count());
 
     preset.method = LodMethod::mcoctree;
-    const PresetLevels mc = build_preset_levels(mesh, preset, {.source_path = "spot.obj", .measure = false});
+    const PresetLevels mc = build_preset_levels(mesh, preset, unmeasured);
     EXPECT_EQ(mc.octree_stats.nodes, 0u);
     ASSERT_GT(mc.cells.size(), 8u);
     std::set<int> depths;
@@ -416,5 +419,5 @@ TEST(LodPack, StructureMethodsReturnTheirCells) {
     EXPECT_GE(depths.size(), 1u);
 
     preset.method = LodMethod::lodstrips;
-    EXPECT_TRUE(build_preset_levels(mesh, preset, {.source_path = "spot.obj", .measure = false}).cells.empty());
+    EXPECT_TRUE(build_preset_levels(mesh, preset, unmeasured).cells.empty());
 }

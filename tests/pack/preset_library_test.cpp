@@ -61,11 +61,13 @@ TEST(PresetLevels, EveryMethodGivesOneMeasuredLevelPerTarget) {
     preset.levels = {{LodTarget::Kind::ratio, 0.5}, {LodTarget::Kind::triangles, 600}};
     preset.octree.max_triangles_per_node = 300;
     preset.mcoctree.resolution = 32;
+    PresetLevelsParams params;
+    params.source_path = "spot.obj";
     for (LodMethod m : {LodMethod::collapse, LodMethod::cluster, LodMethod::lodstrips, LodMethod::mcoctree,
                         LodMethod::octree}) {
         preset.method = m;
         PresetLevelsStats stats;
-        const PresetLevels r = build_preset_levels(mesh, preset, {.source_path = "spot.obj"}, nullptr, &stats);
+        const PresetLevels r = build_preset_levels(mesh, preset, params, nullptr, &stats);
         const std::string name(to_string(m));
         ASSERT_EQ(r.levels.size(), 2u) << name;
         ASSERT_EQ(r.distance.size(), 2u) << name;
@@ -82,14 +84,16 @@ TEST(PresetLevels, EveryMethodGivesOneMeasuredLevelPerTarget) {
         EXPECT_EQ(r.cells.empty(), m != LodMethod::mcoctree && m != LodMethod::octree) << name;
     }
     // Without measuring, no distances; error targets only for the collapse chain.
+    PresetLevelsParams unmeasured;
+    unmeasured.measure = false;
     preset.method = LodMethod::collapse;
-    EXPECT_TRUE(build_preset_levels(mesh, preset, {.measure = false}).distance.empty());
+    EXPECT_TRUE(build_preset_levels(mesh, preset, unmeasured).distance.empty());
     preset.levels = {{LodTarget::Kind::error, 0.01}};
-    EXPECT_EQ(build_preset_levels(mesh, preset, {.measure = false}).levels.size(), 1u);
+    EXPECT_EQ(build_preset_levels(mesh, preset, unmeasured).levels.size(), 1u);
     for (LodMethod m : {LodMethod::cluster, LodMethod::lodstrips, LodMethod::mcoctree, LodMethod::octree}) {
         preset.method = m;
         try {
-            build_preset_levels(mesh, preset, {.source_path = "spot.obj"});
+            build_preset_levels(mesh, preset, params);
             ADD_FAILURE() << to_string(m) << " must refuse an error target";
         } catch (const Error& e) {
             EXPECT_EQ(e.kind(), Error::Kind::argument);
