@@ -6,6 +6,7 @@
 #include "PixelStats.h"
 
 #include "lodforge/pack/preset.h"
+#include "lodforge/pack/preset_library.h"
 #include "lodforge/widgets/LevelViews.h"
 #include "lodforge/widgets/LoadJob.h"
 #include "lodforge/widgets/ParametersPanel.h"
@@ -443,7 +444,13 @@ void LodStudioTest::presetSavesAndReloads() {
              qPrintable(error));
     QCOMPARE(window_->preset(), lodforge::Preset{});
 
-    // The last preset comes back in the next session.
+    // A shipped preset loads by name (as `--preset console` does); it is not a file to save back to.
+    QVERIFY2(window_->loadPreset(QStringLiteral("console"), &error), qPrintable(error));
+    QCOMPARE(window_->preset(), lodforge::load_shipped_preset("console"));
+    QVERIFY(!window_->loadPreset(QStringLiteral("consol"), &error));
+    QVERIFY2(error.contains(QStringLiteral("not a shipped preset")), qPrintable(error));
+
+    // The last preset file comes back in the next session.
     window_->close();
     window_ = std::make_unique<MainWindow>();
     QCOMPARE(window_->preset(), preset);
