@@ -13,7 +13,6 @@
 #include <CLI/CLI.hpp>
 
 #include <optional>
-
 #include <string>
 #include <vector>
 
