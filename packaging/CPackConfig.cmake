@@ -1,5 +1,6 @@
 # `cpack -G DEB` in the build directory produces lodforge_<version>_<arch>.deb with both executables,
-# the desktop entry and the icon. Runtime dependencies are computed from the binaries by dpkg-shlibdeps.
+# the desktop entry and the icon, the shipped presets, and the library (static core, headers, CMake
+# package: the install() rules of core/CMakeLists.txt). Runtime dependencies are computed from the binaries by dpkg-shlibdeps.
 install(FILES ${PROJECT_SOURCE_DIR}/packaging/lodforge-studio.desktop DESTINATION share/applications)
 install(FILES ${PROJECT_SOURCE_DIR}/packaging/lodforge.svg
         DESTINATION share/icons/hicolor/scalable/apps RENAME lodforge-studio.svg)
@@ -12,6 +13,10 @@ set(CPACK_PACKAGE_NAME lodforge)
 set(CPACK_PACKAGE_VENDOR "LodForge")
 set(CPACK_PACKAGE_CONTACT "LodForge developers <dev@lodforge.invalid>")
 set(CPACK_PACKAGE_DESCRIPTION_SUMMARY "Level-of-detail authoring for heavy scanned and modelled meshes")
+# Consumers of the CMake package link the static core's dependencies (LodForgeConfig.cmake finds them):
+# their -dev packages are suggested, not required, for users of the programs alone.
+set(CPACK_DEBIAN_PACKAGE_SUGGESTS
+    "libeigen3-dev, libtinygltf-dev, libtinyobjloader-dev, nlohmann-json3-dev, libssl-dev, libmeshoptimizer-dev")
 set(CPACK_PACKAGE_VERSION ${PROJECT_VERSION})
 set(CPACK_RESOURCE_FILE_LICENSE ${PROJECT_SOURCE_DIR}/LICENSE)
 set(CPACK_GENERATOR DEB)

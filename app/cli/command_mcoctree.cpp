@@ -1,6 +1,7 @@
 // `lodforge mcoctree build|extract|info`: the prioritized marching-cube octree (docs/mcoctree.md).
 #include "commands.h"
 #include "mesh_output.h"
+#include "simplify_options.h"
 #include "terminal_progress.h"
 
 #include "lodforge/error.h"
@@ -12,6 +13,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <memory>
+#include <optional>
 
 namespace lodforge::cli {
 namespace {
@@ -25,7 +27,7 @@ void add_mcoctree_command(CLI::App& app, const GlobalOptions& global) {
     cmd->require_subcommand(1);
 
     struct BuildOptions {
-        std::string input, output;
+        std::string input, output, preset;
         long long resolution = 128;
         double cube_size = 0, band = 0;
     };
@@ -35,13 +37,18 @@ void add_mcoctree_command(CLI::App& app, const GlobalOptions& global) {
                       "plus points on its faces longer than two cubes")
         ->required();
     build->add_option("-o,--output", b->output, "Output octree (.mco)")->required();
-    build->add_option("--resolution", b->resolution, "Leaf cubes along the longest axis")->capture_default_str();
+    add_preset_option(build, b->preset);
+    auto* resolution =
+        build->add_option("--resolution", b->resolution, "Leaf cubes along the longest axis")->capture_default_str();
     build->add_option("--cube-size", b->cube_size, "Leaf cube edge in model units (overrides --resolution)");
     build->add_option("--band", b->band,
                       "Keep only cubes within this many cube sizes of a point (open scans end at their border); "
                       "0 = no limit, closed surface")
         ->capture_default_str();
-    build->callback([b, &global] {
+    build->callback([b, resolution, &global] {
+        // A preset gives the resolution (mcoctree.resolution) unless --resolution is given.
+        if (const std::optional<Preset> preset = preset_from_option(b->preset); preset && !resolution->count())
+            b->resolution = preset->mcoctree.resolution;
         if (b->resolution < 1) throw Error(Error::Kind::argument, "mcoctree build: --resolution must be at least 1");
         if (b->cube_size < 0) throw Error(Error::Kind::argument, "mcoctree build: --cube-size must be positive");
         if (b->band < 0) throw Error(Error::Kind::argument, "mcoctree build: --band must be >= 0");

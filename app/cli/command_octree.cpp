@@ -16,6 +16,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -55,16 +56,19 @@ std::string attributes_text(const VertexLayout& l) {
 
 void add_build(CLI::App& octree, const GlobalOptions& global) {
     struct Options {
-        std::string input, output, mode = "octree", temp_dir, weights;
+        std::string input, output, mode = "octree", temp_dir, weights, preset;
         long long max_triangles = 10000, max_depth = 12, memory = 256, grid = 256, threads = 2;
     };
     auto o = std::make_shared<Options>();
     CLI::App* cmd = octree.add_subcommand("build", "Build an octree LOD asset (or, with --mode cluster, one OoCS mesh) from a PLY of any size");
     cmd->add_option("IN", o->input, "Input mesh (.ply: ASCII or binary, any size)")->required();
     cmd->add_option("-o,--output", o->output, "Output asset (.lfo); with --mode cluster a .ply mesh")->required();
-    cmd->add_option("--max-triangles", o->max_triangles, "Split an octree node holding more input triangles than this")->capture_default_str();
-    cmd->add_option("--max-depth", o->max_depth, "Never split below this depth (0..20)")->capture_default_str();
-    cmd->add_option("--memory", o->memory, "Working memory budget in MB (at least 4)")->capture_default_str();
+    add_preset_option(cmd, o->preset);
+    auto* max_triangles = cmd->add_option("--max-triangles", o->max_triangles,
+                                          "Split an octree node holding more input triangles than this")
+                              ->capture_default_str();
+    auto* max_depth = cmd->add_option("--max-depth", o->max_depth, "Never split below this depth (0..20)")->capture_default_str();
+    auto* memory_mb = cmd->add_option("--memory", o->memory, "Working memory budget in MB (at least 4)")->capture_default_str();
     cmd->add_option("--mode", o->mode, "octree: multi-level crack-free asset; cluster: Lindstrom OoCS, one mesh (fast)")
         ->check(CLI::IsMember({"octree", "cluster"}))
         ->capture_default_str();
@@ -72,7 +76,15 @@ void add_build(CLI::App& octree, const GlobalOptions& global) {
     cmd->add_option("--temp-dir", o->temp_dir, "Directory for temporary files (default: beside the output)");
     cmd->add_option("--weights", o->weights, kWeightsHelp);
     cmd->add_option("--threads", o->threads, "Threads computing octree nodes (1 or 2; the asset is the same)")->capture_default_str();
-    cmd->callback([o, &global] {
+    cmd->callback([o, max_triangles, max_depth, memory_mb, &global] {
+        // A preset gives the octree's knobs and the weights; each flag given overrides its key.
+        SimplifyWeights weights;
+        if (const std::optional<Preset> preset = preset_from_option(o->preset)) {
+            if (!max_triangles->count()) o->max_triangles = preset->octree.max_triangles_per_node;
+            if (!max_depth->count()) o->max_depth = preset->octree.max_depth;
+            if (!memory_mb->count()) o->memory = preset->octree.memory_mb;
+            weights = preset->weights;
+        }
         if (o->threads < 1 || o->threads > 2) throw Error(Error::Kind::argument, "octree build: --threads must be 1 or 2");
         if (o->memory < 4 || o->memory > (1ll << 30)) throw Error(Error::Kind::argument, "octree build: --memory must be at least 4 (MB)");
         if (o->max_triangles < 1) throw Error(Error::Kind::argument, "octree build: --max-triangles must be at least 1");
@@ -104,6 +116,7 @@ void add_build(CLI::App& octree, const GlobalOptions& global) {
         p.memory_bytes = memory;
         p.temp_dir = o->temp_dir;
         p.threads = static_cast<int>(o->threads);
+        p.weights = weights;
         if (!o->weights.empty()) parse_weights(o->weights, p.weights);
         const OctreeBuildResult r = build_octree(o->input, o->output, p, &progress);
         progress.finish();

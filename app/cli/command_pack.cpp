@@ -1,4 +1,5 @@
 #include "commands.h"
+#include "simplify_options.h"
 #include "terminal_progress.h"
 
 #include "lodforge/error.h"
@@ -15,21 +16,34 @@ namespace lodforge::cli {
 
 void add_pack_command(CLI::App& app, const GlobalOptions& global) {
     struct Options {
-        std::string input, preset, output_dir;
+        std::string input, preset, output_dir, method, weights;
+        std::string levels, level_triangles, level_errors;
+        bool lock_border = false;
         bool json = false;
     };
     auto options = std::make_shared<Options>();
     CLI::App* cmd = app.add_subcommand(
-        "pack", "Export a LOD pack (.glb with MSFT_lod, per-level PLY/OBJ, pack.json) as a preset describes it;\n"
-                "the studio's export button writes the same pack from the same preset");
+        "pack", "Export a LOD pack (.glb with MSFT_lod, per-level PLY/OBJ, pack.json) as a preset describes it\n"
+                "(the studio's default without --preset); the studio's export button writes the same pack");
     cmd->add_option("IN", options->input, "Input mesh (.ply, .obj, .gltf, .glb)")->required();
-    cmd->add_option("--preset", options->preset, "Preset JSON (docs/presets.md), as the studio saves it")->required();
+    add_preset_option(cmd, options->preset);
     cmd->add_option("-o,--output", options->output_dir, "Pack directory (created when missing)")->required();
+    cmd->add_option("--method", options->method, "LOD method (overrides the preset's)")
+        ->check(CLI::IsMember({"collapse", "cluster", "octree", "lodstrips", "mcoctree"}));
+    add_level_options(cmd, options->levels, options->level_triangles, options->level_errors);
+    cmd->add_option("--weights", options->weights, kWeightsHelp);
+    cmd->add_flag("--lock-border", options->lock_border, "Never move border vertices");
     cmd->add_flag("--json", options->json, "Print the levels and files written as JSON");
     cmd->callback([options, &global] {
         const Options& o = *options;
         PackParams params;
-        params.preset = load_preset(o.preset);
+        // Without --preset: the studio's default preset.
+        params.preset = preset_from_option(o.preset).value_or(Preset{});
+        if (!o.method.empty()) params.preset.method = lod_method_from_string(o.method);
+        std::vector<LodTarget> targets = parse_level_targets(o.levels, o.level_triangles, o.level_errors, "pack");
+        if (!targets.empty()) params.preset.levels = std::move(targets);
+        if (!o.weights.empty()) parse_weights(o.weights, params.preset.weights);
+        params.preset.lock_border = params.preset.lock_border || o.lock_border;
         params.source_path = o.input;
         params.output_dir = o.output_dir;
 

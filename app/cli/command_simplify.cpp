@@ -10,6 +10,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <optional>
 
 namespace lodforge::cli {
 namespace {
@@ -37,7 +38,7 @@ const char* reason_text(ClusterResult::StopReason r) {
 
 void add_simplify_command(CLI::App& app, const GlobalOptions& global) {
     struct Options {
-        std::string input, output;
+        std::string input, output, preset;
         double ratio = 0, max_error = 0;
         long long triangles = 0;
         std::string weights;
@@ -53,13 +54,14 @@ void add_simplify_command(CLI::App& app, const GlobalOptions& global) {
     CLI::App* cmd = app.add_subcommand("simplify", "Simplify a mesh to a triangle ratio, count or error bound");
     cmd->add_option("IN", options->input, "Input mesh (.ply, .obj, .gltf, .glb)")->required();
     cmd->add_option("-o,--output", options->output, "Output mesh (.ply, .obj or .glb)")->required();
+    add_preset_option(cmd, options->preset);
     CLI::Option* ratio = cmd->add_option("--ratio", options->ratio, "Keep this fraction of the triangles, in (0, 1]");
     CLI::Option* triangles = cmd->add_option("--triangles", options->triangles, "Keep this many triangles");
     CLI::Option* max_error = cmd->add_option(
         "--max-error", options->max_error, "Simplify until the error estimate reaches this fraction of the bounding-box diagonal");
     cmd->add_option("--weights", options->weights, kWeightsHelp);
     CLI::Option* lock = cmd->add_flag("--lock-border", options->lock_border, "Never move border vertices (collapse mode)");
-    cmd->add_option("--mode", options->mode, "collapse: quadric edge collapse; cluster: vertex clustering (faster, coarser)")
+    CLI::Option* mode = cmd->add_option("--mode", options->mode, "collapse: quadric edge collapse; cluster: vertex clustering (faster, coarser)")
         ->check(CLI::IsMember({"collapse", "cluster"}))
         ->capture_default_str();
     CLI::Option* area_weight =
@@ -77,11 +79,36 @@ void add_simplify_command(CLI::App& app, const GlobalOptions& global) {
                         "position and their UVs, normals and colours are re-solved there (collapse mode)")
             ->check(CLI::IsMember({"half-edge", "optimal"}))
             ->capture_default_str();
-    cmd->callback([options, ratio, triangles, max_error, lock, area_weight, height_weight, placement, &global] {
-        const Options& o = *options;
+    cmd->callback([options, ratio, triangles, max_error, lock, mode, area_weight, height_weight, placement, &global] {
+        Options o = *options;
         const int targets = static_cast<int>(ratio->count() > 0) + static_cast<int>(triangles->count() > 0) +
                             static_cast<int>(max_error->count() > 0);
-        if (targets != 1)
+        bool has_max_error = max_error->count() > 0;
+        SimplifyWeights weights;
+        // A preset gives the method, weights, border locking and, without a target flag, its first level.
+        if (const std::optional<Preset> preset = preset_from_option(o.preset)) {
+            if (!mode->count()) {
+                if (preset->method != LodMethod::collapse && preset->method != LodMethod::cluster)
+                    throw Error(Error::Kind::argument, "simplify: the preset's method '" +
+                                                           std::string(to_string(preset->method)) +
+                                                           "' makes no single mesh; give --mode, or use `lodforge lod`");
+                o.mode = std::string(to_string(preset->method));
+            }
+            weights = preset->weights;
+            if (o.mode == "collapse") o.lock_border = o.lock_border || preset->lock_border;
+            if (targets == 0) {
+                if (preset->levels.empty())
+                    throw Error(Error::Kind::argument, "simplify: the preset has no levels; give --ratio, --triangles or --max-error");
+                const LodTarget& first = preset->levels.front();
+                if (first.kind == LodTarget::Kind::ratio) o.ratio = first.value;
+                else if (first.kind == LodTarget::Kind::triangles) o.triangles = static_cast<long long>(first.value);
+                else o.max_error = first.value;
+                has_max_error = first.kind == LodTarget::Kind::error;
+            }
+        } else if (targets != 1) {
+            throw Error(Error::Kind::argument, "simplify: give exactly one of --ratio, --triangles and --max-error");
+        }
+        if (targets > 1)
             throw Error(Error::Kind::argument, "simplify: give exactly one of --ratio, --triangles and --max-error");
         if (ratio->count() && !(o.ratio > 0 && o.ratio <= 1))
             throw Error(Error::Kind::argument, "simplify: --ratio must be in (0, 1], got " + std::to_string(o.ratio));
@@ -90,7 +117,7 @@ void add_simplify_command(CLI::App& app, const GlobalOptions& global) {
         if (max_error->count() && !(o.max_error > 0 && std::isfinite(o.max_error)))
             throw Error(Error::Kind::argument, "simplify: --max-error must be > 0 (a fraction of the diagonal)");
         const bool cluster = o.mode == "cluster";
-        if (cluster && max_error->count())
+        if (cluster && has_max_error)
             throw Error(Error::Kind::argument, "simplify: --max-error needs --mode collapse (clustering targets a triangle count)");
         if (cluster && lock->count())
             throw Error(Error::Kind::argument, "simplify: --lock-border needs --mode collapse");
@@ -101,7 +128,6 @@ void add_simplify_command(CLI::App& app, const GlobalOptions& global) {
         if (!(o.height_weight >= 0 && std::isfinite(o.height_weight)))
             throw Error(Error::Kind::argument, "simplify: --height-weight must be finite and >= 0");
         check_mesh_output("simplify", o.output);
-        SimplifyWeights weights;
         if (!o.weights.empty()) parse_weights(o.weights, weights);
 
         TerminalProgress progress(!global.quiet && stderr_is_terminal());
@@ -126,7 +152,7 @@ void add_simplify_command(CLI::App& app, const GlobalOptions& global) {
             SimplifyParams p;
             p.target_ratio = static_cast<float>(o.ratio);
             p.target_triangles = static_cast<std::size_t>(o.triangles);
-            if (max_error->count()) p.max_error = static_cast<float>(o.max_error);
+            if (has_max_error) p.max_error = static_cast<float>(o.max_error);
             p.weights = weights;
             p.lock_border = o.lock_border;
             p.area_weight = o.area_weight == "area" ? SimplifyParams::AreaWeight::area : SimplifyParams::AreaWeight::sqrt_area;

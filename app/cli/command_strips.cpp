@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <optional>
 
 namespace lodforge::cli {
 namespace {
@@ -63,7 +64,7 @@ void print_info(const std::string& path, const lodstrips::Data& d, bool json) {
 
 void add_strips_command(CLI::App& app, const GlobalOptions& global) {
     struct Options {
-        std::string input, output, weights;
+        std::string input, output, weights, preset;
         bool restart = false, degenerate = false, lock_border = false, json = false;
         double coarsest = 0.01;
         std::size_t max_strip_length = 256;
@@ -79,10 +80,11 @@ void add_strips_command(CLI::App& app, const GlobalOptions& global) {
         "strips", "Build a LODStrips continuous-LOD model (.lodstrips); `strips info` / `strips extract` read one");
     cmd->add_option("IN", o->input, "Input mesh (.ply, .obj, .gltf, .glb)");
     cmd->add_option("-o,--output", o->output, "Output .lodstrips file");
+    add_preset_option(cmd, o->preset);
     auto* restart = cmd->add_flag("--restart", o->restart, "Strips separated by primitive restart (default)");
-    cmd->add_flag("--degenerate", o->degenerate, "Strips joined by degenerate triangles")->excludes(restart);
+    auto* degenerate = cmd->add_flag("--degenerate", o->degenerate, "Strips joined by degenerate triangles")->excludes(restart);
     cmd->add_option("--weights", o->weights, kWeightsHelp);
-    cmd->add_option("--coarsest", o->coarsest, "Coarsest stored level as a fraction of the input triangles")
+    auto* coarsest = cmd->add_option("--coarsest", o->coarsest, "Coarsest stored level as a fraction of the input triangles")
         ->check(CLI::Range(0.0, 1.0))
         ->capture_default_str();
     cmd->add_option("--max-strip-length", o->max_strip_length, "Longest strip piece in indices")
@@ -126,16 +128,32 @@ void add_strips_command(CLI::App& app, const GlobalOptions& global) {
                     rt.triangle_count(), rt.vertex_count(), o->extract_output.c_str());
     });
 
-    cmd->callback([o, cmd, &global] {
+    cmd->callback([o, cmd, restart, degenerate, coarsest, &global] {
         if (!cmd->get_subcommands().empty()) return;  // `strips info` / `strips extract` ran
         if (o->input.empty() || o->output.empty())
             throw Error(Error::Kind::argument, "strips: give IN and -o OUT.lodstrips (or use `strips info` / `strips extract`)");
         LodStripsParams params;
         params.join = o->degenerate ? StripJoin::degenerate : StripJoin::restart;
-        if (!o->weights.empty()) parse_weights(o->weights, params.weights);
         params.coarsest_ratio = static_cast<float>(o->coarsest);
-        params.max_strip_length = o->max_strip_length;
         params.lock_border = o->lock_border;
+        // A preset gives the joins, weights, border locking and, as the coarsest level, its last level.
+        if (const std::optional<Preset> preset = preset_from_option(o->preset)) {
+            if (!restart->count() && !degenerate->count())
+                params.join = preset->strips.primitive_restart ? StripJoin::restart : StripJoin::degenerate;
+            params.weights = preset->weights;
+            params.lock_border = params.lock_border || preset->lock_border;
+            if (!coarsest->count() && !preset->levels.empty()) {
+                const LodTarget& last = preset->levels.back();
+                if (last.kind == LodTarget::Kind::error)
+                    throw Error(Error::Kind::argument, "strips: the preset's coarsest level is an error target; "
+                                                       "LODStrips takes a ratio or a triangle count (give --coarsest)");
+                params.coarsest_ratio = last.kind == LodTarget::Kind::ratio ? static_cast<float>(last.value) : 0.f;
+                params.coarsest_triangles = last.kind == LodTarget::Kind::triangles
+                                                ? static_cast<std::size_t>(last.value) : 0;
+            }
+        }
+        if (!o->weights.empty()) parse_weights(o->weights, params.weights);
+        params.max_strip_length = o->max_strip_length;
         params.strip_order = o->strip_order == "cache" ? StripOrder::cache : StripOrder::run_off;
         TerminalProgress progress(!global.quiet && stderr_is_terminal());
         const Mesh mesh = read_triangle_mesh("strips", o->input, &progress);

@@ -1,6 +1,7 @@
 #include "simplify_options.h"
 
 #include "lodforge/error.h"
+#include "lodforge/pack/preset_library.h"
 
 #include <algorithm>
 #include <cmath>
@@ -64,6 +65,54 @@ std::vector<double> parse_number_list(const std::string& text, const std::string
     for (const std::string& item : split(text, ',')) values.push_back(parse_number(item, option));
     if (values.empty()) throw Error(Error::Kind::argument, option + ": give at least one value");
     return values;
+}
+
+CLI::Option* add_preset_option(CLI::App* cmd, std::string& value) {
+    return cmd->add_option("--preset", value,
+                           "Preset: a shipped name (mobile, console, web, scan-archive) or a JSON file "
+                           "(docs/presets.md); flags given here override its keys");
+}
+
+std::optional<Preset> preset_from_option(const std::string& value) {
+    if (value.empty()) return std::nullopt;
+    return resolve_preset(value);
+}
+
+std::vector<LodTarget> parse_level_targets(const std::string& ratios, const std::string& triangles,
+                                           const std::string& errors, const std::string& command) {
+    const int given = static_cast<int>(!ratios.empty()) + static_cast<int>(!triangles.empty()) +
+                      static_cast<int>(!errors.empty());
+    if (given > 1)
+        throw Error(Error::Kind::argument,
+                    command + ": give at most one of --levels, --level-triangles and --level-errors");
+    std::vector<LodTarget> levels;
+    if (!ratios.empty()) {
+        for (double r : parse_number_list(ratios, "--levels")) {
+            if (!(r > 0 && r < 1))
+                throw Error(Error::Kind::argument, "--levels: ratio " + std::to_string(r) +
+                                                       " is outside (0, 1) (level 0 is the input itself)");
+            levels.push_back({LodTarget::Kind::ratio, r});
+        }
+    } else if (!triangles.empty()) {
+        for (double t : parse_number_list(triangles, "--level-triangles")) {
+            if (!(t >= 1) || t != std::floor(t))
+                throw Error(Error::Kind::argument, "--level-triangles: " + std::to_string(t) + " is not a positive integer");
+            levels.push_back({LodTarget::Kind::triangles, t});
+        }
+    } else if (!errors.empty()) {
+        for (double e : parse_number_list(errors, "--level-errors")) {
+            if (!(e > 0)) throw Error(Error::Kind::argument, "--level-errors: errors must be > 0");
+            levels.push_back({LodTarget::Kind::error, e});
+        }
+    }
+    return levels;
+}
+
+void add_level_options(CLI::App* cmd, std::string& ratios, std::string& triangles, std::string& errors) {
+    cmd->add_option("--levels", ratios, "Triangle ratios of the input, decreasing, e.g. 0.5,0.25,0.1,0.03");
+    cmd->add_option("--level-triangles", triangles, "Triangle counts, decreasing, e.g. 20000,5000,1000");
+    cmd->add_option("--level-errors", errors,
+                    "Error bounds per step (fraction of the diagonal), increasing, e.g. 0.001,0.004");
 }
 
 }  // namespace lodforge::cli

@@ -1,9 +1,18 @@
-// Option parsing shared by `simplify` and `lod`: attribute weights and comma-separated number lists.
-// Bad values throw lodforge::Error(argument) naming the option, so they exit 1 with a clear message.
+// Option parsing shared by the commands that make levels: the preset, attribute weights, level targets
+// and comma-separated number lists. Bad values throw lodforge::Error(argument) naming the option, so they
+// exit 1 with a clear message.
+//
+// One options model (docs/presets.md): `--preset NAME|FILE` gives every option of the command the
+// preset's value, and each flag given on the command line overrides that key. Without --preset each
+// command keeps its own defaults.
 #pragma once
 
+#include "lodforge/pack/preset.h"
 #include "lodforge/simplify/simplify.h"
 
+#include <CLI/CLI.hpp>
+
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -19,5 +28,18 @@ void parse_weights(const std::string& text, SimplifyWeights& weights);
 
 // "0.5,0.25,0.1": finite numbers; `option` names the option in messages.
 std::vector<double> parse_number_list(const std::string& text, const std::string& option);
+
+// Adds `--preset NAME|FILE` (a shipped preset or a preset file) to `cmd`.
+CLI::Option* add_preset_option(CLI::App* cmd, std::string& value);
+// The preset the option named (resolve_preset), or none when it was not given.
+std::optional<Preset> preset_from_option(const std::string& value);
+
+// The levels given by --levels (ratios in (0, 1)), --level-triangles (positive integers) or
+// --level-errors (> 0); empty when none is given. Throws when more than one is given (`command`
+// names the command).
+std::vector<LodTarget> parse_level_targets(const std::string& ratios, const std::string& triangles,
+                                           const std::string& errors, const std::string& command);
+// Adds those three options to `cmd`.
+void add_level_options(CLI::App* cmd, std::string& ratios, std::string& triangles, std::string& errors);
 
 }  // namespace lodforge::cli

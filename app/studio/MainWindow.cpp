@@ -2,6 +2,7 @@
 
 #include "lodforge/error.h"
 #include "lodforge/pack/lod_pack.h"
+#include "lodforge/pack/preset_library.h"
 #include "lodforge/io/mesh_io.h"
 #include "lodforge/widgets/Job.h"
 #include "lodforge/widgets/LevelViews.h"
@@ -669,10 +670,6 @@ void MainWindow::buildLodChain() {
     if (!model_) return failTask(name, tr("open a mesh first"));
     if (isBusy()) return failTask(name, tr("another job is running; wait for it or cancel it"));
     const lodforge::Preset preset = params_->preset();
-    if (!widgets::methodHasEngine(preset.method))
-        return failTask(name, tr("the method “%1” has no engine in this build yet; choose Edge collapse or "
-                                 "Vertex clustering")
-                                  .arg(widgets::methodDisplayName(preset.method)));
 
     const widgets::LevelData original = levels_->levels().front();
     struct Output {
@@ -831,7 +828,8 @@ bool MainWindow::savePreset(const QString& path, QString* error) {
 bool MainWindow::loadPreset(const QString& path, QString* error) {
     lodforge::Preset preset;
     try {
-        preset = lodforge::load_preset(QFile::encodeName(path).toStdString());
+        // A file, or a shipped preset by name, as the CLI's --preset takes it.
+        preset = lodforge::resolve_preset(QFile::encodeName(path).toStdString());
     } catch (const lodforge::Error& e) {
         const QString message = QString::fromUtf8(e.what());
         if (error) *error = message;
@@ -840,7 +838,7 @@ bool MainWindow::loadPreset(const QString& path, QString* error) {
         return false;
     }
     setPreset(preset, tr("Load preset %1").arg(QFileInfo(path).fileName()));
-    presetPath_ = QFileInfo(path).absoluteFilePath();
+    if (QFileInfo(path).isFile()) presetPath_ = QFileInfo(path).absoluteFilePath();
     undo_->setClean();
     appendLog(tr("Preset loaded from %1").arg(path));
     return true;

@@ -72,7 +72,7 @@ public:
     widgets::ViewOptions viewOptions() const;
 
     // Jobs on the loaded mesh, in the background; each ends with jobFinished. Refused (jobFinished with
-    // ok = false) when no mesh is loaded, another job runs, or the preset's method has no engine yet.
+    // ok = false) when no mesh is loaded, or another job runs.
     void buildLodChain();
     void computeHeatmaps();
     static QString lodChainJobName();

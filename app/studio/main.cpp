@@ -1,6 +1,6 @@
 // lodforge-studio [FILE] [--screenshot OUT.png [--size WxH]] [--wireframe] [--flat] [--no-texture]
 //                 [--no-colors] [--edges] [--normals] [--uv-checker] [--cells [--cells-by-triangles]]
-//                 [--preset P.json] [--lod-chain R1,R2,..] [--heatmap] [--side-by-side] [--level N] [--compare]
+//                 [--preset NAME|P.json] [--lod-chain R1,R2,..] [--heatmap] [--side-by-side] [--level N] [--compare]
 #include "MainWindow.h"
 
 #include "lodforge/widgets/LevelViews.h"
@@ -137,8 +137,9 @@ struct CommandLine {
     QCommandLineOption cellsByTriangles{QStringLiteral("cells-by-triangles"),
                                         QStringLiteral("Colour the octree cells by triangle count, not depth.")};
     QCommandLineOption preset{QStringLiteral("preset"),
-                              QStringLiteral("Load the parameters from a preset JSON file and build its LOD chain."),
-                              QStringLiteral("P.json")};
+                              QStringLiteral("Load the parameters from a preset (a JSON file or a shipped name: "
+                                             "mobile, console, web, scan-archive) and build its levels."),
+                              QStringLiteral("NAME|P.json")};
     QCommandLineOption lodChain{QStringLiteral("lod-chain"),
                                 QStringLiteral("Build a LOD chain with these level ratios, e.g. 0.5,0.1 "
                                                "(overrides the preset's levels)."),

@@ -267,12 +267,12 @@ TEST(CliLod, BadLevelsExitNonZeroWithAMessage) {
         std::string args, message;
     };
     const Case cases[] = {
-        {"", "exactly one of --levels, --level-triangles and --level-errors"},
+        {"", "give one of --levels, --level-triangles and --level-errors"},
         {" --levels 0.5,0.7", "not fewer than the previous level"},
         {" --levels 0.5,abc", "'abc' is not a number"},
         {" --levels 0.5,1.5", "outside (0, 1)"},
         {" --levels 1,0.5", "outside (0, 1)"},
-        {" --levels 0.5 --level-triangles 100", "exactly one of"},
+        {" --levels 0.5 --level-triangles 100", "at most one of"},
         {" --level-triangles 100.5", "not a positive integer"},
         {" --level-errors 0.01,0.001", "larger than the previous level"},
         {" --levels 0.5 --format stl", "stl"},

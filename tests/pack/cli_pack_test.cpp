@@ -114,7 +114,7 @@ TEST(CliPack, BadPresetMissingInputAndUnwritableOutputFailCleanly) {
     EXPECT_NE(r.out.find("octree"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("levels[1]"), std::string::npos) << r.out;
 
-    r = run_cli("pack " + input + " -o " + quoted(out.string()));  // --preset is required
+    r = run_cli("pack " + input + " -o " + quoted(out.string()) + " --method bogus");  // a usage error
     EXPECT_NE(r.exit_code, 0);
     EXPECT_NE(r.exit_code, 1);
 

@@ -6,7 +6,7 @@
 
 #include "lodforge/error.h"
 #include "lodforge/io/file_hash.h"
-#include "lodforge/pack/lod_methods.h"
+#include "lodforge/pack/preset_levels.h"
 #include "lodforge/pack/lod_pack.h"
 #include "lodforge/io/mesh_io.h"
 
@@ -378,8 +378,11 @@ TEST(LodPack, StructureMethodsReturnTheirCells) {
         return true;
     };
 
+    PresetLevelsParams unmeasured;
+    unmeasured.source_path = "spot.obj";
+    unmeasured.measure = false;
     preset.method = LodMethod::octree;
-    const MethodLevels octree = build_method_levels(mesh, preset, "spot.obj");
+    const PresetLevels octree = build_preset_levels(mesh, preset, unmeasured);
     const OctreeStats& s = octree.octree_stats;
     ASSERT_EQ(octree.cells.size(), s.nodes);
     ASSERT_GT(s.leaves, 1u);
@@ -404,7 +407,7 @@ TEST(LodPack, StructureMethodsReturnTheirCells) {
     EXPECT_EQ(s.triangles_per_level.front(), mesh.triangle_count());
 
     preset.method = LodMethod::mcoctree;
-    const MethodLevels mc = build_method_levels(mesh, preset, "spot.obj");
+    const PresetLevels mc = build_preset_levels(mesh, preset, unmeasured);
     EXPECT_EQ(mc.octree_stats.nodes, 0u);
     ASSERT_GT(mc.cells.size(), 8u);
     std::set<int> depths;
@@ -416,5 +419,5 @@ TEST(LodPack, StructureMethodsReturnTheirCells) {
     EXPECT_GE(depths.size(), 1u);
 
     preset.method = LodMethod::lodstrips;
-    EXPECT_TRUE(build_method_levels(mesh, preset, "spot.obj").cells.empty());
+    EXPECT_TRUE(build_preset_levels(mesh, preset, unmeasured).cells.empty());
 }

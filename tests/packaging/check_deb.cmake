@@ -1,5 +1,6 @@
 # Builds the .deb with CPack into OUT_DIR and checks what a user installs: both executables, the
-# desktop entry (pointing at the studio and its icon), the icons, and dependencies from dpkg-shlibdeps.
+# desktop entry (pointing at the studio and its icon), the icons, the shipped presets, the library with
+# its headers and CMake package (docs/library.md), and dependencies from dpkg-shlibdeps.
 file(REMOVE_RECURSE "${OUT_DIR}")
 execute_process(COMMAND "${CPACK}" -G DEB -B "${OUT_DIR}" --config "${BUILD_DIR}/CPackConfig.cmake"
                 RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
@@ -15,7 +16,15 @@ execute_process(COMMAND dpkg-deb -c "${debs}" OUTPUT_VARIABLE listing RESULT_VAR
 foreach(path ./usr/bin/lodforge ./usr/bin/lodforge-studio ./usr/share/applications/lodforge-studio.desktop
              ./usr/share/icons/hicolor/256x256/apps/lodforge-studio.png
              ./usr/share/icons/hicolor/scalable/apps/lodforge-studio.svg
-             ./usr/share/lodforge/samples/spot/spot_triangulated.obj)
+             ./usr/share/lodforge/samples/spot/spot_triangulated.obj
+             ./usr/share/lodforge/presets/mobile.json ./usr/share/lodforge/presets/console.json
+             ./usr/share/lodforge/presets/web.json ./usr/share/lodforge/presets/scan-archive.json
+             ./usr/lib/liblodforge_core.a ./usr/lib/cmake/LodForge/LodForgeConfig.cmake
+             ./usr/lib/cmake/LodForge/LodForgeConfigVersion.cmake ./usr/lib/cmake/LodForge/LodForgeTargets.cmake
+             ./usr/include/lodforge/mesh.h ./usr/include/lodforge/io/mesh_io.h
+             ./usr/include/lodforge/simplify/simplify.h ./usr/include/lodforge/pack/preset_levels.h
+             ./usr/include/lodforge/runtime/lodstrips_runtime.h
+             ./usr/include/lodforge/runtime/morph_lodstrips_runtime.h)
   string(FIND "${listing}" " ${path}\n" at)
   if(at EQUAL -1)
     message(FATAL_ERROR "${path} is missing from the package:\n${listing}")

@@ -1,7 +1,7 @@
 #include "lodforge/widgets/McoPriorityPanel.h"
 
 #include "lodforge/error.h"
-#include "lodforge/pack/lod_methods.h"
+#include "lodforge/pack/preset_levels.h"
 #include "lodforge/widgets/Job.h"
 #include "lodforge/widgets/LevelViews.h"
 #include "lodforge/widgets/LoadJob.h"

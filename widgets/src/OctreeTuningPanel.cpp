@@ -1,7 +1,7 @@
 #include "lodforge/widgets/OctreeTuningPanel.h"
 
 #include "lodforge/error.h"
-#include "lodforge/pack/lod_methods.h"
+#include "lodforge/pack/preset_levels.h"
 #include "lodforge/io/mesh_io.h"
 #include "lodforge/octree/octree_select.h"
 #include "lodforge/widgets/Job.h"

@@ -1,5 +1,7 @@
 #include "lodforge/widgets/ParametersPanel.h"
 
+#include "lodforge/error.h"
+#include "lodforge/pack/preset_library.h"
 #include "lodforge/widgets/LodLevels.h"
 
 #include <QCheckBox>
@@ -16,6 +18,7 @@
 #include <QTableWidget>
 #include <QVBoxLayout>
 
+#include <algorithm>
 #include <cmath>
 
 namespace lodforge::widgets {
@@ -51,8 +54,6 @@ LodTarget::Kind kindAt(int index) { return static_cast<LodTarget::Kind>(std::cla
 
 }  // namespace
 
-bool ParametersPanel::hasEngine(LodMethod method) { return methodHasEngine(method); }
-
 ParametersPanel::ParametersPanel(QWidget* parent) : QWidget(parent) {
     buildUi();
     setPreset(Preset{});
@@ -64,21 +65,19 @@ void ParametersPanel::buildUi() {
     auto* general = new QFormLayout;
     name_ = new QLineEdit(this);
     name_->setObjectName(QStringLiteral("presetName"));
+    library_ = new QComboBox(this);
+    library_->setObjectName(QStringLiteral("presetLibrary"));
+    library_->setToolTip(tr("Start from a preset shipped with LodForge (docs/presets.md)"));
+    library_->addItem(tr("Shipped presets…"));
+    for (const std::string& n : shipped_preset_names()) library_->addItem(QString::fromStdString(n));
+    general->addRow(tr("Start from"), library_);
     general->addRow(tr("Preset name"), name_);
     method_ = new QComboBox(this);
     method_->setObjectName(QStringLiteral("method"));
-    for (LodMethod m : allMethods) {
-        QString text = methodDisplayName(m);
-        if (!hasEngine(m)) text += tr(" (no engine yet)");
-        method_->addItem(text, QString::fromUtf8(to_string(m).data(), qsizetype(to_string(m).size())));
-    }
+    for (LodMethod m : allMethods)
+        method_->addItem(methodDisplayName(m), QString::fromUtf8(to_string(m).data(), qsizetype(to_string(m).size())));
     general->addRow(tr("Method"), method_);
     layout->addLayout(general);
-    methodNote_ = new QLabel(this);
-    methodNote_->setObjectName(QStringLiteral("methodNote"));
-    methodNote_->setWordWrap(true);
-    methodNote_->setStyleSheet(QStringLiteral("color: #c0392b;"));
-    layout->addWidget(methodNote_);
 
     auto* levelsBox = new QGroupBox(tr("LOD targets (level 1 onwards)"), this);
     auto* levelsLayout = new QVBoxLayout(levelsBox);
@@ -149,10 +148,10 @@ void ParametersPanel::buildUi() {
         const std::string name = name_->text().toStdString();
         edit([&](Preset& p) { p.name = name; });
     });
+    connect(library_, &QComboBox::activated, this, &ParametersPanel::applyShippedPreset);
     connect(method_, &QComboBox::currentIndexChanged, this, [this](int index) {
         if (index < 0) return;
         edit([&](Preset& p) { p.method = allMethods[index]; });
-        updateMethodNote();
     });
     auto weight = [this](QDoubleSpinBox* box, float SimplifyWeights::*field) {
         connect(box, &QDoubleSpinBox::valueChanged, this,
@@ -302,21 +301,21 @@ void ParametersPanel::setPreset(const Preset& preset) {
     exportPly_->setChecked(preset.exports.ply);
     exportObj_->setChecked(preset.exports.obj);
     exportLodstrips_->setChecked(preset.exports.lodstrips);
+    library_->setCurrentIndex(std::max(0, library_->findText(QString::fromStdString(preset.name))));
     updating_ = false;
-    updateMethodNote();
 }
 
-void ParametersPanel::updateMethodNote() {
-    const LodMethod m = preset_.method;
-    if (hasEngine(m)) {
-        methodNote_->clear();
-        methodNote_->hide();
-    } else {
-        methodNote_->setText(tr("%1 has no engine in this build yet: the preset can be saved for the command "
-                                "line, but Build LOD chain will refuse it.")
-                                 .arg(methodDisplayName(m)));
-        methodNote_->show();
+void ParametersPanel::applyShippedPreset(int index) {
+    if (updating_ || index <= 0) return;
+    Preset shipped;
+    try {
+        shipped = load_shipped_preset(library_->itemText(index).toStdString());
+    } catch (const Error& e) {
+        library_->setToolTip(QString::fromUtf8(e.what()));
+        return;
     }
+    edit([&](Preset& p) { p = shipped; });
+    setPreset(preset_);
 }
 
 }  // namespace lodforge::widgets

@@ -16,11 +16,9 @@
 #include "lodforge/error.h"
 #include "lodforge/io/file_hash.h"
 #include "lodforge/io/gltf_writer.h"
-#include "lodforge/simplify/lod_chain.h"
-#include "lodforge/pack/lod_methods.h"
 #include "lodforge/io/mesh_io.h"
-#include "lodforge/simplify/simplify_cluster.h"
 #include "lodforge/io/staged_directory.h"
+#include "lodforge/pack/preset_levels.h"
 
 #include <nlohmann/json.hpp>
 
@@ -28,7 +26,6 @@
 #include <cmath>
 #include <filesystem>
 #include <numbers>
-#include <optional>
 #include <system_error>
 
 namespace lodforge {
@@ -47,112 +44,39 @@ namespace {
 
 using nlohmann::ordered_json;
 
-// The levels of a pack, however they were made. `chain` is set when the levels share one vertex
-// buffer (edge collapse); `meshes` then point into it.
+// The levels of a pack: the preset's levels (preset_levels.h) with the input as level 0.
 struct BuiltLevels {
-    std::optional<LodChainResult> chain;
-    std::vector<Mesh> own;                  // levels 1.. when not from a chain
+    PresetLevels built;
     std::vector<const Mesh*> meshes;        // every level, level 0 = the input
     std::vector<DistanceResult> distance;   // per level (level 0: zero)
-    std::vector<std::uint8_t> lodstrips_file;  // the encoded .lodstrips (lodstrips method)
-    std::vector<std::string> notes;         // what a method could not meet (shown, and kept in pack.json)
 };
 
-DistanceParams measurement(const PackParams& params) {
-    DistanceParams d = params.distance;
-    d.vertex_errors = false;
-    return d;
-}
-
-BuiltLevels collapse_levels(const Mesh& mesh, const PackParams& params, Progress* progress) {
-    const Preset& preset = params.preset;
-    LodChainParams p;
-    for (const LodTarget& t : preset.levels) {
-        LodLevelTarget level;
-        switch (t.kind) {
-        case LodTarget::Kind::ratio: level.ratio = static_cast<float>(t.value); break;
-        case LodTarget::Kind::triangles: level.triangles = static_cast<std::size_t>(t.value); break;
-        case LodTarget::Kind::error: level.max_error = static_cast<float>(t.value); break;
-        }
-        p.levels.push_back(level);
-    }
-    p.simplify.weights = preset.weights;
-    p.simplify.lock_border = preset.lock_border;
-    p.measure = true;
-    p.distance = measurement(params);
-    BuiltLevels built;
-    built.chain = build_lod_chain(mesh, p, progress);
-    for (const LodLevel& level : built.chain->levels) {
-        built.meshes.push_back(&level.mesh);
-        built.distance.push_back(level.distance);
-    }
-    return built;
-}
-
-// Levels 1.. held in `built.own`: the input becomes level 0 and every level is measured against it.
-void measure_own_levels(const Mesh& mesh, const PackParams& params, BuiltLevels& built, Progress* progress) {
-    built.meshes.push_back(&mesh);
-    built.distance.emplace_back();
-    for (const Mesh& level : built.own) {
-        built.meshes.push_back(&level);
-        built.distance.push_back(compare(mesh, level, measurement(params), progress));
-    }
-}
-
-BuiltLevels cluster_levels(const Mesh& mesh, const PackParams& params, Progress* progress) {
-    const Preset& preset = params.preset;
-    BuiltLevels built;
-    built.own.reserve(preset.levels.size());
-    for (std::size_t i = 0; i < preset.levels.size(); ++i) {
-        const LodTarget& t = preset.levels[i];
-        ClusterParams p;
-        p.weights = preset.weights;
-        if (t.kind == LodTarget::Kind::ratio) p.target_ratio = static_cast<float>(t.value);
-        else if (t.kind == LodTarget::Kind::triangles) p.target_triangles = static_cast<std::size_t>(t.value);
-        else
-            throw_error(Error::Kind::argument, params.source_path,
-                        "levels[" + std::to_string(i) + "]: the cluster method takes ratio or triangle targets, "
-                        "not error targets");
-        built.own.push_back(simplify_cluster(mesh, p, progress).mesh);
-    }
-    measure_own_levels(mesh, params, built, progress);
-    return built;
-}
-
-// LODStrips, the MC octree and the out-of-core octree: cuts of one structure (lod_methods.h).
-BuiltLevels method_levels(const Mesh& mesh, const PackParams& params, Progress* progress) {
-    MethodLevels m = build_method_levels(mesh, params.preset, params.source_path, progress);
-    BuiltLevels built;
-    built.own = std::move(m.levels);
-    built.lodstrips_file = std::move(m.lodstrips_file);
-    built.notes = std::move(m.notes);
-    measure_own_levels(mesh, params, built, progress);
-    return built;
-}
-
-// The one place a LOD method becomes levels.
 BuiltLevels make_levels(const Mesh& mesh, const PackParams& params, Progress* progress) {
-    switch (params.preset.method) {
-    case LodMethod::collapse: return collapse_levels(mesh, params, progress);
-    case LodMethod::cluster: return cluster_levels(mesh, params, progress);
-    case LodMethod::octree:
-    case LodMethod::lodstrips:
-    case LodMethod::mcoctree: break;
+    PresetLevelsParams p;
+    p.source_path = params.source_path;
+    p.distance = params.distance;
+    BuiltLevels out;
+    out.built = build_preset_levels(mesh, params.preset, p, progress);
+    out.meshes.push_back(&mesh);
+    out.distance.emplace_back();
+    for (std::size_t k = 0; k < out.built.levels.size(); ++k) {
+        out.meshes.push_back(&out.built.levels[k]);
+        out.distance.push_back(out.built.distance[k]);
     }
-    return method_levels(mesh, params, progress);
+    return out;
 }
 
 // Files a method adds beyond the levels (the .lodstrips file of the lodstrips method).
 void write_method_files(const BuiltLevels& built, const PackParams& params, const fs::path& dir,
                         const std::string& stem) {
     if (!params.preset.exports.lodstrips) return;
-    if (built.lodstrips_file.empty())
+    if (built.built.lodstrips_file.empty())
         throw_error(Error::Kind::argument, params.source_path,
                     "the .lodstrips export needs the lodstrips method (the preset's method is '" +
                         std::string(to_string(params.preset.method)) + "')");
     AtomicFile file((dir / (stem + ".lodstrips")).string(), true);
-    file.stream().write(reinterpret_cast<const char*>(built.lodstrips_file.data()),
-                        static_cast<std::streamsize>(built.lodstrips_file.size()));
+    file.stream().write(reinterpret_cast<const char*>(built.built.lodstrips_file.data()),
+                        static_cast<std::streamsize>(built.built.lodstrips_file.size()));
     file.commit();
 }
 
@@ -198,7 +122,7 @@ std::string manifest(const Mesh& mesh, const PackParams& params, const BuiltLeve
         levels.push_back(l);
     }
     j["levels"] = levels;
-    j["notes"] = built.notes;
+    j["notes"] = built.built.notes;
     std::vector<std::string> files = r.files;
     files.push_back("pack.json");
     j["files"] = files;
@@ -223,7 +147,7 @@ PackResult write_lod_pack(const Mesh& mesh, const PackParams& params, Progress* 
     // Before the long part, so an unwritable output fails at once.
     StagedDirectory staging(params.output_dir);
     const BuiltLevels built = make_levels(mesh, params, progress);
-    result.notes = built.notes;
+    result.notes = built.built.notes;
     const std::size_t n = built.meshes.size();
 
     // Level k is shown down to the coverage at which level k+1's error is one pixel; the coarsest
@@ -256,8 +180,8 @@ PackResult write_lod_pack(const Mesh& mesh, const PackParams& params, Progress* 
         for (const PackLevel& level : result.levels) o.screen_coverage.push_back(level.screen_coverage);
         result.glb = stem + ".glb";
         const std::string path = staging.file(result.glb).string();
-        if (built.chain) {
-            write_glb(built.chain->shared, o, path, progress);
+        if (built.built.chain) {
+            write_glb(built.built.chain->shared, o, path, progress);
         } else {
             std::vector<Mesh> copies;  // the writer takes the levels by value-list; the input is level 0
             copies.reserve(n);

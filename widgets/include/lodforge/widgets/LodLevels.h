@@ -3,7 +3,7 @@
 #pragma once
 
 #include "lodforge/io/image_decode.h"
-#include "lodforge/pack/lod_methods.h"
+#include "lodforge/pack/preset_levels.h"
 #include "lodforge/mesh.h"
 #include "lodforge/pack/preset.h"
 #include "lodforge/progress.h"
@@ -21,7 +21,7 @@ class MeshScene;
 
 // LODStrips levels: what the continuous LOD slider needs to run the runtime itself (docs/studio.md).
 struct ContinuousLodData {
-    std::vector<std::uint8_t> lodstripsFile;                     // MethodLevels::lodstrips_file
+    std::vector<std::uint8_t> lodstripsFile;                     // PresetLevels::lodstrips_file
     std::vector<std::shared_ptr<const lodforge::Image>> images;  // per material, as for the levels
     // The full-detail strips (level 0, every vertex of the runtime), made on the chain's worker: on the
     // dragon it took 0.36 s on the GUI thread at the slider's first move. The continuous view replaces
@@ -54,15 +54,14 @@ struct LevelData {
 // `stats` describes no tree.
 QString octreeSummary(const lodforge::OctreeStats& stats);
 
-// Whether the method has an engine in this build (collapse and cluster today).
-bool methodHasEngine(lodforge::LodMethod method);
 QString methodDisplayName(lodforge::LodMethod method);
 
 // Levels 0..N: `original` first (as given), then one per preset level, built with the preset's method,
 // weights and border locking, measured against the original with compare(). `images`: the decoded base
 // colour textures of the materials (LoadedModel::images), so the levels show their texture.
-// Throws lodforge::Error: argument for targets the method cannot take or a method without an engine
-// (the message says so), cancelled when `progress` asks to stop.
+// The levels come from build_preset_levels (the pack's function). Throws lodforge::Error: argument for
+// targets the method cannot take, invalid for a mesh without triangles, cancelled when `progress` asks
+// to stop.
 std::vector<LevelData> buildLodLevels(const LevelData& original, const lodforge::Preset& preset,
                                       const std::vector<std::shared_ptr<const lodforge::Image>>& images,
                                       lodforge::Progress* progress = nullptr);

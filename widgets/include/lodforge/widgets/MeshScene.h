@@ -5,7 +5,7 @@
 #pragma once
 
 #include "lodforge/io/image_decode.h"
-#include "lodforge/pack/lod_methods.h"
+#include "lodforge/pack/preset_levels.h"
 #include "lodforge/mesh.h"
 
 #include <cstddef>

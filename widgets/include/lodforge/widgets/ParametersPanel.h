@@ -1,5 +1,5 @@
 // The parameters panel: edits a lodforge::Preset (the options model the CLI reads from the same JSON
-// files): method, LOD targets, attribute weights, border locking, octree and marching-cube knobs, pack
+// files): a shipped preset to start from (mobile, console, ...), method, LOD targets, attribute weights, border locking, octree and marching-cube knobs, pack
 // contents. Every edit is reported as a before/after pair so the window can make it undoable.
 #pragma once
 
@@ -31,10 +31,6 @@ public:
     void setPreset(const lodforge::Preset& preset);
     const lodforge::Preset& preset() const { return preset_; }
 
-    // The methods whose engines exist in this build: the others stay selectable (a preset for them can
-    // be written) and the panel says plainly that they cannot be built here yet.
-    static bool hasEngine(lodforge::LodMethod method);
-
     // Level rows (tests and the window's "add level" action).
     void addLevel();
     void removeSelectedLevel();
@@ -51,14 +47,15 @@ private:
     // Applies `change` to a copy of the preset; emits presetEdited when that changed anything. Each widget
     // changes only its own field, so values the widgets would round (a weight of 0.12345) stay exact.
     void edit(const std::function<void(lodforge::Preset&)>& change);
-    void updateMethodNote();
+    // Replaces every option by the shipped preset chosen in the library box (one undoable edit).
+    void applyShippedPreset(int index);
 
     lodforge::Preset preset_;
     bool updating_ = false;
 
     QLineEdit* name_ = nullptr;
+    QComboBox* library_ = nullptr;  // the shipped presets (lodforge/pack/preset_library.h)
     QComboBox* method_ = nullptr;
-    QLabel* methodNote_ = nullptr;
     QTableWidget* levels_ = nullptr;
     QPushButton* addLevel_ = nullptr;
     QPushButton* removeLevel_ = nullptr;

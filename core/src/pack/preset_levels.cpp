@@ -1,0 +1,336 @@
+// The levels of a preset, whatever its method (preset_levels.h). The collapse chain follows Garland &
+// Heckbert, "Simplifying Surfaces with Color and Texture using Quadric Error Metrics" (1998) and Hoppe,
+// "New Quadric Metric for Simplifying Meshes with Appearance Attributes" (1999); clustering follows
+// Rossignac & Borrel, "Multi-resolution 3D approximations for rendering complex scenes" (1993) and
+// Lindstrom, "Out-of-Core Simplification of Large Polygonal Models" (2000). LODStrips (docs/lodstrips.md),
+// the marching-cube octree (docs/mcoctree.md) and the out-of-core octree (docs/octree.md) build their own
+// multiresolution structure once and the preset's levels are cuts of it, chosen by triangle count: these
+// structures store their levels by triangle count (LODStrips: one per collapse, MC octree: one per
+// priority, octree: one per tree level), not by an error bound the preset could name. Every level is
+// measured against the input with the Metro distance (Cignoni, Rocchini & Scopigno, "Metro: Measuring
+// Error on Simplified Surfaces", 1998).
+#include "lodforge/pack/preset_levels.h"
+
+#include "lodforge/error.h"
+#include "lodforge/io/mesh_io.h"
+#include "lodforge/mcoctree/mc_octree.h"
+#include "lodforge/octree/octree_build.h"
+#include "lodforge/octree/octree_store.h"
+#include "lodforge/octree/ooc_soup.h"
+#include "lodforge/progress_range.h"
+#include "lodforge/runtime/lodstrips_runtime.h"
+#include "lodforge/simplify/simplify_cluster.h"
+#include "lodforge/strips/lodstrips.h"
+
+#include <algorithm>
+#include <cctype>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+
+namespace lodforge {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+std::string level_text(std::size_t i) { return "levels[" + std::to_string(i) + "]: "; }
+
+// Triangle target of a level for the methods that take no error targets.
+std::size_t target_triangles(const LodTarget& target, std::size_t input_triangles, std::size_t i,
+                             const Preset& preset, const std::string& source) {
+    double n = 0;
+    switch (target.kind) {
+    case LodTarget::Kind::ratio: n = std::floor(target.value * double(input_triangles)); break;
+    case LodTarget::Kind::triangles: n = std::floor(target.value); break;
+    case LodTarget::Kind::error:
+        throw_error(Error::Kind::argument, source,
+                    level_text(i) + "the " + std::string(to_string(preset.method)) +
+                        " method takes ratio or triangle targets, not error targets");
+    }
+    if (!(n >= 1)) throw_error(Error::Kind::argument, source, level_text(i) + "the target asks for no triangles");
+    return static_cast<std::size_t>(n);
+}
+
+std::vector<std::size_t> triangle_targets(const Mesh& mesh, const Preset& preset, const std::string& source) {
+    std::vector<std::size_t> out;
+    for (std::size_t i = 0; i < preset.levels.size(); ++i)
+        out.push_back(target_triangles(preset.levels[i], mesh.triangle_count(), i, preset, source));
+    return out;
+}
+
+// Levels whose structure cannot carry the input's materials per face (the MC surface is rebuilt from
+// points) keep none; the others keep the input's materials and texture search directory.
+void keep_materials(const Mesh& input, Mesh& level) {
+    level.materials = input.materials;
+    level.source_dir = input.source_dir;
+}
+
+bool is_ply(const std::string& path) {
+    std::string ext = fs::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    return ext == ".ply";
+}
+
+LevelStop stop_of(SimplifyResult::StopReason r) {
+    switch (r) {
+    case SimplifyResult::StopReason::target_reached: return LevelStop::target_reached;
+    case SimplifyResult::StopReason::error_limit: return LevelStop::error_limit;
+    case SimplifyResult::StopReason::topology_limit: return LevelStop::topology_limit;
+    }
+    return LevelStop::closest;
+}
+
+// build_lod_chain reports level k's work in [k/n, (k+1)/n): the first report in each slice marks when
+// that level started, which gives the time of every level (its simplification and its measurement).
+class LevelClock final : public Progress {
+public:
+    LevelClock(Progress* parent, std::size_t levels) : parent_(parent), starts_(levels + 1) {}
+    void report(double fraction, std::string_view stage) override {
+        const auto n = static_cast<double>(starts_.size() - 1);
+        const auto slice = static_cast<std::size_t>(std::clamp(std::floor(fraction * n + 1e-9), 0.0, n));
+        for (std::size_t k = 0; k <= slice; ++k)
+            if (!starts_[k]) starts_[k] = Clock::now();
+        if (parent_) parent_->report(fraction, stage);
+    }
+    bool cancelled() const override { return parent_ && parent_->cancelled(); }
+    std::vector<double> level_seconds() const {
+        std::vector<double> out;
+        const Clock::time_point now = Clock::now();
+        for (std::size_t k = 0; k + 1 < starts_.size(); ++k) {
+            const Clock::time_point end = starts_[k + 1] ? *starts_[k + 1] : now;
+            out.push_back(starts_[k] ? std::chrono::duration<double>(end - *starts_[k]).count() : 0.0);
+        }
+        return out;
+    }
+
+private:
+    Progress* parent_;
+    std::vector<std::optional<Clock::time_point>> starts_;
+};
+
+DistanceParams measurement(const PresetLevelsParams& params) {
+    DistanceParams d = params.distance;
+    d.vertex_errors = false;
+    return d;
+}
+
+void collapse_levels(const Mesh& mesh, const Preset& preset, const PresetLevelsParams& params,
+                     PresetLevels& out, Progress* progress, PresetLevelsStats* stats) {
+    LodChainParams p;
+    for (const LodTarget& t : preset.levels) {
+        LodLevelTarget level;
+        switch (t.kind) {
+        case LodTarget::Kind::ratio: level.ratio = static_cast<float>(t.value); break;
+        case LodTarget::Kind::triangles: level.triangles = static_cast<std::size_t>(t.value); break;
+        case LodTarget::Kind::error: level.max_error = static_cast<float>(t.value); break;
+        }
+        p.levels.push_back(level);
+    }
+    p.simplify.weights = preset.weights;
+    p.simplify.lock_border = preset.lock_border;
+    p.measure = params.measure;
+    p.distance = measurement(params);
+    LevelClock clock(progress, p.levels.size());
+    out.chain = build_lod_chain(mesh, p, &clock);
+    if (stats) stats->level_seconds = clock.level_seconds();
+    for (std::size_t k = 1; k < out.chain->levels.size(); ++k) {
+        LodLevel& level = out.chain->levels[k];
+        out.levels.push_back(std::move(level.mesh));
+        level.mesh = Mesh{};
+        out.target_triangles.push_back(level.target_triangles);
+        out.stops.push_back(stop_of(level.reason));
+        if (params.measure) out.distance.push_back(level.distance);
+    }
+    out.vertices_on_input = true;
+}
+
+void cluster_levels(const Mesh& mesh, const Preset& preset, const PresetLevelsParams& params, PresetLevels& out,
+                    Progress* progress, PresetLevelsStats* stats) {
+    const auto n = static_cast<double>(preset.levels.size());
+    for (std::size_t k = 0; k < preset.levels.size(); ++k) {
+        const LodTarget& t = preset.levels[k];
+        const Clock::time_point start = Clock::now();
+        ClusterParams p;
+        p.weights = preset.weights;
+        if (t.kind == LodTarget::Kind::ratio) p.target_ratio = static_cast<float>(t.value);
+        else if (t.kind == LodTarget::Kind::triangles) p.target_triangles = static_cast<std::size_t>(t.value);
+        else target_triangles(t, mesh.triangle_count(), k, preset, params.source_path);  // throws
+        const double begin = double(k) / n;
+        ProgressRange simplify_progress(progress, begin, begin + 0.6 / n);
+        ClusterResult r = simplify_cluster(mesh, p, &simplify_progress);
+        if (r.mesh.triangle_count() == 0)
+            throw_error(Error::Kind::invalid, params.source_path,
+                        "level " + std::to_string(k + 1) + ": vertex clustering left no triangles");
+        out.target_triangles.push_back(r.target_triangles);
+        out.stops.push_back(r.reason == ClusterResult::StopReason::target_reached ||
+                                    r.reason == ClusterResult::StopReason::resolution_given
+                                ? LevelStop::target_reached
+                                : LevelStop::closest);
+        if (params.measure) {
+            ProgressRange measure_progress(progress, begin + 0.6 / n, begin + 1.0 / n);
+            out.distance.push_back(compare(mesh, r.mesh, measurement(params), &measure_progress));
+        }
+        out.levels.push_back(std::move(r.mesh));
+        if (stats) stats->level_seconds.push_back(seconds_since(start));
+    }
+}
+
+void lodstrips_levels(const Mesh& mesh, const Preset& preset, const PresetLevelsParams& params, PresetLevels& out,
+                      Progress* progress) {
+    out.target_triangles = triangle_targets(mesh, preset, params.source_path);
+    LodStripsParams p;
+    p.join = preset.strips.primitive_restart ? StripJoin::restart : StripJoin::degenerate;
+    p.weights = preset.weights;
+    p.lock_border = preset.lock_border;
+    p.coarsest_ratio = 0.f;
+    p.coarsest_triangles = *std::min_element(out.target_triangles.begin(), out.target_triangles.end());
+    ProgressRange build_progress(progress, 0.0, 0.9);
+    LodStripsBuild build = build_lodstrips(mesh, p, &build_progress);
+    out.lodstrips_file = encode_lodstrips(build.data);
+
+    lodstrips::LodStrips runtime;
+    std::string why;
+    if (!runtime.assign(std::move(build.data), &why))
+        throw_error(Error::Kind::invalid, params.source_path, "the LODStrips data built is inconsistent: " + why);
+    for (std::size_t i = 0; i < out.target_triangles.size(); ++i) {
+        check_progress(progress, 0.9 + 0.1 * double(i) / double(out.target_triangles.size()), "LODStrips levels");
+        runtime.go_to_triangles(out.target_triangles[i]);
+        const bool met = runtime.triangle_count() <= out.target_triangles[i];
+        if (!met)
+            out.notes.push_back("level " + std::to_string(i + 1) + ": LODStrips stops at " +
+                                std::to_string(runtime.triangle_count()) + " triangles (asked " +
+                                std::to_string(out.target_triangles[i]) + ")");
+        out.stops.push_back(met ? LevelStop::target_reached : LevelStop::closest);
+        Mesh level = lodstrips_mesh(runtime);
+        keep_materials(mesh, level);
+        out.levels.push_back(std::move(level));
+    }
+    out.vertices_on_input = true;
+}
+
+void mcoctree_levels(const Mesh& mesh, const Preset& preset, const PresetLevelsParams& params, PresetLevels& out,
+                     Progress* progress) {
+    out.target_triangles = triangle_targets(mesh, preset, params.source_path);
+    McOctreeParams p;
+    p.resolution = preset.mcoctree.resolution;
+    ProgressRange build_progress(progress, 0.0, 0.9);
+    McOctreeBuildResult built = build_mc_octree(mesh, p, &build_progress);
+    for (const std::string& w : built.warnings) out.notes.push_back(w);
+    McOctreeExtractor extractor(built.tree);
+    for (std::size_t i = 0; i < out.target_triangles.size(); ++i) {
+        check_progress(progress, 0.9 + 0.1 * double(i) / double(out.target_triangles.size()), "MC octree levels");
+        const McExtraction& e = extractor.extract_triangles(out.target_triangles[i]);
+        if (e.mesh.triangle_count() == 0)
+            throw_error(Error::Kind::invalid, params.source_path,
+                        "level " + std::to_string(i + 1) + ": the marching-cube octree has no level with at most " +
+                            std::to_string(out.target_triangles[i]) + " triangles (its root has " +
+                            std::to_string(mc_triangles_at(built.tree, 0)) + ")");
+        out.levels.push_back(e.mesh);
+        out.stops.push_back(e.mesh.triangle_count() <= out.target_triangles[i] ? LevelStop::target_reached
+                                                                                : LevelStop::closest);
+        if (i == 0)
+            for (const McCell& c : extractor.cells(e.priority)) {
+                StructureCell cell;
+                for (int k = 0; k < 3; ++k) cell.min[k] = c.min[k];
+                cell.size = c.size;
+                cell.depth = static_cast<int>(built.tree.levels) - c.level;  // McCell counts levels from the leaves
+                cell.leaf = c.level == 0;
+                out.cells.push_back(cell);
+            }
+    }
+    if (mesh.has_texcoords())
+        out.notes.push_back("the marching-cube surface is rebuilt from points: texture coordinates and materials "
+                            "are not carried over");
+}
+
+void octree_levels(const Mesh& mesh, const Preset& preset, const PresetLevelsParams& params, PresetLevels& out,
+                   Progress* progress) {
+    out.target_triangles = triangle_targets(mesh, preset, params.source_path);
+    std::error_code ec;
+    const fs::path system_temp = fs::temp_directory_path(ec);
+    if (ec) throw Error(Error::Kind::io, "no temporary directory: " + ec.message());
+    TempDirectory temp(system_temp.string());
+    // The octree streams a PLY from disk; other formats (already in memory here) are written as one.
+    std::string ply = params.source_path;
+    if (!is_ply(ply)) {
+        ply = temp.file("input.ply");
+        write_mesh(mesh, ply);
+    }
+    OctreeBuildParams p;
+    p.max_triangles = preset.octree.max_triangles_per_node;
+    p.max_depth = static_cast<int>(preset.octree.max_depth);
+    p.memory_bytes = std::size_t{preset.octree.memory_mb} << 20;
+    p.weights = preset.weights;
+    const std::string asset = temp.file("asset.lfoct");
+    ProgressRange build_progress(progress, 0.0, 0.8);
+    OctreeBuildResult built = build_octree(ply, asset, p, &build_progress);
+    for (const std::string& w : built.warnings) out.notes.push_back(w);
+
+    OctreeStore store(asset);
+    out.octree_stats = store.stats();
+    for (const OctreeCell& c : store.cells())
+        out.cells.push_back({{c.min[0], c.min[1], c.min[2]}, c.size, c.depth, c.leaf, c.triangles});
+    const std::vector<std::uint64_t>& per_level = built.stats.triangles_per_level;
+    for (std::size_t i = 0; i < out.target_triangles.size(); ++i) {
+        check_progress(progress, 0.8 + 0.2 * double(i) / double(out.target_triangles.size()), "Octree levels");
+        // The finest tree level at or below the target; the root level when none is.
+        int level = static_cast<int>(per_level.size()) - 1;
+        for (int l = 1; l < static_cast<int>(per_level.size()); ++l)
+            if (per_level[static_cast<std::size_t>(l)] <= out.target_triangles[i]) {
+                level = l;
+                break;
+            }
+        const bool met = per_level[static_cast<std::size_t>(level)] <= out.target_triangles[i];
+        if (!met)
+            out.notes.push_back("level " + std::to_string(i + 1) + ": the octree's coarsest level has " +
+                                std::to_string(per_level[static_cast<std::size_t>(level)]) + " triangles (asked " +
+                                std::to_string(out.target_triangles[i]) + "); raise max triangles per node");
+        out.stops.push_back(met ? LevelStop::target_reached : LevelStop::closest);
+        Mesh m = extract_mesh(store, level_cut(store, level));
+        keep_materials(mesh, m);
+        out.levels.push_back(std::move(m));
+    }
+}
+
+}  // namespace
+
+PresetLevels build_preset_levels(const Mesh& mesh, const Preset& preset, const PresetLevelsParams& params,
+                                 Progress* progress, PresetLevelsStats* stats) {
+    if (mesh.triangle_count() == 0) throw_error(Error::Kind::invalid, params.source_path, "the mesh has no triangles");
+    if (preset.levels.empty()) throw_error(Error::Kind::argument, params.source_path, "the preset has no LOD levels");
+    if (stats) stats->level_seconds.clear();
+    PresetLevels out;
+    if (preset.method == LodMethod::collapse) {
+        collapse_levels(mesh, preset, params, out, progress, stats);
+        return out;
+    }
+    if (preset.method == LodMethod::cluster) {
+        cluster_levels(mesh, preset, params, out, progress, stats);
+        return out;
+    }
+    // One structure, cut at every level; the build and the measurements split the progress.
+    const Clock::time_point start = Clock::now();
+    ProgressRange build_progress(progress, 0.0, params.measure ? 0.6 : 1.0);
+    switch (preset.method) {
+    case LodMethod::lodstrips: lodstrips_levels(mesh, preset, params, out, &build_progress); break;
+    case LodMethod::mcoctree: mcoctree_levels(mesh, preset, params, out, &build_progress); break;
+    case LodMethod::octree: octree_levels(mesh, preset, params, out, &build_progress); break;
+    case LodMethod::collapse:
+    case LodMethod::cluster: break;
+    }
+    const auto n = static_cast<double>(out.levels.size());
+    if (params.measure)
+        for (std::size_t k = 0; k < out.levels.size(); ++k) {
+            ProgressRange measure_progress(progress, 0.6 + 0.4 * double(k) / n, 0.6 + 0.4 * double(k + 1) / n);
+            out.distance.push_back(compare(mesh, out.levels[k], measurement(params), &measure_progress));
+        }
+    if (stats) stats->level_seconds.assign(out.levels.size(), seconds_since(start) / n);
+    return out;
+}
+
+}  // namespace lodforge
