@@ -6,6 +6,7 @@
 #include "lodforge/pack/lod_methods.h"
 
 #include "lodforge/error.h"
+#include "lodforge/io/atomic_file.h"
 #include "lodforge/strips/lodstrips.h"
 #include "lodforge/runtime/lodstrips_runtime.h"
 #include "lodforge/mcoctree/mc_octree.h"
@@ -50,6 +51,7 @@ public:
         std::error_code ec;
         const fs::path base = fs::temp_directory_path(ec);
         if (ec) throw Error(Error::Kind::io, "no temporary directory: " + ec.message());
+        remove_stale_temporaries(base.string());
         path_ = base / ("lodforge-method-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
         if (!fs::create_directories(path_, ec) || ec)
             throw_error(Error::Kind::io, path_.string(), "cannot create a temporary directory");
