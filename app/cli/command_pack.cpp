@@ -29,13 +29,26 @@ void add_pack_command(CLI::App& app, const GlobalOptions& global) {
     cmd->callback([options, &global] {
         const Options& o = *options;
         PackParams params;
-        params.preset = load_preset(o.preset);
+        try {
+            params.preset = load_preset(o.preset);
+        } catch (const Error& e) {
+            if (e.kind() != Error::Kind::argument) throw;
+            throw Error(Error::Kind::format, e.what());  // a bad value in the preset file: exit 1
+        }
         params.source_path = o.input;
         params.output_dir = o.output_dir;
 
         TerminalProgress progress(!global.quiet && stderr_is_terminal());
         const Mesh mesh = read_mesh(o.input, {}, &progress);
-        const PackResult r = write_lod_pack(mesh, params, &progress);
+        PackResult r;
+        try {
+            r = write_lod_pack(mesh, params, &progress);
+        } catch (const Error& e) {
+            // Every parameter of a pack comes from the preset file: a value it refuses is that file's
+            // problem (exit 1), not a usage error.
+            if (e.kind() != Error::Kind::argument) throw;
+            throw Error(Error::Kind::invalid, e.what());
+        }
         progress.finish();
         for (const std::string& note : r.notes) std::fprintf(stderr, "lodforge: note: %s\n", note.c_str());
 

@@ -9,6 +9,8 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <string>
+#include <vector>
 #include <sys/stat.h>
 
 namespace {
@@ -49,9 +51,11 @@ TEST(CliHostile, FifoAndDeviceInputsAreRefusedNotReadForever) {
     const std::string fifo = dir.file("pipe.ply");
     ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0) << std::strerror(errno);
     // `timeout` turns a regression (a blocked open) into exit 124 instead of a hung test.
-    for (const std::string& args : {"info " + quoted(fifo), "octree build " + quoted(fifo) + " -o " + quoted(dir.file("o.lfo")),
-                                    "info /dev/zero", "strips info /dev/zero", "octree info /dev/zero",
-                                    "mcoctree info /dev/zero"}) {
+    const std::vector<std::string> commands = {"info " + quoted(fifo),
+                                               "octree build " + quoted(fifo) + " -o " + quoted(dir.file("o.lfo")),
+                                               "info /dev/zero", "strips info /dev/zero", "octree info /dev/zero",
+                                               "mcoctree info /dev/zero"};
+    for (const std::string& args : commands) {
         const CliRun r = lodforge::test::run_command("timeout 30 " + std::string(LODFORGE_BIN_DIR) + "/lodforge --quiet " +
                                                      args + " 2>&1");
         EXPECT_EQ(r.exit_code, 1) << args << "\n" << r.out;

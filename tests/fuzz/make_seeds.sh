@@ -28,7 +28,8 @@ printf 'mtllib fuzz.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 
 
 # Own formats, written by the CLI from small inputs.
 color="$data/color-open3d-small/color.ply"
-$lodforge octree build "$color" -o "$out/lfo/color.lfo" --max-triangles 2000
+$lodforge convert "$data/tex-spot/spot_control_mesh.obj" "$work/spot.ply"  # small: seeds above -max_len are cut
+$lodforge octree build "$work/spot.ply" -o "$out/lfo/spot.lfo" --max-triangles 100
 $lodforge mcoctree build "$data/morph-animated-morph-cube/AnimatedMorphCube.gltf" -o "$out/mco/cube.mco" --resolution 8
 $lodforge strips "$color" -o "$out/lodstrips/color.lodstrips"
 $lodforge morph build "$data/morph-animated-morph-cube/AnimatedMorphCube.gltf" -o "$out/lfmorph/cube.lfmorph" \

@@ -12,6 +12,7 @@
 //   lodstrips .lodstrips (the file reader; lodstrips_fuzz covers the runtime)
 //   preset    pack preset JSON
 //   landmarks morph landmark JSON
+#include "fuzz_check.h"
 #include "lodforge/error.h"
 #include "lodforge/mesh.h"
 
@@ -39,21 +40,8 @@
 namespace {
 namespace fs = std::filesystem;
 
-void check(bool ok) {
-    if (!ok) __builtin_trap();
-}
-
-void check_mesh(const lodforge::Mesh& m) {
-    const std::size_t n = m.positions.size();
-    check(m.normals.empty() || m.normals.size() == n);
-    check(m.colors.empty() || m.colors.size() == n);
-    for (const auto& set : m.texcoords) check(set.size() == n);
-    check(m.indices.size() % 3 == 0);
-    for (std::uint32_t i : m.indices) check(i < n);
-    check(m.face_materials.empty() || m.face_materials.size() == m.indices.size() / 3);
-    for (std::uint32_t f : m.face_materials) check(f < m.materials.size());
-    for (const auto& p : m.positions) check(lodforge::is_finite(p));
-}
+using lodforge::fuzz::check;
+using lodforge::fuzz::check_mesh;
 
 // One directory per process, removed at exit (libFuzzer ends a timed run through exit()).
 const fs::path& work_dir() {

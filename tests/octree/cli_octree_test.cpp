@@ -132,7 +132,8 @@ TEST(OctreeCli, BuildInfoAndExtract) {
     EXPECT_LT(mv.triangle_count(), 47794u);
 
     // Usage and input errors.
-    EXPECT_EQ(run_cli("octree extract " + quoted(asset) + " --level 99 -o " + quoted(dir.file("x.ply"))).exit_code, 1);
+    // An option value out of range is a usage error (2), like CLI11's own range checks.
+    EXPECT_EQ(run_cli("octree extract " + quoted(asset) + " --level 99 -o " + quoted(dir.file("x.ply"))).exit_code, 2);
     EXPECT_NE(run_cli("octree extract " + quoted(asset) + " --screen-error 1 -o " + quoted(dir.file("x.ply"))).exit_code, 0);
     const auto bad_cam = run_cli("octree extract " + quoted(asset) + " --screen-error 1 --camera 1,2,3 -o " + quoted(dir.file("x.ply")));
     EXPECT_NE(bad_cam.exit_code, 0);
