@@ -49,7 +49,15 @@ void add_pack_command(CLI::App& app, const GlobalOptions& global) {
 
         TerminalProgress progress(!global.quiet && stderr_is_terminal());
         const Mesh mesh = read_mesh(o.input, {}, &progress);
-        const PackResult r = write_lod_pack(mesh, params, &progress);
+        PackResult r;
+        try {
+            r = write_lod_pack(mesh, params, &progress);
+        } catch (const Error& e) {
+            // Options that parse but do not fit together (a preset's key, or an override, the method
+            // cannot honour) are reported as invalid input (exit 1), as before the flags existed.
+            if (e.kind() != Error::Kind::argument) throw;
+            throw Error(Error::Kind::invalid, e.what());
+        }
         progress.finish();
         for (const std::string& note : r.notes) std::fprintf(stderr, "lodforge: note: %s\n", note.c_str());
 

@@ -6,6 +6,7 @@
 
 #include <cstdio>
 #include <exception>
+#include <new>
 
 int main(int argc, char** argv) {
     using namespace lodforge::cli;
@@ -32,13 +33,22 @@ int main(int argc, char** argv) {
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
-        return app.exit(e);  // prints help or the usage error; non-zero for errors
+        // CLI11 gives every parse error its own code (105, 109, ...); a usage error is 2 for all of them.
+        return app.exit(e) == 0 ? 0 : kExitUsage;
     } catch (const lodforge::Error& e) {
         std::fprintf(stderr, "lodforge: error: %s\n", e.what());
-        return e.kind() == lodforge::Error::Kind::cancelled ? 130 : 1;
+        switch (e.kind()) {
+            case lodforge::Error::Kind::cancelled: return cancelled_exit_code();
+            case lodforge::Error::Kind::argument: return kExitUsage;  // an option value out of range
+            default: return 1;
+        }
+    } catch (const std::bad_alloc&) {
+        // Readers check sizes against the file before allocating; this is a real shortage of memory.
+        std::fprintf(stderr, "lodforge: error: out of memory (the input needs more memory than is available)\n");
+        return 1;
     } catch (const std::exception& e) {
-        std::fprintf(stderr, "lodforge: internal error: %s\n", e.what());
-        return 3;
+        std::fprintf(stderr, "lodforge: error: %s\n", e.what());
+        return 1;
     }
     return 0;
 }

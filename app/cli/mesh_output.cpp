@@ -11,7 +11,7 @@ namespace lodforge::cli {
 void check_mesh_output(const std::string& command, const std::string& path) {
     const FileFormat f = format_from_extension(path);
     if (f != FileFormat::ply && f != FileFormat::obj && f != FileFormat::glb)
-        throw Error(Error::Kind::argument, command + ": " + path + ": the output must be .ply, .obj or .glb");
+        throw Error(Error::Kind::unsupported, command + ": " + path + ": the output must be .ply, .obj or .glb");
 }
 
 void write_mesh_output(const Mesh& mesh, const std::string& path, WriteOptions options, Progress* progress) {

@@ -10,7 +10,8 @@
 
 namespace lodforge::cli {
 
-// Throws Error(argument) "<command>: <path>: the output must be .ply, .obj or .glb" for anything else,
+// Throws Error(unsupported) "<command>: <path>: the output must be .ply, .obj or .glb" for anything else
+// (exit 1, as write_mesh answers the same name),
 // so a typo fails at once rather than after the work.
 void check_mesh_output(const std::string& command, const std::string& path);
 

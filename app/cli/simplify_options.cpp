@@ -75,7 +75,16 @@ CLI::Option* add_preset_option(CLI::App* cmd, std::string& value) {
 
 std::optional<Preset> preset_from_option(const std::string& value) {
     if (value.empty()) return std::nullopt;
-    return resolve_preset(value);
+    try {
+        return resolve_preset(value);
+    } catch (const Error& e) {
+        // An unknown shipped name is a usage error (2); a bad value inside a preset file is that file's
+        // problem (1), like any other input file's.
+        const bool file = value.find('/') != std::string::npos ||
+                          (value.size() >= 5 && value.compare(value.size() - 5, 5, ".json") == 0);
+        if (e.kind() != Error::Kind::argument || !file) throw;
+        throw Error(Error::Kind::format, e.what());
+    }
 }
 
 std::vector<LodTarget> parse_level_targets(const std::string& ratios, const std::string& triangles,

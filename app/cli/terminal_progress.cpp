@@ -7,11 +7,20 @@
 
 namespace lodforge::cli {
 namespace {
-volatile std::sig_atomic_t g_interrupted = 0;
-extern "C" void on_interrupt(int) { g_interrupted = 1; }
+volatile std::sig_atomic_t g_interrupted = 0;  // the signal number, 0 when none came
+extern "C" void on_interrupt(int signal_number) {
+    g_interrupted = signal_number;
+    // A second signal of the same kind ends the process at once (the user insists).
+    std::signal(signal_number, SIG_DFL);
+}
 }  // namespace
 
-void install_interrupt_handler() { std::signal(SIGINT, on_interrupt); }
+// SIGTERM (kill, systemd, CI timeouts) and SIGHUP (a closed terminal) cancel like Ctrl+C: the command
+// stops at its next progress check and its temporary files are removed on the way out.
+void install_interrupt_handler() {
+    for (int s : {SIGINT, SIGTERM, SIGHUP}) std::signal(s, on_interrupt);
+}
+int cancelled_exit_code() { return 128 + (g_interrupted ? static_cast<int>(g_interrupted) : SIGINT); }
 bool stderr_is_terminal() { return ::isatty(STDERR_FILENO) == 1; }
 
 TerminalProgress::TerminalProgress(bool enabled) : enabled_(enabled) {}

@@ -26,8 +26,12 @@ private:
     std::chrono::steady_clock::time_point last_draw_{};
 };
 
-// Installs a SIGINT handler that sets the flag TerminalProgress::cancelled() reads.
+// Installs SIGINT, SIGTERM and SIGHUP handlers that set the flag TerminalProgress::cancelled() reads.
 void install_interrupt_handler();
+// The exit code of a cancelled run: 128 + the signal that cancelled it (130 for Ctrl+C).
+int cancelled_exit_code();
+// Exit code of a usage error (unknown option, option value out of range).
+inline constexpr int kExitUsage = 2;
 bool stderr_is_terminal();
 
 }  // namespace lodforge::cli

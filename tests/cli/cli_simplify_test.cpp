@@ -146,7 +146,7 @@ TEST(CliSimplify, PerSetUvWeightsReachTheLibrary) {
     EXPECT_NE(a.positions, b.positions);
 
     r = run("simplify " + q(two) + " -o " + q(dir.file("bad.glb")) + " --ratio 0.2 --weights uvx=1");
-    EXPECT_EQ(r.exit_code, 1);
+    EXPECT_EQ(r.exit_code, 2);  // an option value the command refuses: a usage error
     EXPECT_TRUE(contains(r.out, "unknown attribute 'uvx'")) << r.out;
 }
 
@@ -339,7 +339,7 @@ TEST(CliCompare, BadArgumentsExitNonZero) {
     EXPECT_EQ(r.exit_code, 1);
     EXPECT_TRUE(contains(r.out, "missing.ply")) << r.out;
     r = run("compare --heatmap " + q(dir.file("h.obj")) + " " + q(bunny()) + " " + q(bunny()));
-    EXPECT_EQ(r.exit_code, 1);
+    EXPECT_EQ(r.exit_code, 2);  // an option value the command refuses: a usage error
     EXPECT_TRUE(contains(r.out, "--heatmap writes PLY")) << r.out;
     r = run("compare --samples -5 " + q(bunny()) + " " + q(bunny()));
     EXPECT_NE(r.exit_code, 0);

@@ -105,7 +105,7 @@ TEST(CliStrips, BadInputSaysWhatAndWhere) {
     r = run_cli("strips " + quoted(spot) + " -o " + quoted(dir.file("no/dir/y.lodstrips")));
     EXPECT_EQ(r.exit_code, 1) << r.out;
     r = run_cli("strips");
-    EXPECT_EQ(r.exit_code, 1);
+    EXPECT_EQ(r.exit_code, 2);  // a usage error
     EXPECT_TRUE(contains(r.out, "strips")) << r.out;
     EXPECT_EQ(run_cli("strips --help").exit_code, 0);
 }

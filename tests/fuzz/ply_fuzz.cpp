@@ -5,6 +5,7 @@
 
 #include "io/ply_internal.h"
 
+#include "fuzz_check.h"
 #include "lodforge/error.h"
 #include "lodforge/io/ply.h"
 
@@ -19,23 +20,8 @@
 
 namespace {
 
-void check(bool ok) {
-    if (!ok) __builtin_trap();
-}
-
-void check_mesh(const lodforge::Mesh& m) {
-    const std::size_t n = m.positions.size();
-    check(m.normals.empty() || m.normals.size() == n);
-    check(m.colors.empty() || m.colors.size() == n);
-    for (const auto& set : m.texcoords) check(set.size() == n);
-    check(m.position_ids.empty() || m.position_ids.size() == n);
-    for (std::uint32_t id : m.position_ids) check(id < n);
-    check(m.indices.size() % 3 == 0);
-    for (std::uint32_t i : m.indices) check(i < n);
-    check(m.face_materials.empty() || m.face_materials.size() == m.indices.size() / 3);
-    for (std::uint32_t f : m.face_materials) check(f < m.materials.size());
-    for (const auto& p : m.positions) check(lodforge::is_finite(p));
-}
+using lodforge::fuzz::check;
+using lodforge::fuzz::check_mesh;
 
 const std::string& temp_path() {
     static const std::string path =

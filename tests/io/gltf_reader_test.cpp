@@ -486,6 +486,125 @@ TEST(GltfReader, NonFinitePositionIsInvalidNamingTheVertex) {
     expect_error([&] { read_gltf(path); }, Error::Kind::invalid, {"nan.gltf", "POSITION", "vertex 2", "not finite"});
 }
 
+// Hostile input (issue 32): each of these crashed, asked for gigabytes or read the wrong data before.
+TEST(GltfReader, NodesNestedTenThousandDeepAreWalkedWithoutRecursion) {
+    test::ScratchDir dir("gltf-deep-nodes");
+    GltfBuilder b;
+    b.primitive({{"POSITION", b.floats(kQuad, "VEC3", 3)}}, b.indices({0, 1, 2, 0, 2, 3}));
+    json& doc = b.doc();
+    constexpr int kDepth = 10000;
+    doc["nodes"] = json::array();
+    for (int i = 0; i + 1 < kDepth; ++i) doc["nodes"].push_back({{"children", json::array({i + 1})}, {"translation", {1, 0, 0}}});
+    doc["nodes"].push_back({{"mesh", 0}});
+    const Mesh mesh = read_gltf(b.write(dir, "deep"));  // was SIGSEGV in the recursive scene walk
+    EXPECT_EQ(mesh.triangle_count(), 2u);
+    // Every level's translation applies: the quad sits 9999 units along x.
+    EXPECT_FLOAT_EQ(mesh.bounds().min.x, static_cast<float>(kDepth - 1));
+}
+
+TEST(GltfReader, NodeCycleDeepInTheHierarchyIsAFormatError) {
+    test::ScratchDir dir("gltf-deep-cycle");
+    GltfBuilder b;
+    b.primitive({{"POSITION", b.floats(kQuad, "VEC3", 3)}});
+    json& doc = b.doc();
+    doc["nodes"] = json::array();
+    for (int i = 0; i < 3000; ++i) doc["nodes"].push_back({{"children", json::array({(i + 1) % 3000})}});
+    expect_error([&] { read_gltf(b.write(dir, "cycle")); }, Error::Kind::format, {"cycle.gltf", "cycle"});
+}
+
+TEST(GltfReader, JsonNestedFiftyThousandDeepIsRefusedBeforeParsing) {
+    test::ScratchDir dir("gltf-deep-json");
+    GltfBuilder b;
+    b.primitive({{"POSITION", b.floats(kQuad, "VEC3", 3)}});
+    b.write(dir, "deep");
+    std::string text = b.doc().dump();
+    text.pop_back();  // the closing brace
+    text += ",\"extras\":" + std::string(50000, '[') + std::string(50000, ']') + "}";
+    test::write_text(dir.file("deep.gltf"), text);  // was SIGSEGV inside tinygltf's JSON conversion
+    expect_error([&] { read_gltf(dir.file("deep.gltf")); }, Error::Kind::format, {"deep.gltf", "nested deeper than 256"});
+    // The same depth inside a GLB's JSON chunk.
+    const std::string glb = dir.file("deep.glb");
+    std::string chunk = text;
+    while (chunk.size() % 4) chunk += ' ';
+    std::vector<std::uint8_t> bytes = {'g', 'l', 'T', 'F', 2, 0, 0, 0};
+    auto u32 = [&](std::uint32_t v) { for (int i = 0; i < 4; ++i) bytes.push_back(static_cast<std::uint8_t>(v >> (8 * i))); };
+    u32(static_cast<std::uint32_t>(20 + chunk.size()));
+    u32(static_cast<std::uint32_t>(chunk.size()));
+    u32(0x4E4F534Au);
+    bytes.insert(bytes.end(), chunk.begin(), chunk.end());
+    test::write_bytes(glb, bytes);
+    expect_error([&] { read_gltf(glb); }, Error::Kind::format, {"deep.glb", "nested deeper"});
+}
+
+TEST(GltfReader, HugeSparseCountIsRefusedBeforeAnyAllocation) {
+    test::ScratchDir dir("gltf-sparse-2e9");
+    GltfBuilder b;
+    const int idx = b.accessor(std::vector<std::uint32_t>{0, 1, 2}, 5125, "SCALAR", 3);
+    const int val = b.floats({1, 2, 3}, "VEC3", 3);
+    json& doc = b.doc();
+    // No bufferView, count and sparse count 2e9: read_floats asked for 24 GB before checking the views.
+    doc["accessors"].push_back({{"componentType", 5126}, {"count", 2000000000u}, {"type", "VEC3"},
+                                {"sparse", {{"count", 2000000000u},
+                                            {"indices", {{"bufferView", doc["accessors"][idx]["bufferView"]}, {"componentType", 5125}}},
+                                            {"values", {{"bufferView", doc["accessors"][val]["bufferView"]}}}}}});
+    b.primitive({{"POSITION", static_cast<int>(doc["accessors"].size() - 1)}});
+    expect_error([&] { read_gltf(b.write(dir, "huge")); }, Error::Kind::format, {"huge.gltf", "sparse", "exceed"});
+}
+
+TEST(GltfReader, SparseCountAboveTheAccessorCountIsAFormatError) {
+    test::ScratchDir dir("gltf-sparse-over");
+    GltfBuilder b;
+    const int pos = b.floats(kQuad, "VEC3", 3);
+    const int idx = b.accessor(std::vector<std::uint8_t>{0, 1, 2, 3, 0, 1, 2, 3}, 5121, "SCALAR", 8);
+    const int val = b.floats(std::vector<float>(24, 0.5f), "VEC3", 3);
+    json& doc = b.doc();
+    doc["accessors"][pos]["sparse"] = {{"count", 8},
+                                       {"indices", {{"bufferView", doc["accessors"][idx]["bufferView"]}, {"componentType", 5121}}},
+                                       {"values", {{"bufferView", doc["accessors"][val]["bufferView"]}}}};
+    b.primitive({{"POSITION", pos}}, b.indices({0, 1, 2}));
+    expect_error([&] { read_gltf(b.write(dir, "over")); }, Error::Kind::format, {"over.gltf", "sparse count 8", "1..4"});
+}
+
+TEST(GltfReader, NegativeOrFractionalOffsetsAreFormatErrors) {
+    test::ScratchDir dir("gltf-neg-offset");
+    for (const auto& [member, value, needle] : {std::tuple<const char*, json, const char*>{"byteOffset", -12, "negative"},
+                                                {"byteOffset", 1.5, "not an integer"},
+                                                {"count", -3, "negative"}}) {
+        GltfBuilder b;
+        const int pos = b.floats(kQuad, "VEC3", 3);
+        b.primitive({{"POSITION", pos}}, b.indices({0, 1, 2}));
+        b.doc()["accessors"][pos][member] = value;  // tinygltf read a negative byteOffset as 0
+        SCOPED_TRACE(member);
+        expect_error([&] { read_gltf(b.write(dir, "neg")); }, Error::Kind::format, {"neg.gltf", member, needle});
+    }
+    // Author data in extras is not the schema's business.
+    GltfBuilder b;
+    b.primitive({{"POSITION", b.floats(kQuad, "VEC3", 3)}}, b.indices({0, 1, 2}));
+    b.doc()["accessors"][0]["extras"] = {{"byteOffset", -1}, {"count", 0.5}};
+    EXPECT_EQ(read_gltf(b.write(dir, "extras")).triangle_count(), 1u);
+}
+
+TEST(GltfReader, TransformOfTheWrongLengthIsAFormatError) {
+    test::ScratchDir dir("gltf-matrix3");
+    for (const char* member : {"matrix", "translation", "rotation", "scale"}) {
+        GltfBuilder b;
+        b.primitive({{"POSITION", b.floats(kQuad, "VEC3", 3)}}, b.indices({0, 1, 2}));
+        b.doc()["nodes"][0][member] = {1, 2};  // a 3-number matrix was silently the identity
+        SCOPED_TRACE(member);
+        expect_error([&] { read_gltf(b.write(dir, "m")); }, Error::Kind::format, {"m.gltf", "node 0", member, "2 numbers"});
+    }
+}
+
+TEST(GltfReader, GlbContainerVersionOtherThanTwoIsUnsupported) {
+    const std::vector<std::uint8_t> glb = test::read_bytes(shared_data("tex-duck/glTF_Binary/Duck.glb"));
+    ASSERT_GT(glb.size(), 20u);
+    test::ScratchDir dir("gltf-glb-version");
+    std::vector<std::uint8_t> v7 = glb;
+    v7[4] = 7;
+    test::write_bytes(dir.file("v7.glb"), v7);
+    expect_error([&] { read_gltf(dir.file("v7.glb")); }, Error::Kind::unsupported, {"v7.glb", "version 7"});
+}
+
 TEST(GltfReader, NothingToImportIsAClearError) {
     test::ScratchDir dir("gltf-nothing");
     {

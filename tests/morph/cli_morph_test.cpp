@@ -79,10 +79,10 @@ TEST(CliMorph, ErrorsNameTheFileAndExitOne) {
     EXPECT_EQ(r.exit_code, 1);
     EXPECT_TRUE(contains(r.out, "lodforge: error: " + dir.file("none"))) << r.out;
     r = run_cli("morph build " + quoted(horse()) + " -o " + quoted(dir.file("x.lfmorph")) + " --order best");
-    EXPECT_EQ(r.exit_code, 1);
+    EXPECT_EQ(r.exit_code, 2);  // an option value out of range: a usage error
     EXPECT_TRUE(contains(r.out, "--order")) << r.out;
     r = run_cli("morph build " + quoted(horse()) + " -o " + quoted(dir.file("x.lfmorph")) + " --levels 0.1,0.5");
-    EXPECT_EQ(r.exit_code, 1);
+    EXPECT_EQ(r.exit_code, 2);
     EXPECT_FALSE(std::filesystem::exists(dir.file("x.lfmorph")));
     r = run_cli("morph info " + quoted(horse() + "/0001.obj"));
     EXPECT_EQ(r.exit_code, 1);

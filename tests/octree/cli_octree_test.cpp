@@ -132,7 +132,8 @@ TEST(OctreeCli, BuildInfoAndExtract) {
     EXPECT_LT(mv.triangle_count(), 47794u);
 
     // Usage and input errors.
-    EXPECT_EQ(run_cli("octree extract " + quoted(asset) + " --level 99 -o " + quoted(dir.file("x.ply"))).exit_code, 1);
+    // An option value out of range is a usage error (2), like CLI11's own range checks.
+    EXPECT_EQ(run_cli("octree extract " + quoted(asset) + " --level 99 -o " + quoted(dir.file("x.ply"))).exit_code, 2);
     EXPECT_NE(run_cli("octree extract " + quoted(asset) + " --screen-error 1 -o " + quoted(dir.file("x.ply"))).exit_code, 0);
     const auto bad_cam = run_cli("octree extract " + quoted(asset) + " --screen-error 1 --camera 1,2,3 -o " + quoted(dir.file("x.ply")));
     EXPECT_NE(bad_cam.exit_code, 0);
@@ -161,21 +162,68 @@ TEST(OctreeCli, TruncatedInputFailsCleanly) {
     EXPECT_EQ(files, 0u);
 }
 
-TEST(OctreeCli, CtrlCMidBuildLeavesNoFiles) {
-    ScratchDir dir("octree-cli-cancel");
-    const pid_t pid = spawn({"octree", "build", shared_data("scan-dragon/dragon_vrip.ply"), "-o", dir.file("d.lfo"),
-                             "--max-triangles", "300", "--memory", "16"});
-    // Interrupt once the build has started writing (its temporary directory exists).
-    bool started = false;
-    for (int i = 0; i < 2000 && !started; ++i) {
-        for (const auto& e : fs::directory_iterator(dir.path())) started = started || e.is_directory();
-        if (!started) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+// SIGTERM (kill, CI timeouts) and SIGHUP (a closed terminal) clean up like Ctrl+C; they left up to
+// 1.1 GB of temporary files before. The exit code is 128 + the signal, as a shell reports it.
+TEST(OctreeCli, SignalMidBuildLeavesNoFiles) {
+    for (const int signal_number : {SIGINT, SIGTERM, SIGHUP}) {
+        SCOPED_TRACE(signal_number);
+        ScratchDir dir("octree-cli-cancel");
+        const pid_t pid = spawn({"octree", "build", shared_data("scan-dragon/dragon_vrip.ply"), "-o", dir.file("d.lfo"),
+                                 "--max-triangles", "300", "--memory", "16"});
+        // Interrupt once the build has started writing (its temporary directory exists).
+        bool started = false;
+        for (int i = 0; i < 2000 && !started; ++i) {
+            for (const auto& e : fs::directory_iterator(dir.path())) started = started || e.is_directory();
+            if (!started) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+        }
+        ASSERT_TRUE(started);
+        ::kill(pid, signal_number);
+        const Measured m = wait_measured(pid);
+        EXPECT_EQ(m.exit_code, 128 + signal_number);
+        EXPECT_EQ(std::distance(fs::directory_iterator(dir.path()), fs::directory_iterator()), 0);
     }
-    ASSERT_TRUE(started);
-    ::kill(pid, SIGINT);
-    const Measured m = wait_measured(pid);
-    EXPECT_EQ(m.exit_code, 130);
-    EXPECT_EQ(std::distance(fs::directory_iterator(dir.path()), fs::directory_iterator()), 0);
+}
+
+// The streaming path read NaN normals, UVs and colours and 1e38 coordinates into an asset (exit 0)
+// that `info` and `convert` refuse; it now makes the same checks.
+TEST(OctreeCli, NonFiniteOrHugeValuesFailLikeInfoDoes) {
+    ScratchDir dir("octree-cli-nan");
+    const std::string header =
+        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n";
+    const std::string face = "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
+    struct Case {
+        const char* name;
+        std::string text;
+        const char* needle;
+    };
+    const Case cases[] = {
+        {"normal.ply", header + "property float nx\nproperty float ny\nproperty float nz\n" + face +
+                           "0 0 0 0 0 1\n1 0 0 nan 0 1\n0 1 0 0 0 1\n3 0 1 2\n", "vertex 1"},
+        {"uv.ply", header + "property float u\nproperty float v\n" + face + "0 0 0 0 0\n1 0 0 0 0\n0 1 0 inf 0\n3 0 1 2\n",
+         "vertex 2"},
+        {"color.ply", header + "property float red\nproperty float green\nproperty float blue\n" + face +
+                          "0 0 0 -inf 0 0\n1 0 0 0 0 0\n0 1 0 0 0 0\n3 0 1 2\n", "vertex 0"},
+        {"huge.ply", header + face + "0 0 0\n1e38 0 0\n0 1e38 0\n3 0 1 2\n", "coordinates too large"},
+    };
+    for (const Case& c : cases) {
+        SCOPED_TRACE(c.name);
+        const std::string in = dir.file(c.name);
+        std::ofstream(in) << c.text;
+        const auto info = run_cli("info " + quoted(in));
+        ASSERT_EQ(info.exit_code, 0) << info.out;
+        EXPECT_NE(info.out.find("error"), std::string::npos) << info.out;  // info lists the finding
+        for (const char* mode : {"octree", "cluster"}) {
+            const std::string out = dir.file(std::string(c.name) + (std::string(mode) == "octree" ? ".lfo" : ".out.ply"));
+            const auto r = run_cli("octree build " + quoted(in) + " -o " + quoted(out) + " --mode " + mode);
+            EXPECT_EQ(r.exit_code, 1) << mode << ": " << r.out;
+            EXPECT_NE(r.out.find(in), std::string::npos) << r.out;
+            EXPECT_NE(r.out.find(c.needle), std::string::npos) << r.out;
+            EXPECT_FALSE(fs::exists(out));
+        }
+    }
+    std::size_t left = 0;
+    for (const auto& e : fs::directory_iterator(dir.path())) left += e.path().extension() != ".ply";
+    EXPECT_EQ(left, 0u);  // no temporary directory or partial output remains
 }
 
 }  // namespace

@@ -11,7 +11,9 @@
 // the OpenGL/OBJ convention of v pointing up.
 #include "lodforge/io/gltf_reader.h"
 
+#include "io/gltf_json_check.h"
 #include "lodforge/error.h"
+#include "lodforge/io/input_file.h"
 
 #include <tiny_gltf.h>
 
@@ -49,7 +51,7 @@ Mat4 multiply(const Mat4& a, const Mat4& b) {
     return r;
 }
 
-Mat4 local_matrix(const tinygltf::Node& node) {
+Mat4 trs_matrix(const tinygltf::Node& node) {
     if (node.matrix.size() == 16) {
         Mat4 m{};
         std::copy(node.matrix.begin(), node.matrix.end(), m.begin());
@@ -156,6 +158,17 @@ bool keep_image_undecoded(tinygltf::Image* image, const int, std::string*, std::
     if (image->uri.empty() && image->bufferView < 0 && bytes && size > 0)
         image->image.assign(bytes, bytes + size);
     return true;
+}
+
+// tinygltf's file reader, refusing what is not a regular file: a buffer URI naming /dev/zero was read
+// until memory ran out, one naming a FIFO blocked forever.
+bool read_regular_file(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* user) {
+    std::error_code ec;
+    if (!fs::is_regular_file(path, ec)) {
+        if (err) *err += "File read error : " + path + " is not a regular file\n";
+        return false;
+    }
+    return tinygltf::ReadWholeFile(out, err, path, user);
 }
 
 std::size_t component_size(int type) {
@@ -333,30 +346,69 @@ private:
         }
     }
 
-    void visit(int index, const Mat4& parent, std::vector<char>& on_path, std::vector<char>& mesh_seen) {
-        if (index < 0 || static_cast<std::size_t>(index) >= model_.nodes.size())
-            fail(Error::Kind::format, "scene refers to node " + std::to_string(index) + " of " +
-                                          std::to_string(model_.nodes.size()));
-        const auto ui = static_cast<std::size_t>(index);
-        if (on_path[ui]) fail(Error::Kind::format, "node hierarchy has a cycle through node " + std::to_string(index));
-        const tinygltf::Node& node = model_.nodes[ui];
-        const Mat4 world = multiply(parent, local_matrix(node));
-        if (node.mesh >= 0) {
-            if (static_cast<std::size_t>(node.mesh) >= model_.meshes.size())
-                fail(Error::Kind::format, "node " + std::to_string(index) + " refers to mesh " +
-                                              std::to_string(node.mesh) + " of " + std::to_string(model_.meshes.size()));
-            char& seen = mesh_seen[static_cast<std::size_t>(node.mesh)];
-            const bool first = seen == 0;
-            if (seen < 100) ++seen;  // a count for the note; saturates well inside char
-            if (first || options_.place_every_instance) {
-                // A skinned mesh ignores its node's transform (glTF spec); without posing the skin the
-                // mesh-space bind pose is the best geometry we have.
-                instances_.push_back({node.mesh, node.skin >= 0 ? kIdentity : world, index});
+    // Iterative, so that a hierarchy thousands of nodes deep cannot exhaust the stack.
+    void visit(int root, const Mat4& root_parent, std::vector<char>& on_path, std::vector<char>& mesh_seen) {
+        struct Frame {
+            int node;
+            Mat4 world;
+            std::size_t next_child = 0;
+        };
+        std::vector<Frame> stack;
+        auto enter = [&](int index, const Mat4& parent) {
+            if (index < 0 || static_cast<std::size_t>(index) >= model_.nodes.size())
+                fail(Error::Kind::format, "scene refers to node " + std::to_string(index) + " of " +
+                                              std::to_string(model_.nodes.size()));
+            const auto ui = static_cast<std::size_t>(index);
+            if (on_path[ui]) fail(Error::Kind::format, "node hierarchy has a cycle through node " + std::to_string(index));
+            const tinygltf::Node& node = model_.nodes[ui];
+            const Mat4 world = multiply(parent, local_matrix(index));
+            if (node.mesh >= 0) {
+                if (static_cast<std::size_t>(node.mesh) >= model_.meshes.size())
+                    fail(Error::Kind::format, "node " + std::to_string(index) + " refers to mesh " +
+                                                  std::to_string(node.mesh) + " of " + std::to_string(model_.meshes.size()));
+                char& seen = mesh_seen[static_cast<std::size_t>(node.mesh)];
+                const bool first = seen == 0;
+                if (seen < 100) ++seen;  // a count for the note; saturates well inside char
+                if (first || options_.place_every_instance) {
+                    // A skinned mesh ignores its node's transform (glTF spec); without posing the skin the
+                    // mesh-space bind pose is the best geometry we have.
+                    instances_.push_back({node.mesh, node.skin >= 0 ? kIdentity : world, index});
+                }
+            }
+            on_path[ui] = 1;
+            stack.push_back({index, world});
+        };
+        enter(root, root_parent);
+        while (!stack.empty()) {
+            Frame& top = stack.back();
+            const auto& children = model_.nodes[static_cast<std::size_t>(top.node)].children;
+            if (top.next_child < children.size()) {
+                const int child = children[top.next_child++];
+                const Mat4 world = top.world;  // `top` may move when the stack grows
+                enter(child, world);
+            } else {
+                on_path[static_cast<std::size_t>(top.node)] = 0;
+                stack.pop_back();
             }
         }
-        on_path[ui] = 1;
-        for (int child : node.children) visit(child, world, on_path, mesh_seen);
-        on_path[ui] = 0;
+    }
+
+    // The node's transform; a matrix or TRS member of the wrong length is an error, not identity.
+    Mat4 local_matrix(int index) const {
+        const tinygltf::Node& node = model_.nodes[static_cast<std::size_t>(index)];
+        auto check = [&](const std::vector<double>& v, std::size_t n, const char* name) {
+            if (!v.empty() && v.size() != n)
+                fail(Error::Kind::format, "node " + std::to_string(index) + ": '" + name + "' has " +
+                                              std::to_string(v.size()) + " numbers, not " + std::to_string(n));
+            for (double x : v)
+                if (!std::isfinite(x))
+                    fail(Error::Kind::format, "node " + std::to_string(index) + ": '" + name + "' is not finite");
+        };
+        check(node.matrix, 16, "matrix");
+        check(node.translation, 3, "translation");
+        check(node.rotation, 4, "rotation");
+        check(node.scale, 3, "scale");
+        return trs_matrix(node);
     }
 
     int attribute(const tinygltf::Primitive& p, const char* name) const {
@@ -470,17 +522,40 @@ private:
         const tinygltf::Accessor& a = accessor(index, what);
         const std::size_t element = component_size(a.componentType) * component_count(a.type);
         if (element == 0) return;  // reported with its reason when read
+        if (a.sparse.isSparse) check_sparse(a, element, what);
         if (a.bufferView >= 0) {
             std::size_t stride = 0;
             view_data(a.bufferView, a.byteOffset, element, a.count, stride, what);
             return;
         }
-        std::size_t limit = a.sparse.isSparse ? static_cast<std::size_t>(std::max(a.sparse.count, 0)) : 0;
+        std::size_t limit = a.sparse.isSparse ? static_cast<std::size_t>(a.sparse.count) : 0;
         for (const auto& other : model_.accessors)
             if (other.bufferView >= 0) limit = std::max(limit, other.count);
         if (a.count > limit)
             fail(Error::Kind::format, what + ": " + std::to_string(a.count) + " elements without a bufferView exceed "
                                           "every accessor with data (at most " + std::to_string(limit) + ")");
+    }
+
+    // A sparse part is bounded by its accessor and by the bytes its two views hold; checked before
+    // anything is allocated for the accessor (a 5 KB file claiming 2e9 sparse values asked for 24 GB).
+    void check_sparse(const tinygltf::Accessor& a, std::size_t element, const std::string& what) const {
+        if (a.sparse.count < 1 || static_cast<std::size_t>(a.sparse.count) > a.count)
+            fail(Error::Kind::format, what + ": sparse count " + std::to_string(a.sparse.count) +
+                                          " is outside 1.." + std::to_string(a.count) + " (the accessor's count)");
+        if (a.sparse.indices.byteOffset < 0 || a.sparse.values.byteOffset < 0)
+            fail(Error::Kind::format, what + ": sparse byteOffset is negative");
+        const auto count = static_cast<std::size_t>(a.sparse.count);
+        const std::size_t isize = component_size(a.sparse.indices.componentType);
+        if (isize == 0 || a.sparse.indices.componentType == TINYGLTF_COMPONENT_TYPE_BYTE ||
+            a.sparse.indices.componentType == TINYGLTF_COMPONENT_TYPE_SHORT ||
+            a.sparse.indices.componentType == TINYGLTF_COMPONENT_TYPE_INT ||
+            a.sparse.indices.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT)
+            fail(Error::Kind::format, what + ": sparse indices have an invalid component type");
+        std::size_t stride = 0;
+        view_data(a.sparse.indices.bufferView, static_cast<std::size_t>(a.sparse.indices.byteOffset), isize, count,
+                  stride, what + " sparse indices");
+        view_data(a.sparse.values.bufferView, static_cast<std::size_t>(a.sparse.values.byteOffset), element, count,
+                  stride, what + " sparse values");
     }
 
     // All components of an accessor as floats (normalized integers mapped to [0,1] / [-1,1]),
@@ -506,20 +581,16 @@ private:
                     out[i * components + c] = component_value(p + c * csize, a.componentType, a.normalized);
         }
         if (a.sparse.isSparse) {
-            const auto count = static_cast<std::size_t>(std::max(a.sparse.count, 0));
+            // check_extent has validated the sparse part.
+            const auto count = static_cast<std::size_t>(a.sparse.count);
             const std::size_t isize = component_size(a.sparse.indices.componentType);
-            if (isize == 0 || a.sparse.indices.componentType == TINYGLTF_COMPONENT_TYPE_BYTE ||
-                a.sparse.indices.componentType == TINYGLTF_COMPONENT_TYPE_SHORT ||
-                a.sparse.indices.componentType == TINYGLTF_COMPONENT_TYPE_INT ||
-                a.sparse.indices.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT)
-                fail(Error::Kind::format, what + ": sparse indices have an invalid component type");
             std::size_t istride = 0, vstride = 0;
             const std::uint8_t* ip = view_data(a.sparse.indices.bufferView,
-                                               static_cast<std::size_t>(std::max(a.sparse.indices.byteOffset, 0)), isize,
-                                               count, istride, what + " sparse indices");
+                                               static_cast<std::size_t>(a.sparse.indices.byteOffset), isize, count,
+                                               istride, what + " sparse indices");
             const std::uint8_t* vp = view_data(a.sparse.values.bufferView,
-                                               static_cast<std::size_t>(std::max(a.sparse.values.byteOffset, 0)), element,
-                                               count, vstride, what + " sparse values");
+                                               static_cast<std::size_t>(a.sparse.values.byteOffset), element, count,
+                                               vstride, what + " sparse values");
             // Sparse data is tightly packed regardless of the bufferView's stride.
             for (std::size_t s = 0; s < count; ++s) {
                 const auto target = static_cast<std::size_t>(component_value(ip + s * isize, a.sparse.indices.componentType, false));
@@ -992,9 +1063,7 @@ private:
 };
 
 std::vector<unsigned char> read_file(const std::string& path) {
-    std::error_code ec;
-    if (!fs::exists(path, ec)) throw_error(Error::Kind::io, path, "no such file");
-    if (fs::is_directory(path, ec)) throw_error(Error::Kind::io, path, "is a directory, not a glTF file");
+    check_input_file(path, "a glTF file");
     std::ifstream in(path, std::ios::binary);
     if (!in) throw_error(Error::Kind::io, path, "cannot open");
     std::vector<unsigned char> data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -1013,20 +1082,32 @@ Mesh read_gltf(const std::string& path, Progress* progress, const GltfReadOption
     if (!binary && lower(fs::path(path).extension().string()) == ".glb")
         throw_error(Error::Kind::format, path, "not a binary glTF (missing 'glTF' magic)");
     if (binary && data.size() >= 12) {
-        // The GLB header states the total length; checking it first turns tinygltf's generic
-        // "Invalid glTF binary" into the reason a user can act on.
-        std::uint32_t declared = 0;
+        // The GLB header states the version and the total length; checking them first turns tinygltf's
+        // generic "Invalid glTF binary" (or a silent read of another version) into a reason to act on.
+        std::uint32_t version = 0, declared = 0;
+        std::memcpy(&version, data.data() + 4, 4);
         std::memcpy(&declared, data.data() + 8, 4);
+        if (version != 2)
+            throw_error(Error::Kind::unsupported, path,
+                        "GLB container version " + std::to_string(version) + " is not supported (only version 2)");
         if (declared > data.size())
             throw_error(Error::Kind::format, path,
                         "truncated GLB: the header announces " + std::to_string(declared) + " bytes, the file has " +
                             std::to_string(data.size()));
+    }
+    if (!binary) {
+        check_gltf_json(path, reinterpret_cast<const char*>(data.data()), data.size());
+    } else if (data.size() >= 20) {
+        std::uint32_t json_length = 0;
+        std::memcpy(&json_length, data.data() + 12, 4);
+        if (json_length <= data.size() - 20) check_gltf_json(path, reinterpret_cast<const char*>(data.data()) + 20, json_length);
     }
     const std::string base_dir = fs::path(path).parent_path().string();
 
     tinygltf::Model model;
     tinygltf::TinyGLTF loader;
     loader.SetImageLoader(keep_image_undecoded, nullptr);
+    loader.SetFsCallbacks({&tinygltf::FileExists, &tinygltf::ExpandFilePath, &read_regular_file, &tinygltf::WriteWholeFile, nullptr});
     std::string err, warn;
     bool ok = false;
     try {

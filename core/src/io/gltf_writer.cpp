@@ -378,7 +378,8 @@ private:
     // ---- container --------------------------------------------------------------------------------
 
     std::vector<std::uint8_t> container() {
-        std::string json = doc_.dump();
+        // Names come from file names, which need not be UTF-8 (JSON must be): bad bytes become U+FFFD.
+        std::string json = doc_.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
         while (json.size() % 4) json += ' ';  // the JSON chunk is padded with spaces
         align();
         const std::size_t total = 12 + 8 + json.size() + 8 + bin_.size();

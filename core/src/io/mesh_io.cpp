@@ -1,6 +1,7 @@
 #include "lodforge/io/mesh_io.h"
 
 #include "lodforge/error.h"
+#include "lodforge/io/input_file.h"
 #include "lodforge/io/gltf_reader.h"
 #include "lodforge/io/gltf_writer.h"
 #include "lodforge/io/mesh_validate.h"
@@ -27,10 +28,7 @@ std::string lower_extension(const std::string& path) {
 
 // Turns the usual reasons a file cannot be read into one clear sentence before any parser runs.
 void check_readable(const std::string& path) {
-    std::error_code ec;
-    const auto status = fs::status(path, ec);
-    if (ec || !fs::exists(status)) throw_error(Error::Kind::io, path, "no such file");
-    if (fs::is_directory(status)) throw_error(Error::Kind::io, path, "is a directory, not a mesh file");
+    check_input_file(path, "a mesh file");
     std::ifstream probe(path, std::ios::binary);
     if (!probe) throw_error(Error::Kind::io, path, std::string("cannot open: ") + std::strerror(errno));
 }
@@ -73,6 +71,8 @@ FileFormat format_from_extension(const std::string& path) {
 
 FileFormat detect_format(const std::string& path) {
     if (const FileFormat f = format_from_extension(path); f != FileFormat::unknown) return f;
+    std::error_code ec;
+    if (!fs::is_regular_file(path, ec)) return FileFormat::unknown;  // a FIFO would block the probe
     std::ifstream in(path, std::ios::binary);
     char magic[4] = {};
     in.read(magic, 4);

@@ -1,5 +1,7 @@
 #include "lodforge/io/mesh_validate.h"
 
+#include "lodforge/error.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -44,6 +46,20 @@ private:
 
 bool finite2(Vec2f v) { return std::isfinite(v.x) && std::isfinite(v.y); }
 bool finite4(Vec4f v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z) && std::isfinite(v.w); }
+
+// Vertex v's attributes in the spans that are present (empty spans are absent attributes).
+bool finite_attributes(std::span<const Vec3f> normals, std::span<const Vec4f> colors,
+                       std::span<const Vec2f> texcoords, std::size_t v) {
+    return (normals.empty() || is_finite(normals[v])) && (colors.empty() || finite4(colors[v])) &&
+           (texcoords.empty() || finite2(texcoords[v]));
+}
+
+std::string extent_message(const Bounds& b) {
+    std::ostringstream s;
+    s << "coordinates too large: the bounding box (" << b.min.x << ", " << b.min.y << ", " << b.min.z << ") .. ("
+      << b.max.x << ", " << b.max.y << ", " << b.max.z << ") has a diagonal beyond the float range; scale the model down";
+    return s.str();
+}
 
 }  // namespace
 
@@ -90,19 +106,14 @@ ValidationReport validate(const Mesh& mesh, const ValidationParams& params) {
             f.severity = Severity::error;
             f.code = "extent_overflow";
             f.count = 1;
-            std::ostringstream s;
-            s << "coordinates too large: the bounding box (" << b.min.x << ", " << b.min.y << ", " << b.min.z
-              << ") .. (" << b.max.x << ", " << b.max.y << ", " << b.max.z
-              << ") has a diagonal beyond the float range; scale the model down";
-            f.message = s.str();
+            f.message = extent_message(b);
             report.findings.push_back(std::move(f));
         }
     }
 
     FindingBuilder nan_attr(Severity::error, "non_finite_attribute", max_ex);
     for (std::size_t v = 0; v < n; ++v) {
-        bool bad = (!mesh.normals.empty() && !is_finite(mesh.normals[v])) ||
-                   (!mesh.colors.empty() && !finite4(mesh.colors[v]));
+        bool bad = !finite_attributes(mesh.normals, mesh.colors, {}, v);
         for (const auto& set : mesh.texcoords) bad = bad || !finite2(set[v]);
         if (bad) nan_attr.add(v);
     }
@@ -181,6 +192,23 @@ ValidationReport validate(const Mesh& mesh, const ValidationParams& params) {
         if (!used[p]) unused.add(p);
     unused.emit(report, "vertices not used by any triangle", "vertex", "vertices");
     return report;
+}
+
+void check_vertex_chunk(const std::string& path, std::size_t first, std::span<const Vec3f> positions,
+                        std::span<const Vec3f> normals, std::span<const Vec4f> colors,
+                        std::span<const Vec2f> texcoords) {
+    for (std::size_t v = 0; v < positions.size(); ++v) {
+        if (!is_finite(positions[v]))
+            throw_error(Error::Kind::invalid, path, "vertex " + std::to_string(first + v) +
+                                                        " has a NaN or infinite coordinate");
+        if (!finite_attributes(normals, colors, texcoords, v))
+            throw_error(Error::Kind::invalid, path, "vertex " + std::to_string(first + v) +
+                                                        " has a NaN or infinite normal, colour or texture coordinate");
+    }
+}
+
+void check_extent(const std::string& path, const Bounds& bounds) {
+    if (!bounds.empty() && !std::isfinite(bounds.diagonal())) throw_error(Error::Kind::invalid, path, extent_message(bounds));
 }
 
 }  // namespace lodforge

@@ -8,6 +8,7 @@
 #include "lodforge/io/obj.h"
 
 #include "lodforge/error.h"
+#include "lodforge/io/input_file.h"
 
 #include <tiny_obj_loader.h>
 
@@ -70,6 +71,35 @@ std::string normalise_texture_path(std::string path) {
     return path;
 }
 
+// Material names may hold spaces (`newmtl my red`): tinyobjloader keeps the whole `newmtl` name but
+// only the first word of a `usemtl`, so the material was lost. Both sides get this byte for their inner
+// spaces while tinyobjloader runs, and the names get their spaces back afterwards.
+constexpr char kNameSpace = '\x1f';
+
+// `usemtl` lines with their name's inner spaces and tabs replaced by kNameSpace.
+std::string protect_material_names(std::string text) {
+    std::size_t line = 0;
+    while (line < text.size()) {
+        std::size_t end = text.find('\n', line);
+        if (end == std::string::npos) end = text.size();
+        std::size_t b = text.find_first_not_of(" \t", line);
+        if (b < end && text.compare(b, 6, "usemtl") == 0 && b + 6 < end && (text[b + 6] == ' ' || text[b + 6] == '\t')) {
+            std::size_t first = text.find_first_not_of(" \t", b + 6);
+            std::size_t last = end;
+            while (last > first && std::isspace(static_cast<unsigned char>(text[last - 1]))) --last;
+            for (std::size_t i = first; i < last; ++i)
+                if (text[i] == ' ' || text[i] == '\t') text[i] = kNameSpace;
+        }
+        line = end + 1;
+    }
+    return text;
+}
+
+std::string with_spaces(std::string name) {
+    std::replace(name.begin(), name.end(), kNameSpace, ' ');
+    return name;
+}
+
 // Resolves `mtllib` names against the OBJ's directory (tinyobjloader's own reader splits its search
 // path at ':', which breaks on directories containing one) and remembers the ones that are missing.
 class MtlReader : public tinyobj::MaterialReader {
@@ -85,11 +115,23 @@ public:
             if (warn) *warn += "material library " + path.string() + " not found\n";
             return false;
         }
+        const std::size_t before = materials->size();
         tinyobj::LoadMtl(material_map, materials, &in, warn, err);
+        if (protect_names) {
+            for (std::size_t i = before; i < materials->size(); ++i) {
+                std::string& material = (*materials)[i].name;
+                const std::string protected_name = protect_material_names("usemtl " + material).substr(7);
+                if (protected_name == material) continue;
+                material_map->erase(material);
+                (*material_map)[protected_name] = static_cast<int>(i);
+                material = protected_name;
+            }
+        }
         return true;
     }
 
     std::vector<std::string> missing;
+    bool protect_names = false;  // the OBJ's usemtl names were protected (protect_material_names)
 
 private:
     fs::path dir_;
@@ -182,6 +224,7 @@ void check_text(const std::string& path, std::istream& in) {
 // triangle on vertex 3, accepted as valid).
 struct TextScan {
     bool continuation = false;
+    bool spaced_material = false;  // a `usemtl` name with a space (tinyobjloader keeps its first word)
     std::size_t non_finite_line = 0;  // 1-based; 0 = none
     std::string non_finite_token;
     std::size_t overflow_line = 0;  // 1-based; 0 = none
@@ -232,7 +275,10 @@ TextScan scan_text(std::istream& in) {
         if (!line.empty() && line.back() == '\\') scan.continuation = true;
         std::size_t pos = 0;
         const std::string_view key = next_word(line, pos);
-        if (key == "f") {
+        if (key == "usemtl") {
+            next_word(line, pos);
+            scan.spaced_material = scan.spaced_material || !next_word(line, pos).empty();
+        } else if (key == "f") {
             if (scan.overflow_line) continue;
             for (std::string_view w = next_word(line, pos); !w.empty(); w = next_word(line, pos))
                 if (index_overflows(w)) {
@@ -258,8 +304,7 @@ TextScan scan_text(std::istream& in) {
     return scan;
 }
 
-std::string join_continued_lines(std::istream& in) {
-    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+std::string join_continued_lines(std::string text) {
     std::string out;
     out.reserve(text.size());
     for (std::size_t i = 0; i < text.size(); ++i) {
@@ -277,6 +322,7 @@ std::string join_continued_lines(std::istream& in) {
     return out;
 }
 
+
 // NaN or infinite numbers make every later step meaningless (docs/decisions.md): refused at import.
 void check_finite(const std::string& path, const std::vector<tinyobj::real_t>& values, std::size_t per_item,
                   const char* what) {
@@ -290,9 +336,7 @@ void check_finite(const std::string& path, const std::vector<tinyobj::real_t>& v
 
 Mesh read_obj(const std::string& path, Progress* progress) {
     check_progress(progress, 0.0, "Reading OBJ");
-    std::error_code ec;
-    if (!fs::exists(path, ec)) throw_error(Error::Kind::io, path, "no such file");
-    if (fs::is_directory(path, ec)) throw_error(Error::Kind::io, path, "is a directory, not an OBJ file");
+    check_input_file(path, "an OBJ file");
     std::ifstream in(path, std::ios::binary);
     if (!in) throw_error(Error::Kind::io, path, std::string("cannot open: ") + std::strerror(errno));
     check_text(path, in);
@@ -315,9 +359,13 @@ Mesh read_obj(const std::string& path, Progress* progress) {
     if (scan.overflow_line)
         throw_error(Error::Kind::invalid, path, "line " + std::to_string(scan.overflow_line) + ": face corner '" +
                                                     scan.overflow_token + "' has an index out of range");
-    if (scan.continuation) {
-        joined.str(join_continued_lines(in));
+    if (scan.continuation || scan.spaced_material) {
+        std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        if (scan.continuation) text = join_continued_lines(std::move(text));
+        if (scan.spaced_material) text = protect_material_names(std::move(text));
+        joined.str(std::move(text));
         source = &joined;
+        mtl_reader.protect_names = scan.spaced_material;
     }
     bool ok = false;
     try {
@@ -378,6 +426,7 @@ Mesh read_obj(const std::string& path, Progress* progress) {
     const bool has_colors = attrib.colors.size() == attrib.vertices.size();
 
     Mesh mesh;
+    std::error_code ec;
     mesh.source_dir = fs::absolute(dir, ec).lexically_normal().string();
     if (ec) mesh.source_dir = dir.string();
     mesh.positions.resize(point_count);
@@ -402,7 +451,10 @@ Mesh read_obj(const std::string& path, Progress* progress) {
 
     // Materials: every MTL material in file order; faces without one (no usemtl, or a name the MTL
     // does not define) get an appended "default" material. No materials at all: none are created.
-    for (const tinyobj::material_t& m : obj_materials) mesh.materials.push_back(to_material(m));
+    for (const tinyobj::material_t& m : obj_materials) {
+        mesh.materials.push_back(to_material(m));
+        mesh.materials.back().name = with_spaces(mesh.materials.back().name);
+    }
     bool any_unassigned = false;
     for (const auto& shape : shapes)
         for (int id : shape.mesh.material_ids)
@@ -496,7 +548,7 @@ Mesh read_obj(const std::string& path, Progress* progress) {
                                "Reading OBJ");
         }
     }
-    add_warning_lines(mesh, warn);
+    add_warning_lines(mesh, with_spaces(warn));
     check_progress(progress, 1.0, "Reading OBJ");
     return mesh;
 }

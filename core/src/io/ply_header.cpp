@@ -5,6 +5,7 @@
 #include "io/ply_internal.h"
 
 #include "lodforge/error.h"
+#include "lodforge/io/input_file.h"
 
 #include <algorithm>
 #include <atomic>
@@ -109,8 +110,8 @@ Input::~Input() {
 void Input::open_file(const std::string& path) {
     namespace fs = std::filesystem;
     path_ = path;
+    check_input_file(path, "a PLY file");
     std::error_code ec;
-    if (fs::is_directory(path, ec)) throw_error(Error::Kind::io, path, "cannot read: it is a directory");
     file_ = std::fopen(path.c_str(), "rb");
     if (!file_) throw_error(Error::Kind::io, path, std::string("cannot open: ") + std::strerror(errno));
     const auto size = fs::file_size(path, ec);

@@ -12,6 +12,7 @@
 #include "lodforge/error.h"
 
 #include <algorithm>
+#include <cctype>
 #include <bit>
 #include <charconv>
 #include <cmath>
@@ -152,6 +153,7 @@ struct PlyReader::Impl {
     std::size_t element = 0;     // index of the current element
     std::uint64_t remaining = 0; // records left in it
     std::uint64_t line = 0;      // ASCII: newlines consumed so far
+    bool end_checked = false;    // check_trailing_bytes has run
 
     int vertex_element = -1;
     std::uint64_t vertex_count = 0;
@@ -327,6 +329,25 @@ struct PlyReader::Impl {
             ++element;
             if (element < header.elements.size()) remaining = header.elements[element].count;
         }
+        if (element == header.elements.size()) check_trailing_bytes();
+    }
+
+    // A binary file whose header announces fewer records than it holds reads later elements from the
+    // earlier ones' bytes (faces from vertex data: 0 triangles, "no problems found"); the data left
+    // after the last element shows it. A few bytes of whitespace or zero padding are tolerated.
+    void check_trailing_bytes() {
+        if (ascii || end_checked) return;
+        end_checked = true;
+        const std::uint64_t here = in.offset();
+        const std::uint64_t left = in.size() > here ? in.size() - here : 0;
+        if (left == 0) return;
+        constexpr std::uint64_t kPadding = 64;
+        bool padding = left <= kPadding && in.ensure(static_cast<std::size_t>(left));
+        for (std::size_t i = 0; padding && i < left; ++i)
+            padding = in.cur[i] == 0 || std::isspace(static_cast<unsigned char>(in.cur[i]));
+        if (!padding)
+            fail(Error::Kind::format, std::to_string(left) + " bytes of data follow the last element (from byte " +
+                                          std::to_string(here) + "): the header's element counts are smaller than the data");
     }
 
     void consumed(std::uint64_t n) {

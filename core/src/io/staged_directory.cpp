@@ -1,6 +1,7 @@
 #include "lodforge/io/staged_directory.h"
 
 #include "lodforge/error.h"
+#include "lodforge/io/atomic_file.h"
 
 #include <algorithm>
 #include <atomic>
@@ -39,10 +40,8 @@ StagedDirectory::StagedDirectory(const std::string& output_dir) {
         }
         created_parents_.push_back(*it);
     }
-    static std::atomic<unsigned> counter{0};
-    std::string name = ".";
-    name.append(target_.filename().string()).append(".lodforge-tmp-").append(std::to_string(::getpid()));
-    name.append("-").append(std::to_string(counter++));
+    remove_stale_temporaries(target_.parent_path().string());
+    const std::string name = temp_sibling_name(target_.string(), ".lodforge-tmp-");
     dir_ = target_.parent_path() / name;
     if ((!fs::create_directory(dir_, ec) || ec) && target_existed_) {
         // A writable target in a read-only parent: stage inside the target instead (still one

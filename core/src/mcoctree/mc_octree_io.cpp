@@ -3,6 +3,7 @@
 // and then every structural invariant (validate_mc_octree), so a corrupt or lying file is an Error.
 #include "lodforge/io/atomic_file.h"
 #include "lodforge/error.h"
+#include "lodforge/io/input_file.h"
 #include "mcoctree/mc_octree_internal.h"
 
 #include <bit>
@@ -181,6 +182,7 @@ void write_mc_octree(const McOctree& t, const std::string& path, Progress* progr
 
 McOctree read_mc_octree(const std::string& path, Progress* progress) {
     check_progress(progress, 0, "mcoctree: reading");
+    check_input_file(path, "a .mco file");
     std::ifstream in(path, std::ios::binary | std::ios::ate);
     if (!in) throw_error(Error::Kind::io, path, "cannot open for reading");
     const std::streamoff size = in.tellg();

@@ -4,6 +4,7 @@
 
 #include "lodforge/io/atomic_file.h"
 #include "lodforge/error.h"
+#include "lodforge/io/input_file.h"
 
 #include <nlohmann/json.hpp>
 
@@ -33,6 +34,7 @@ std::uint32_t index_of(const nlohmann::json& value, const std::string& path, std
 
 Landmarks read_landmarks(const std::string& path)
 {
+    check_input_file(path, "a landmark file");
     std::ifstream in(path, std::ios::binary);
     if (!in) throw_error(Error::Kind::io, path, "cannot open landmark file");
     std::stringstream text;

@@ -11,6 +11,7 @@
 
 #include "lodforge/io/atomic_file.h"
 #include "lodforge/error.h"
+#include "lodforge/io/input_file.h"
 #include "morph/morph_quantize.h"
 
 #include <algorithm>
@@ -213,9 +214,7 @@ void write_morph_lod(const std::string& path, const MorphMesh& morph, const Morp
 
 MorphLodFile read_morph_lod(const std::string& path, Progress* progress) {
     check_progress(progress, 0.0, "Reading morph LOD");
-    std::error_code ec;
-    if (!std::filesystem::exists(path, ec)) throw_error(Error::Kind::io, path, "no such file");
-    if (std::filesystem::is_directory(path, ec)) throw_error(Error::Kind::io, path, "is a directory, not a .lfmorph file");
+    check_input_file(path, "a .lfmorph file");
     std::ifstream in(path, std::ios::binary);
     if (!in) throw_error(Error::Kind::io, path, "cannot open");
     const std::vector<std::uint8_t> data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());

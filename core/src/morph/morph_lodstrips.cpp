@@ -17,6 +17,7 @@
 
 #include "lodforge/io/atomic_file.h"
 #include "lodforge/error.h"
+#include "lodforge/io/input_file.h"
 #include "lodforge/strips/lodstrips.h"
 #include "strips/lodstrips_record.h"
 #include "morph/morph_quantize.h"
@@ -24,6 +25,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <numeric>
@@ -305,6 +307,7 @@ void write_morph_lodstrips(const lodstrips::MorphData& data, const std::string& 
 }
 
 lodstrips::MorphData read_morph_lodstrips(const std::string& path) {
+    check_input_file(path, "a .lfmstrips file");
     std::ifstream in(path, std::ios::binary);
     if (!in) throw_error(Error::Kind::io, path, "cannot open for reading");
     std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -330,6 +333,8 @@ Mesh morph_lodstrips_mesh(const lodstrips::MorphLodStrips& runtime) {
 }
 
 bool is_morph_lodstrips_file(const std::string& path) {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec)) return false;  // a FIFO would block the probe
     std::ifstream in(path, std::ios::binary);
     char magic[8] = {};
     return in.read(magic, 8) && std::memcmp(magic, lodstrips::morph_file_magic, 8) == 0;

@@ -16,6 +16,7 @@
 
 #include "lodforge/io/atomic_file.h"
 #include "lodforge/error.h"
+#include "lodforge/io/mesh_validate.h"
 
 #include "octree/octree_format.h"
 #include "octree/ooc_internal.h"
@@ -171,6 +172,8 @@ public:
         h.weights[0] = p_.weights.normal;
         h.weights[1] = p_.weights.color;
         h.weights[2] = p_.weights.texcoord_sets.empty() ? p_.weights.texcoord : p_.weights.texcoord_sets[0];
+        h.table_crc = ooc::chunk_crc({reinterpret_cast<const char*>(nodes_.data()), nodes_.size() * sizeof(OctreeNode)});
+        h.header_crc = ooc::chunk_crc({reinterpret_cast<const char*>(&h), sizeof h});
         asset_.stream().seekp(0);
         asset_.stream().write(reinterpret_cast<const char*>(&h), sizeof h);
         asset_.stream().seekp(0, std::ios::end);
@@ -399,11 +402,13 @@ private:
         if (!out.raw.empty()) {
             d.raw_offset = offset_;
             d.raw_bytes = out.raw.size();
+            d.raw_crc = ooc::chunk_crc(out.raw);
             write(out.raw.data(), out.raw.size());
         }
         if (!out.mesh.empty()) {
             d.mesh_offset = offset_;
             d.mesh_bytes = out.mesh.size();
+            d.mesh_crc = ooc::chunk_crc(out.mesh);
             write(out.mesh.data(), out.mesh.size());
         }
         out.raw = {};
@@ -784,6 +789,7 @@ OctreeBuildResult build_octree(const std::string& input_ply, const std::string& 
             SoupResult& soup;
             ~EndEdgeJob() { soup.edge_job.reset(); }
         } end_edge_job{result.soup};
+        check_extent(input_ply, result.soup.bounds);
         result.soup_seconds = seconds_since(t0);
         const Clock::time_point t1 = Clock::now();
         Builder b(params, result.soup, scratch.path(), asset, progress);

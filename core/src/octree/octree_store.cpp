@@ -4,6 +4,7 @@
 #include "lodforge/octree/octree_store.h"
 
 #include "lodforge/error.h"
+#include "lodforge/io/input_file.h"
 
 #include "octree/octree_format.h"
 #include "octree/ooc_internal.h"
@@ -42,6 +43,7 @@ namespace {
 }  // namespace
 
 OctreeStore::OctreeStore(const std::string& path, std::size_t cache_bytes) : path_(path), cache_limit_(cache_bytes) {
+    check_input_file(path, "an octree asset");
     ooc::File f(path, O_RDONLY);
     file_size_ = f.size();
     ooc::AssetHeader h{};
@@ -49,8 +51,20 @@ OctreeStore::OctreeStore(const std::string& path, std::size_t cache_bytes) : pat
         throw_error(Error::Kind::format, path, "not an octree asset (too short: " + std::to_string(file_size_) + " bytes)");
     f.read_at(&h, sizeof h, 0);
     if (std::memcmp(h.magic, ooc::kAssetMagic, 8) != 0) throw_error(Error::Kind::format, path, "not an octree asset (bad magic)");
+    if (h.version < ooc::kAssetVersion)
+        throw_error(Error::Kind::unsupported, path, "octree asset version " + std::to_string(h.version) +
+                                                        " was written by an older LodForge without checksums (this build reads "
+                                                        "version " + std::to_string(ooc::kAssetVersion) +
+                                                        "); rebuild it with `lodforge octree build`");
     if (h.version != ooc::kAssetVersion)
-        throw_error(Error::Kind::unsupported, path, "octree asset version " + std::to_string(h.version) + " (this build reads 1)");
+        throw_error(Error::Kind::unsupported, path, "octree asset version " + std::to_string(h.version) +
+                                                        " (this build reads version " + std::to_string(ooc::kAssetVersion) + ")");
+    {
+        ooc::AssetHeader zeroed = h;
+        zeroed.header_crc = 0;
+        if (ooc::chunk_crc({reinterpret_cast<const char*>(&zeroed), sizeof zeroed}) != h.header_crc)
+            corrupt(path, "header checksum mismatch");
+    }
     ooc::AssetFooter foot{};
     f.read_at(&foot, sizeof foot, file_size_ - sizeof foot);
     if (std::memcmp(foot.magic, ooc::kAssetEndMagic, 8) != 0 || foot.table_offset != h.table_offset)
@@ -76,6 +90,8 @@ OctreeStore::OctreeStore(const std::string& path, std::size_t cache_bytes) : pat
     header_.weights.texcoord = h.weights[2];
     nodes_.resize(static_cast<std::size_t>(h.node_count));
     f.read_at(nodes_.data(), nodes_.size() * sizeof(OctreeNode), h.table_offset);
+    if (ooc::chunk_crc({reinterpret_cast<const char*>(nodes_.data()), nodes_.size() * sizeof(OctreeNode)}) != h.table_crc)
+        corrupt(path, "node table checksum mismatch");
     // The table must describe a tree: children after their parent, inside the table, data in the file.
     const std::size_t n = nodes_.size();
     for (std::size_t i = 0; i < n; ++i) {
@@ -173,6 +189,7 @@ std::shared_ptr<const NodeMesh> OctreeStore::load(std::uint32_t node, bool raw) 
     } else {
         std::vector<char> buf(static_cast<std::size_t>(bytes));
         ooc::File::read_at_fd(fd_, path_, buf.data(), buf.size(), offset);
+        if (ooc::chunk_crc(buf) != (raw ? d.raw_crc : d.mesh_crc)) corrupt(path_, at + ": mesh chunk checksum mismatch");
         ooc::NodeChunkHeader h{};
         if (buf.size() < sizeof h) corrupt(path_, at + ": mesh chunk too short");
         std::memcpy(&h, buf.data(), sizeof h);

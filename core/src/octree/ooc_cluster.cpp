@@ -9,6 +9,7 @@
 #include "lodforge/octree/ooc_cluster.h"
 
 #include "lodforge/error.h"
+#include "lodforge/io/mesh_validate.h"
 #include "lodforge/octree/octree_simplify.h"
 #include "lodforge/simplify/quadric.h"
 
@@ -189,6 +190,7 @@ OocClusterResult ooc_cluster(const std::string& input_ply, const OocClusterParam
     sp.memory_bytes = params.memory_bytes;
     sp.count_edges = false;
     SoupResult soup = convert_to_soup(input_ply, scratch.file("soup"), sp, progress);
+    check_extent(input_ply, soup.bounds);
     const double soup_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
     OocClusterResult r = ooc_cluster_soup(soup.path, params, progress);
     r.soup = std::move(soup);

@@ -19,6 +19,8 @@
 #include "lodforge/octree/ooc_soup.h"
 
 #include "lodforge/error.h"
+#include "lodforge/io/atomic_file.h"
+#include "lodforge/io/mesh_validate.h"
 #include "lodforge/io/ply.h"
 
 #include "octree/ooc_internal.h"
@@ -135,7 +137,14 @@ public:
     }
     // Reads the next chunk; returns the count (records in packed()).
     std::size_t next(PlyReader& reader, std::size_t max = std::numeric_limits<std::size_t>::max()) {
+        const std::uint64_t first = reader.vertex_count() - reader.remaining();
         const std::size_t n = reader.read_vertices(std::span(p_).first(std::min(max, p_.size())), n_, c_, t_);
+        // The checks read_mesh's validation makes, so a file `info` and `convert` refuse is refused here too.
+        auto part = [n](const auto& v) {
+            using T = typename std::decay_t<decltype(v)>::value_type;
+            return v.empty() ? std::span<const T>{} : std::span<const T>(v).first(n);
+        };
+        check_vertex_chunk(reader.path(), static_cast<std::size_t>(first), part(p_), part(n_), part(c_), part(t_));
         const std::size_t f = layout_.floats();
         for (std::size_t i = 0; i < n; ++i) {
             float* r = &packed_[i * f];
@@ -606,6 +615,7 @@ TempDirectory::TempDirectory(const std::string& parent) {
     const fs::path base = parent.empty() ? fs::path(".") : fs::path(parent);
     if (!fs::is_directory(base))
         throw_error(Error::Kind::io, base.string(), "cannot create temporary files: not a directory");
+    remove_stale_temporaries(base.string());
     for (int attempt = 0; attempt < 100; ++attempt) {
         const fs::path p = base / (".lodforge-tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
         std::error_code ec;

@@ -127,7 +127,8 @@ std::string manifest(const Mesh& mesh, const PackParams& params, const BuiltLeve
     files.push_back("pack.json");
     j["files"] = files;
     j["preset"] = ordered_json::parse(preset_to_json(params.preset));
-    return j.dump(2) + "\n";
+    // File names need not be UTF-8 (JSON must be): bad bytes become U+FFFD.
+    return j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
 }
 
 }  // namespace

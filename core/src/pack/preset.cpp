@@ -2,6 +2,7 @@
 
 #include "lodforge/io/atomic_file.h"
 #include "lodforge/error.h"
+#include "lodforge/io/input_file.h"
 
 #include <nlohmann/json.hpp>
 
@@ -160,7 +161,7 @@ Preset parse_preset(std::string_view json_text, const std::string& source) {
     ordered_json root;
     try {
         root = ordered_json::parse(json_text.begin(), json_text.end());
-    } catch (const nlohmann::json::parse_error& e) {
+    } catch (const nlohmann::json::exception& e) {  // parse_error, or out_of_range for a 400-digit number
         throw_error(Error::Kind::format, source, std::string("not valid JSON: ") + e.what());
     }
     Preset p;
@@ -180,6 +181,10 @@ Preset parse_preset(std::string_view json_text, const std::string& source) {
     }
     if (const auto* levels = r.find("levels")) {
         if (!levels->is_array() || levels->empty()) r.fail("levels", "must be a non-empty array");
+        // Each level is a full simplification of the input: a thousand of them ran for minutes.
+        if (levels->size() > kMaxPresetLevels)
+            r.fail("levels", "has " + std::to_string(levels->size()) + " levels; at most " +
+                                 std::to_string(kMaxPresetLevels) + " are allowed");
         p.levels.clear();
         for (std::size_t i = 0; i < levels->size(); ++i) p.levels.push_back(parse_target((*levels)[i], i, source));
     }
@@ -263,6 +268,7 @@ std::string preset_to_json(const Preset& p) {
 }
 
 Preset load_preset(const std::string& path) {
+    check_input_file(path, "a preset file");
     std::ifstream in(path, std::ios::binary);
     if (!in) throw_error(Error::Kind::io, path, "cannot open preset for reading");
     std::ostringstream text;

@@ -3,6 +3,7 @@
 // grouping of Ramos 2008, ch. 5; checksums are CRC-32 (IEEE 802.3) per section.
 #include "lodforge/io/atomic_file.h"
 #include "lodforge/error.h"
+#include "lodforge/io/input_file.h"
 #include "lodforge/strips/lodstrips.h"
 
 #include <algorithm>
@@ -215,6 +216,7 @@ void write_lodstrips(const lodstrips::Data& data, const std::string& path) {
 }
 
 lodstrips::Data read_lodstrips(const std::string& path) {
+    check_input_file(path, "a .lodstrips file");
     std::ifstream in(path, std::ios::binary);
     if (!in) throw_error(Error::Kind::io, path, "cannot open for reading");
     std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());

@@ -10,6 +10,18 @@
 
 namespace lodforge {
 
+// The name (no directory) of a hidden temporary beside `target`: "." + its name + `tag` + pid-counter,
+// unique within the process. The copy of the target's name is cut so the result fits the 255-byte
+// limit of a file name: an output named near the limit can still be written.
+std::string temp_sibling_name(const std::string& target, const std::string& tag);
+
+// Removes from `directory` the temporaries that runs killed without a chance to clean up (SIGKILL,
+// power loss) left behind: ".*.tmp-PID-N" files (AtomicFile), ".*.lodforge-tmp-PID-N" directories
+// (octree scratch, staged outputs) and "lodforge-method-PID-N" directories, whose process PID no longer
+// exists. Entries of live processes (this one included) and any other name are left alone; errors are
+// ignored (it is housekeeping). Called where those temporaries are created.
+void remove_stale_temporaries(const std::string& directory);
+
 class AtomicFile {
 public:
     explicit AtomicFile(std::string target_path, bool binary = true);

@@ -6,6 +6,7 @@
 #include "lodforge/mesh.h"
 
 #include <cstddef>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -35,5 +36,16 @@ struct ValidationReport {
 // "zero_area_triangle", "duplicate_triangle" (same vertex set), "non_manifold_edge" (> 2 faces on an
 // edge of points), "unreferenced_vertex".
 ValidationReport validate(const Mesh& mesh, const ValidationParams& params = {});
+
+// The vertex errors of validate() for readers that stream vertices in chunks and never hold a Mesh
+// (the out-of-core octree): throws Error(invalid) naming `path` and the first vertex with a NaN or
+// infinite coordinate, normal, colour or texture coordinate. `first` is the index of element 0 of the
+// spans; empty attribute spans are absent attributes.
+void check_vertex_chunk(const std::string& path, std::size_t first, std::span<const Vec3f> positions,
+                        std::span<const Vec3f> normals = {}, std::span<const Vec4f> colors = {},
+                        std::span<const Vec2f> texcoords = {});
+// The extent error of validate(): throws Error(invalid) naming `path` when the diagonal of `bounds`
+// overflows float.
+void check_extent(const std::string& path, const Bounds& bounds);
 
 }  // namespace lodforge

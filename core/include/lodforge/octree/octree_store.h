@@ -1,4 +1,4 @@
-// The out-of-core octree LOD asset on disk (format: docs/formats/lfo.md, version 1) and its
+// The out-of-core octree LOD asset on disk (format: docs/formats/lfo.md, version 2) and its
 // reader with a bounded cache of node meshes, shared by `lodforge octree info/extract`, the run-time
 // selection (octree_select.h) and the studio.
 //
@@ -34,13 +34,13 @@ struct OctreeNode {
     std::uint8_t height = 0;        // leaf 0
     std::uint8_t flags = 0;         // bit 0: some component had no boundary edge (closed; clustered)
     std::uint32_t parent = 0;       // ~0 for the root
-    std::uint32_t reserved = 0;
+    std::uint32_t raw_crc = 0;      // CRC-32 of the raw chunk (asset version 2)
     float cell_min[3] = {0, 0, 0};  // the node's cube (model units)
     float cell_size = 0;
     float bounds_min[3] = {0, 0, 0};  // bounds of the input triangles under the node (they may stick
     float bounds_max[3] = {0, 0, 0};  // out of the cell: triangles are assigned by centroid)
     float error = 0;                  // geometric error of the simplified mesh, model units (monotone)
-    std::uint32_t reserved2 = 0;
+    std::uint32_t mesh_crc = 0;       // CRC-32 of the mesh chunk
     std::uint64_t subtree_triangles = 0;  // input triangles under the node
     std::uint64_t raw_offset = 0, raw_bytes = 0;    // leaves: the input triangles (level 0)
     std::uint64_t mesh_offset = 0, mesh_bytes = 0;  // the simplified mesh
@@ -102,8 +102,8 @@ using Cut = std::vector<CutNode>;
 
 class OctreeStore {
 public:
-    // Opens an asset; throws Error(io) when unreadable, Error(format) when it is not a version-1 asset,
-    // is truncated, or its table is inconsistent. `cache_bytes` bounds the node meshes kept in memory.
+    // Opens an asset; throws Error(io) when unreadable, Error(unsupported) for another version,
+    // Error(format) when it is not an asset, is truncated, fails a checksum, or its table is inconsistent. `cache_bytes` bounds the node meshes kept in memory.
     explicit OctreeStore(const std::string& path, std::size_t cache_bytes = std::size_t{64} << 20);
     ~OctreeStore();
     OctreeStore(const OctreeStore&) = delete;

@@ -12,6 +12,7 @@
 
 #include "lodforge/simplify/simplify.h"
 
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <string_view>
@@ -82,6 +83,8 @@ struct Preset {
 
 // The preset format version written into every file ("version": 1).
 inline constexpr int preset_format_version = 1;
+// Most levels a preset may list (each one is a simplification of the whole input).
+inline constexpr std::size_t kMaxPresetLevels = 32;
 
 // Parses preset JSON text; `source` names the file (or "<text>") in error messages. Throws
 // lodforge::Error(format) for malformed JSON and (argument) for bad values or unknown keys.
