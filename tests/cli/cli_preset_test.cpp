@@ -180,7 +180,7 @@ TEST(CliPreset, PackWorksWithoutAPresetWithANamedOneAndWithOverrides) {
 TEST(CliPreset, UnknownNamesAndMissingFilesAreClearErrors) {
     lodforge::test::ScratchDir dir("cli-preset-bad");
     CliRun r = run_cli("pack " + quoted(spot()) + " -o " + quoted(dir.file("x")) + " --preset mobil");
-    EXPECT_EQ(r.exit_code, 1) << r.out;
+    EXPECT_EQ(r.exit_code, 2) << r.out;  // a usage error
     EXPECT_NE(r.out.find("'mobil' is not a shipped preset"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("console, mobile, scan-archive, web"), std::string::npos) << r.out;
     r = run_cli("lod " + quoted(spot()) + " -o " + quoted(dir.file("y")) + " --preset " + quoted(dir.file("none.json")));
@@ -189,7 +189,7 @@ TEST(CliPreset, UnknownNamesAndMissingFilesAreClearErrors) {
     // A preset whose method makes no single mesh is refused by simplify unless --mode says which.
     const std::string file = write_preset(dir, "o.json", R"({"method": "octree"})");
     r = run_cli("simplify " + quoted(spot()) + " -o " + quoted(dir.file("z.ply")) + " --preset " + quoted(file));
-    EXPECT_EQ(r.exit_code, 1) << r.out;
+    EXPECT_EQ(r.exit_code, 2) << r.out;  // a usage error
     EXPECT_NE(r.out.find("makes no single mesh"), std::string::npos) << r.out;
     EXPECT_FALSE(std::filesystem::exists(dir.file("x")));
     EXPECT_FALSE(std::filesystem::exists(dir.file("y")));
