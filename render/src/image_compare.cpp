@@ -20,6 +20,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -94,15 +95,21 @@ public:
     OffscreenRenderer(const OffscreenRenderer&) = delete;
     OffscreenRenderer& operator=(const OffscreenRenderer&) = delete;
 
-    // `overlay`: drawn too (the seam lines); `plain`: the surface untextured and uncoloured (grey).
+    // `overlay`: drawn too (the seam lines); `plain`: the surface untextured and uncoloured (grey);
+    // `unlit`: colours as they are, no shading.
     std::vector<RenderedView> render(const Mesh& mesh, const std::vector<std::shared_ptr<const Image>>& images,
                                      const Sphere& frame, const Sphere& clip, vtkActor* overlay = nullptr,
-                                     bool plain = false) {
+                                     bool plain = false, bool unlit = false) {
         const SurfaceParts parts = buildSurfaceParts(mesh, images);
         std::vector<SurfaceActor> actors;
         for (const SurfacePart& part : parts.parts) {
             SurfaceActor a = makeSurfaceActor(part);
             applySurfaceLook(a, plain ? nullptr : a.texture.Get(), !plain);
+            if (unlit) {
+                a.actor->GetProperty()->SetAmbient(1.0);
+                a.actor->GetProperty()->SetDiffuse(0.0);
+                a.actor->GetProperty()->SetSpecular(0.0);
+            }
             renderer_->AddActor(a.actor);
             actors.push_back(std::move(a));
         }
@@ -253,7 +260,7 @@ const std::vector<std::string>& viewNames() {
 }
 
 std::vector<RenderedView> renderViews(const Mesh& mesh, const std::vector<std::shared_ptr<const Image>>& images,
-                                      const Mesh& frameOf, int size) {
+                                      const Mesh& frameOf, int size, bool unlit) {
     checkSize(size);
     checkMesh(mesh, "rendered");
     checkMesh(frameOf, "framing");
@@ -262,7 +269,7 @@ std::vector<RenderedView> renderViews(const Mesh& mesh, const std::vector<std::s
     both.add(own.min);
     both.add(own.max);
     OffscreenRenderer renderer(size);
-    return renderer.render(mesh, images, sphereOf(usedBounds(frameOf)), sphereOf(both));
+    return renderer.render(mesh, images, sphereOf(usedBounds(frameOf)), sphereOf(both), nullptr, false, unlit);
 }
 
 std::vector<std::vector<unsigned char>> seamMasks(const Mesh& mesh, const Mesh& frameOf, int size) {
@@ -274,8 +281,17 @@ std::vector<std::vector<unsigned char>> seamMasks(const Mesh& mesh, const Mesh& 
     vtkNew<vtkCellArray> lines;
     if (mesh.has_texcoords() && mesh.texcoords.front().size() == mesh.vertex_count()) {
         const auto& uv = mesh.texcoords.front();
-        const bool ids = mesh.position_ids.size() == mesh.vertex_count();
-        auto pointOf = [&](std::uint32_t v) { return ids ? mesh.position_ids[v] : v; };
+        // Points: vertices at bit-identical positions are one (glTF splits every seam vertex without
+        // saying which belong together; the simplifier welds them the same way).
+        std::map<std::array<std::uint32_t, 3>, std::uint32_t> byPosition;
+        std::vector<std::uint32_t> point(mesh.vertex_count());
+        for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
+            const Vec3f& p = mesh.positions[v];
+            const std::array<std::uint32_t, 3> key{std::bit_cast<std::uint32_t>(p.x), std::bit_cast<std::uint32_t>(p.y),
+                                                   std::bit_cast<std::uint32_t>(p.z)};
+            point[v] = byPosition.try_emplace(key, static_cast<std::uint32_t>(byPosition.size())).first->second;
+        }
+        auto pointOf = [&](std::uint32_t v) { return point[v]; };
         // Edge (by points, smaller first) -> the wedge pair of the first triangle seen, in the same order.
         std::map<std::pair<std::uint32_t, std::uint32_t>, std::pair<std::uint32_t, std::uint32_t>> first;
         std::set<std::pair<std::uint32_t, std::uint32_t>> seams;

@@ -61,8 +61,10 @@ std::string startXvfb() {
             dup2(devnull, STDOUT_FILENO);
             dup2(devnull, STDERR_FILENO);
         }
+        // -noreset: the server would otherwise reset when its last client leaves, and refuse the next
+        // connection while it does (the next level of a pack).
         execlp("Xvfb", "Xvfb", "-displayfd", fd.c_str(), "-screen", "0", "1280x1024x24", "-nolisten", "tcp",
-               static_cast<char*>(nullptr));
+               "-noreset", static_cast<char*>(nullptr));
         _exit(127);
     }
     close(fds[1]);
@@ -96,6 +98,7 @@ std::string startXvfb() {
 void ensureDisplay() {
     static std::mutex mutex;
     const std::lock_guard lock(mutex);
+    if (privateServer().pid > 0) return;  // ours, started below, still up (it is stopped at exit only)
     const char* display = std::getenv("DISPLAY");
     if (display && *display) {
         if (canOpen(display)) return;

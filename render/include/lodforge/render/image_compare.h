@@ -38,15 +38,16 @@ struct RenderedView {
 };
 
 // `mesh` from each of the 14 views (names: viewNames()), framed on `frameOf`'s bounding sphere. For
-// tests that look at the pictures themselves (the seam check).
+// tests that look at the pictures themselves (the seam check). `unlit`: the surface colours (texture,
+// vertex colours) without shading, so only what the texture shows differs.
 std::vector<RenderedView> renderViews(const Mesh& mesh, const std::vector<std::shared_ptr<const Image>>& images,
-                                      const Mesh& frameOf, int size);
+                                      const Mesh& frameOf, int size, bool unlit = false);
 
 const std::vector<std::string>& viewNames();
 
 // Per view of renderViews(mesh, ..., frameOf, size): 1 where a UV seam of `mesh` is visible, a seam being
 // an edge whose two triangles give its points different texture coordinates (set 0). No texture
-// coordinates: empty masks.
+// coordinates: empty masks. Vertices at bit-identical positions are one point (as the simplifier welds).
 std::vector<std::vector<unsigned char>> seamMasks(const Mesh& mesh, const Mesh& frameOf, int size);
 
 }  // namespace lodforge::render
