@@ -89,7 +89,10 @@ float heatmap_range(const Mesh& mesh, const std::vector<float>& values, float pe
         if (used[i] && values[i] >= 0.f && std::isfinite(values[i])) kept.push_back(values[i]);
     if (kept.empty()) return 0.f;
     // The smallest value with at least `percentile` of the values at or below it (nearest rank).
-    const auto rank = static_cast<std::size_t>(std::ceil(double(percentile) * double(kept.size())));
+    // The float percentile back to the decimal it was written as (0.99f is 0.9900000095...), so that
+    // 99 % of 100 values is rank 99, not 100.
+    const double p = std::round(double(percentile) * 1e6) / 1e6;
+    const auto rank = static_cast<std::size_t>(std::ceil(p * double(kept.size())));
     const auto nth = kept.begin() + static_cast<std::ptrdiff_t>(std::clamp<std::size_t>(rank, 1, kept.size()) - 1);
     std::nth_element(kept.begin(), nth, kept.end());
     return *nth;
