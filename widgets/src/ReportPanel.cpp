@@ -102,7 +102,7 @@ void ReportPanel::setReport(const QString& meshName, const QString& presetName, 
     method_ = method;
     rows_.clear();
     for (const LevelData& l : levels)
-        rows_.push_back({l.index, l.triangles, l.vertices, l.error, l.errorRelative, l.buildMs, l.stopReason});
+        rows_.push_back({l.index, l.triangles, l.vertices, l.error, l.errorRelative, l.buildMs, l.stopReason, {}, {}});
     fillTable();
     title_->setText(tr("%1 — preset “%2”, %3, %n level(s) besides the original", "", int(rows_.size()) - 1)
                         .arg(meshName_, presetName_, method_));
