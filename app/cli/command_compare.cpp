@@ -5,7 +5,11 @@
 #include "lodforge/error.h"
 #include "lodforge/metrics/heatmap.h"
 #include "lodforge/io/mesh_io.h"
+#include "lodforge/metrics/image_error.h"
 #include "lodforge/metrics/metrics.h"
+#ifdef LODFORGE_HAVE_RENDER
+#include "lodforge/render/image_compare.h"
+#endif
 
 #include <nlohmann/json.hpp>
 
@@ -29,6 +33,8 @@ void add_compare_command(CLI::App& app, const GlobalOptions& global) {
         long long samples = 0;
         double range = 0;
         std::string heatmap_on = "test";
+        bool render = false;
+        ImageErrorParams image;
     };
     auto options = std::make_shared<Options>();
     CLI::App* cmd = app.add_subcommand("compare", "Measure the surface distance between two meshes (Metro-style)");
@@ -45,13 +51,28 @@ void add_compare_command(CLI::App& app, const GlobalOptions& global) {
         ->capture_default_str();
     cmd->add_option("--range", options->range, "Heat map: distance at the top of the colour map (default: the largest)");
     cmd->add_option("--samples", options->samples, "Area-weighted samples per surface (0 = automatic)");
-    cmd->callback([options, &global] {
+    cmd->add_flag("--render", options->render,
+                  "Also the image-space error: both meshes rendered as the studio draws them from 14 views "
+                  "(docs/image-compare.md)");
+    CLI::Option* size = cmd->add_option("--render-size", options->image.size, "--render: image size in pixels (square)")
+        ->capture_default_str();
+    CLI::Option* threshold = cmd->add_option("--render-threshold", options->image.threshold,
+                    "--render: a pixel differs when a colour channel differs by more than this (0-255)")
+        ->capture_default_str();
+    CLI::Option* out = cmd->add_option("--render-out", options->image.output_dir,
+                    "--render: write side-by-side and difference PNGs per view into this directory");
+    cmd->callback([options, &global, size, threshold, out] {
         const Options& o = *options;
         if (o.samples < 0) throw Error(Error::Kind::argument, "compare: --samples must be >= 0");
         if (!(o.range >= 0) || !std::isfinite(o.range))
             throw Error(Error::Kind::argument, "compare: --range must be >= 0");
         if (!o.heatmap.empty() && format_from_extension(o.heatmap) != FileFormat::ply)
             throw Error(Error::Kind::argument, "compare: --heatmap writes PLY; give a .ply file name");
+        if (!o.render && (size->count() + threshold->count() + out->count()) > 0)
+            throw Error(Error::Kind::argument, "compare: --render-size, --render-threshold and --render-out need --render");
+#ifndef LODFORGE_HAVE_RENDER
+        if (o.render) throw Error(Error::Kind::argument, "compare: this build has no renderer (LODFORGE_BUILD_RENDER=OFF)");
+#endif
         TerminalProgress progress(!global.quiet && stderr_is_terminal());
         const Mesh reference = read_triangle_mesh("compare", o.reference, &progress);
         const Mesh test = read_triangle_mesh("compare", o.test, &progress);
@@ -75,6 +96,12 @@ void add_compare_command(CLI::App& app, const GlobalOptions& global) {
             write_heatmap_ply(h, o.heatmap);
             for (float v : *field) heat_max = std::max(heat_max, v);
         }
+        ImageError image;
+#ifdef LODFORGE_HAVE_RENDER
+        if (o.render) {
+            image = render::compareImages(reference, test, o.image);
+        }
+#endif
         progress.finish();
 
         if (o.json) {
@@ -94,6 +121,7 @@ void add_compare_command(CLI::App& app, const GlobalOptions& global) {
             if (d.has_texcoord_error) j["texcoord_rms"] = d.texcoord_rms;
             j["triangles"] = {{"reference", reference.triangle_count()}, {"test", test.triangle_count()}};
             if (!o.heatmap.empty()) j["heatmap"] = {{"file", o.heatmap}, {"mesh", o.heatmap_on}, {"max", heat_max}};
+            if (o.render) j["image"] = nlohmann::ordered_json::parse(image_error_json(image, true));
             std::printf("%s\n", j.dump(2).c_str());
             return;
         }
@@ -107,6 +135,17 @@ void add_compare_command(CLI::App& app, const GlobalOptions& global) {
         if (d.has_color_error) std::printf("colour RMS: %.4g (0-255)\n", d.color_rms);
         if (d.has_texcoord_error) std::printf("texcoord RMS: %.4g (UV units)\n", d.texcoord_rms);
         if (!o.heatmap.empty()) std::printf("heat map: %s (on the %s, largest value %.6g)\n", o.heatmap.c_str(), o.heatmap_on.c_str(), double(heat_max));
+        if (o.render) {
+            std::printf("image (%d px, %zu views, threshold %d): mean |colour difference| %.3f (0-255), "
+                        "pixels over the threshold %.4f, silhouette mismatch %.4f\n",
+                        image.size, image.views.size(), image.threshold, image.mean_abs, image.over_threshold,
+                        image.silhouette);
+            for (const ViewImageError& v : image.views)
+                std::printf("  %-7s mean %.3f  over %.4f  silhouette %.4f\n", v.name.c_str(), v.mean_abs,
+                            v.over_threshold, v.silhouette);
+            if (!o.image.output_dir.empty())
+                std::printf("images: %zu PNGs in %s\n", image.files.size(), o.image.output_dir.c_str());
+        }
     });
 }
 

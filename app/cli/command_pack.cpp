@@ -6,6 +6,9 @@
 #include "lodforge/pack/lod_pack.h"
 #include "lodforge/io/mesh_io.h"
 #include "lodforge/pack/preset.h"
+#ifdef LODFORGE_HAVE_RENDER
+#include "lodforge/render/image_compare.h"
+#endif
 
 #include <nlohmann/json.hpp>
 
@@ -20,6 +23,7 @@ void add_pack_command(CLI::App& app, const GlobalOptions& global) {
         std::string levels, level_triangles, level_errors;
         bool lock_border = false;
         bool json = false;
+        bool image_error = false;
     };
     auto options = std::make_shared<Options>();
     CLI::App* cmd = app.add_subcommand(
@@ -34,6 +38,9 @@ void add_pack_command(CLI::App& app, const GlobalOptions& global) {
     cmd->add_option("--weights", options->weights, kWeightsHelp);
     cmd->add_flag("--lock-border", options->lock_border, "Never move border vertices");
     cmd->add_flag("--json", options->json, "Print the levels and files written as JSON");
+    cmd->add_flag("--image-error", options->image_error,
+                  "Measure each level's image-space error and write it into pack.json (sets the preset's "
+                  "export.image_error; docs/image-compare.md)");
     cmd->callback([options, &global] {
         const Options& o = *options;
         PackParams params;
@@ -46,6 +53,10 @@ void add_pack_command(CLI::App& app, const GlobalOptions& global) {
         params.preset.lock_border = params.preset.lock_border || o.lock_border;
         params.source_path = o.input;
         params.output_dir = o.output_dir;
+        if (o.image_error) params.preset.exports.image_error = true;
+#ifdef LODFORGE_HAVE_RENDER
+        if (params.preset.exports.image_error) params.image_error = render::packImageError();
+#endif
 
         TerminalProgress progress(!global.quiet && stderr_is_terminal());
         const Mesh mesh = read_mesh(o.input, {}, &progress);
@@ -72,6 +83,9 @@ void add_pack_command(CLI::App& app, const GlobalOptions& global) {
                                   {"error", l.error}, {"error_relative", l.error_relative},
                                   {"screen_coverage", l.screen_coverage}, {"screen_size", l.screen_size},
                                   {"files", l.files}});
+            for (std::size_t k = 0; k < r.levels.size(); ++k)
+                if (r.levels[k].image_error)
+                    levels[k]["image_error"] = nlohmann::ordered_json::parse(image_error_json(*r.levels[k].image_error, false));
             j["levels"] = levels;
             j["files"] = r.files;
             j["notes"] = r.notes;
@@ -80,8 +94,12 @@ void add_pack_command(CLI::App& app, const GlobalOptions& global) {
         }
         for (std::size_t k = 0; k < r.levels.size(); ++k) {
             const PackLevel& l = r.levels[k];
-            std::printf("lod%zu: %zu triangles, %zu vertices, hausdorff %.3g of the diagonal, screen coverage %.4g\n", k,
+            std::printf("lod%zu: %zu triangles, %zu vertices, hausdorff %.3g of the diagonal, screen coverage %.4g", k,
                         l.triangles, l.vertices, l.error_relative, l.screen_coverage);
+            if (l.image_error)
+                std::printf(", image error %.3f (over threshold %.4f, silhouette %.4f)", l.image_error->mean_abs,
+                            l.image_error->over_threshold, l.image_error->silhouette);
+            std::printf("\n");
         }
         std::printf("wrote %zu files to %s\n", r.files.size(), o.output_dir.c_str());
     });

@@ -4,7 +4,9 @@
 #include "lodforge/pack/lod_pack.h"
 #include "lodforge/pack/preset_library.h"
 #include "lodforge/io/mesh_io.h"
+#include "lodforge/render/image_compare.h"
 #include "lodforge/widgets/Job.h"
+#include "lodforge/widgets/LatestJob.h"
 #include "lodforge/widgets/LevelViews.h"
 #include "lodforge/widgets/LoadJob.h"
 #include "lodforge/widgets/LodLevels.h"
@@ -163,6 +165,23 @@ void MainWindow::createDocks() {
     paramsDock_ = dock(tr("Parameters"), QStringLiteral("parametersDock"), paramsScroll, Qt::RightDockWidgetArea);
     tabifyDockWidget(statsDock_, paramsDock_);
     report_ = new widgets::ReportPanel(this);
+    imageErrors_ = new widgets::LatestJob([this]() -> std::optional<widgets::LatestJob::Run> {
+        if (!model_ || levels_->levels().size() < 2) return std::nullopt;
+        auto levels = levels_->levels();
+        auto images = model_->images;
+        auto out = std::make_shared<std::vector<lodforge::ImageError>>();
+        return widgets::LatestJob::Run{
+            tr("Image error"),
+            [out, levels, images](lodforge::Progress* p) { *out = widgets::computeImageErrors(levels, images, p); },
+            [this, out](const widgets::JobResult&) {
+                report_->setImageErrors(*out);
+                QStringList parts;
+                for (const lodforge::ImageError& e : *out) parts << QString::number(e.mean_abs, 'f', 2);
+                appendLog(tr("  image error per level (0-255): %1").arg(parts.join(QStringLiteral(", "))));
+            }};
+    }, this);
+    connect(imageErrors_, &widgets::LatestJob::failed, this,
+            [this](const QString& error) { appendLog(tr("Image error failed: %1").arg(error)); });
     report_->setObjectName(QStringLiteral("report"));
     // All docks tabbed on the right by default, so the views keep the window's full height.
     reportDock_ = dock(tr("Report"), QStringLiteral("reportDock"), report_, Qt::RightDockWidgetArea);
@@ -559,6 +578,7 @@ void MainWindow::onLoadFinished(widgets::LoadJob* job, const widgets::LoadResult
     const QString name = QFileInfo(result.path).fileName();
     switch (result.status) {
     case widgets::LoadResult::Status::ok: {
+        imageErrors_->cancel();  // the old mesh's levels
         model_ = result.model;
         widgets::LevelData original;
         original.index = 0;
@@ -705,6 +725,7 @@ void MainWindow::buildLodChain() {
         if (!out->levels.empty() && !out->levels.front().structureSummary.isEmpty())
             appendLog(QStringLiteral("  ") + out->levels.front().structureSummary);
         explainMissingCells();
+        imageErrors_->requestNow();
     });
 }
 
@@ -734,6 +755,7 @@ void MainWindow::exportPack(const QString& directory) {
     params.preset = params_->preset();
     params.source_path = QFile::encodeName(currentFile()).toStdString();
     params.output_dir = QFile::encodeName(directory).toStdString();
+    if (params.preset.exports.image_error) params.image_error = lodforge::render::packImageError();
     auto result = std::make_shared<lodforge::PackResult>();
     auto* job = new widgets::Job(
         name, [params, result](lodforge::Progress* p) {

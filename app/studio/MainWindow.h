@@ -28,6 +28,7 @@ class QUndoStack;
 
 namespace lodforge::widgets {
 class Job;
+class LatestJob;
 class LevelViews;
 class LoadJob;
 class McoPriorityPanel;
@@ -167,6 +168,8 @@ private:
     widgets::StatsPanel* stats_ = nullptr;
     widgets::ParametersPanel* params_ = nullptr;
     widgets::ReportPanel* report_ = nullptr;
+    // The report's image-space errors, rendered beside the main task (they need no job slot).
+    widgets::LatestJob* imageErrors_ = nullptr;
     QPlainTextEdit* log_ = nullptr;
     QDockWidget* statsDock_ = nullptr;
     QDockWidget* paramsDock_ = nullptr;

@@ -80,6 +80,7 @@ private slots:
     void structureMethodsBuildLevels();
     void clusterMethodBuildsLevels();
     void reportExportsHtmlAndPdf();
+    void reportShowsImageErrorsComputedInTheBackground();
     void exportedPackMatchesTheCli();
     void cancelStopsALongJobOnTheDragon();
     void shortcutsSettingsAndErrorDialogs();
@@ -259,6 +260,9 @@ void LodStudioTest::heatmapShowsTheErrorField() {
     QCOMPARE(int(levels->heatmaps().scenes.size()), 4);
     QCOMPARE(levels->heatmaps().levelMax[0], 0.f);
     QVERIFY(levels->heatmaps().levelMax[3] > levels->heatmaps().levelMax[1]);
+    // The automatic range: a high percentile of the used vertices' values, at most the largest.
+    QVERIFY(levels->heatmaps().autoRange > 0 && levels->heatmaps().autoRange <= levels->heatmaps().maxError);
+    QCOMPARE(window_->view()->scalarRange(), levels->heatmaps().autoRange);
 
     const QImage heat = frameOf(window_->view());
     const int heatHues = hueClusters(heat, viewBackgroundColor());
@@ -502,6 +506,39 @@ void LodStudioTest::clusterMethodBuildsLevels() {
     // Its heat map is drawn on the level itself.
     QVERIFY2(runJob(true, &message), qPrintable(message));
     QVERIFY(window_->levelViews()->heatmaps().levelMax[2] > 0);
+}
+
+void LodStudioTest::reportShowsImageErrorsComputedInTheBackground() {
+    QVERIFY(buildSpotChain({0.3, 0.02}));
+    auto* report = window_->reportPanel();
+    QTableWidget* table = report->table();
+    const int column = table->columnCount() - 1;
+    QVERIFY(table->horizontalHeaderItem(column)->text().startsWith(QStringLiteral("Image error")));
+    QCOMPARE(table->item(0, column)->text(), QStringLiteral("—"));
+    // The chain's job is over while the images are still rendered: the window takes new work.
+    QVERIFY(!window_->isBusy());
+    QTRY_VERIFY_WITH_TIMEOUT(report->rows().size() == 3 && report->rows()[2].imageError.has_value(), 120000);
+    const auto& rows = report->rows();
+    QVERIFY(!rows[0].imageError.has_value());
+    QVERIFY(rows[1].imageError.has_value());
+    qInfo("image error: level 1 %.3f (silhouette %.4f), level 2 %.3f (silhouette %.4f)", *rows[1].imageError,
+          *rows[1].imageSilhouette, *rows[2].imageError, *rows[2].imageSilhouette);
+    QVERIFY(*rows[1].imageError > 0);
+    QVERIFY(*rows[2].imageError > *rows[1].imageError);
+    QVERIFY(*rows[2].imageSilhouette > *rows[1].imageSilhouette);
+    // The table shows them, and the exported report carries the column.
+    QVERIFY2(table->item(2, column)->text().startsWith(QString::number(*rows[2].imageError, 'f', 2)),
+             qPrintable(table->item(2, column)->text()));
+    QVERIFY(window_->logView()->toPlainText().contains(QStringLiteral("image error per level")));
+    QTemporaryDir dir;
+    QString error;
+    const QString html = dir.filePath(QStringLiteral("r.html"));
+    QVERIFY2(window_->exportReport(html, &error), qPrintable(error));
+    QFile h(html);
+    QVERIFY(h.open(QIODevice::ReadOnly));
+    const QString text = QString::fromUtf8(h.readAll());
+    QVERIFY(text.contains(QStringLiteral("Image error")));
+    QVERIFY(text.contains(table->item(1, column)->text()));
 }
 
 void LodStudioTest::reportExportsHtmlAndPdf() {

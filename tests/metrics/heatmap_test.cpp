@@ -86,3 +86,89 @@ TEST(Heatmap, RangeSaturatesAndBadInputIsRejected) {
     EXPECT_THROW(write_heatmap_ply(h, dir.file("missing/dir/h.ply")), Error);
     EXPECT_TRUE(std::filesystem::is_empty(dir.path()));
 }
+
+namespace {
+
+// A grid of n x n vertices in the plane z = 0, two triangles per cell.
+Mesh grid(int n) {
+    Mesh m;
+    for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x) m.positions.push_back({float(x), float(y), 0.f});
+    for (int y = 0; y + 1 < n; ++y)
+        for (int x = 0; x + 1 < n; ++x) {
+            const auto v = static_cast<std::uint32_t>(y * n + x), w = static_cast<std::uint32_t>(n);
+            m.indices.insert(m.indices.end(), {v, v + 1, v + w, v + 1, v + w + 1, v + w});
+        }
+    return m;
+}
+
+}  // namespace
+
+TEST(HeatmapRange, IgnoresVerticesNoTriangleUses) {
+    Mesh m = grid(20);
+    std::vector<float> values(m.vertex_count());
+    for (std::size_t i = 0; i < values.size(); ++i) values[i] = float(i % 10) * 0.1f;  // 0 .. 0.9
+    // Unused vertices far away with a large distance, as scans carry them.
+    for (int k = 0; k < 50; ++k) {
+        m.positions.push_back({1000.f, 0.f, float(k)});
+        values.push_back(87.f);
+    }
+    const float top = 9.f * 0.1f;
+    EXPECT_EQ(heatmap_range(m, values, 1.f), top);
+    EXPECT_EQ(heatmap_range(m, values), top);  // a tenth of the used vertices are at the top
+}
+
+TEST(HeatmapRange, OneOutlierDoesNotSetTheRange) {
+    const Mesh m = grid(30);  // 900 used vertices
+    std::vector<float> values(m.vertex_count(), 1.f);
+    values[123] = 500.f;
+    EXPECT_FLOAT_EQ(heatmap_range(m, values), 1.f);
+    EXPECT_FLOAT_EQ(heatmap_range(m, values, 1.f), 500.f);
+    // Many large values are not outliers: the range follows them.
+    for (std::size_t i = 0; i < 100; ++i) values[i] = 7.f;
+    EXPECT_FLOAT_EQ(heatmap_range(m, values), 7.f);
+}
+
+TEST(HeatmapRange, NearestRankPercentile) {
+    const Mesh m = grid(10);  // 100 used vertices
+    std::vector<float> values(m.vertex_count());
+    for (std::size_t i = 0; i < values.size(); ++i) values[i] = float(i + 1);  // 1 .. 100
+    EXPECT_FLOAT_EQ(heatmap_range(m, values, 0.99f), 99.f);
+    EXPECT_FLOAT_EQ(heatmap_range(m, values, 0.5f), 50.f);
+    EXPECT_FLOAT_EQ(heatmap_range(m, values, 0.001f), 1.f);
+}
+
+TEST(HeatmapRange, ZeroFieldsAndBadArguments) {
+    const Mesh m = grid(4);
+    EXPECT_EQ(heatmap_range(m, std::vector<float>(m.vertex_count(), 0.f)), 0.f);
+    std::vector<float> values(m.vertex_count(), 2.f);
+    values[0] = NAN;
+    values[1] = -1.f;
+    EXPECT_FLOAT_EQ(heatmap_range(m, values), 2.f);  // skipped, not fatal
+    EXPECT_THROW(heatmap_range(m, std::vector<float>(3, 1.f)), Error);
+    EXPECT_THROW(heatmap_range(m, values, 0.f), Error);
+    EXPECT_THROW(heatmap_range(m, values, 1.5f), Error);
+    Mesh noTriangles = m;
+    noTriangles.indices.clear();
+    EXPECT_EQ(heatmap_range(noTriangles, std::vector<float>(m.vertex_count(), 3.f)), 0.f);
+}
+
+TEST(HeatmapRange, RealScanWithStrayVerticesKeepsTheLevelsRange) {
+    // A clustered bunny's field on the original's vertices, then stray unused vertices at a large distance.
+    Mesh in = read_mesh(test::shared_data("scan-bunny/bun_zipper.ply"));
+    ClusterParams p;
+    p.target_ratio = 0.05f;
+    const ClusterResult s = simplify_cluster(in, p);
+    std::vector<float> field = compare(s.mesh, in).vertex_errors;
+    const float before = heatmap_range(in, field);
+    const float largest = *std::max_element(field.begin(), field.end());
+    ASSERT_GT(before, 0.f);
+    EXPECT_LE(before, largest);
+    for (int k = 0; k < 2735; ++k) {
+        in.positions.push_back({10.f, 10.f, float(k) * 1e-3f});
+        field.push_back(largest * 10.f);
+    }
+    if (!in.colors.empty()) in.colors.resize(in.positions.size());
+    if (!in.normals.empty()) in.normals.resize(in.positions.size());
+    EXPECT_FLOAT_EQ(heatmap_range(in, field), before);
+}

@@ -421,3 +421,44 @@ TEST(LodPack, StructureMethodsReturnTheirCells) {
     preset.method = LodMethod::lodstrips;
     EXPECT_TRUE(build_preset_levels(mesh, preset, unmeasured).cells.empty());
 }
+
+TEST(LodPack, ImageErrorsComeFromTheFrontEndsFunctionIntoPackJson) {
+    ScratchDir dir("pack-image-error");
+    PackParams params = spot_params(dir);
+    params.preset.exports = {.glb = false, .ply = false, .obj = false, .lodstrips = false, .image_error = true};
+    const Mesh mesh = read_mesh(params.source_path);
+    // Asked for by the preset but no renderer given: an argument error, and nothing written.
+    EXPECT_THROW(write_lod_pack(mesh, params), Error);
+    EXPECT_FALSE(std::filesystem::exists(params.output_dir));
+
+    // The core renders nothing itself: it calls the front end's function once per level after the
+    // first, with the input and that level, and writes what comes back.
+    std::vector<std::size_t> triangles;
+    params.image_error = [&](const Mesh& input, const Mesh& level) {
+        EXPECT_EQ(&input, &mesh);
+        triangles.push_back(level.triangle_count());
+        ImageError e;
+        e.size = 64;
+        e.threshold = 32;
+        e.views.push_back({"+x", double(level.triangle_count()), 0.25, 0.125, 100});
+        summarize_image_error(e);
+        return e;
+    };
+    const PackResult r = write_lod_pack(mesh, params);
+    ASSERT_EQ(r.levels.size(), 4u);
+    ASSERT_EQ(triangles.size(), 3u);
+    EXPECT_FALSE(r.levels[0].image_error.has_value());
+    const auto manifest = nlohmann::json::parse(r.manifest);
+    EXPECT_FALSE(manifest["levels"][0].contains("image_error"));
+    for (std::size_t k = 1; k < 4; ++k) {
+        ASSERT_TRUE(r.levels[k].image_error.has_value());
+        EXPECT_EQ(triangles[k - 1], r.levels[k].triangles);
+        const auto& e = manifest["levels"][k]["image_error"];
+        EXPECT_EQ(e["mean_abs"].get<double>(), double(r.levels[k].triangles));
+        EXPECT_EQ(e["over_threshold"].get<double>(), 0.25);
+        EXPECT_EQ(e["silhouette"].get<double>(), 0.125);
+        EXPECT_EQ(e["views"][0]["name"], "+x");
+        EXPECT_EQ(e["views"][0]["covered"], 100);
+    }
+    EXPECT_TRUE(manifest["preset"]["export"]["image_error"].get<bool>());
+}

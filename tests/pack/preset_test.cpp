@@ -42,7 +42,7 @@ TEST(Preset, EveryOptionSurvivesJsonRoundTrip) {
     p.octree = OctreeOptions{.max_triangles_per_node = 4096, .max_depth = 5, .memory_mb = 16};
     p.mcoctree.resolution = 256;
     p.strips.primitive_restart = false;
-    p.exports = ExportOptions{.glb = false, .ply = true, .obj = true, .lodstrips = true};
+    p.exports = ExportOptions{.glb = false, .ply = true, .obj = true, .lodstrips = true, .image_error = true};
     const std::string text = preset_to_json(p);
     const Preset back = parse_preset(text);
     EXPECT_EQ(back, p) << text;

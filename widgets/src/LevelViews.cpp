@@ -443,7 +443,7 @@ void LevelViews::setHeatmapRange(double maximum) {
 
 double LevelViews::heatmapRange() const {
     if (heatmapRange_ > 0) return heatmapRange_;
-    return heatmaps_.maxError > 0 ? heatmaps_.maxError : 0.0;
+    return heatmaps_.autoRange > 0 ? heatmaps_.autoRange : 0.0;
 }
 
 void LevelViews::setCompareVisible(bool visible) {

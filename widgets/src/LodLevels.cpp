@@ -1,5 +1,8 @@
 #include "lodforge/widgets/LodLevels.h"
 
+#include "lodforge/metrics/heatmap.h"
+#include "lodforge/render/image_compare.h"
+
 #include "lodforge/error.h"
 #include "lodforge/metrics/metrics.h"
 #include "lodforge/pack/preset_levels.h"
@@ -110,6 +113,20 @@ std::vector<LevelData> buildLodLevels(const LevelData& original, const Preset& p
     return levels;
 }
 
+std::vector<ImageError> computeImageErrors(const std::vector<LevelData>& levels,
+                                           const std::vector<std::shared_ptr<const Image>>& images, Progress* progress) {
+    std::vector<ImageError> out;
+    if (levels.size() < 2) return out;
+    const Mesh& original = *levels.front().mesh;
+    for (std::size_t k = 1; k < levels.size(); ++k) {
+        check_progress(progress, double(k - 1) / double(levels.size() - 1), "Image error");
+        // The levels keep the original's materials: its decoded textures serve them all.
+        out.push_back(render::compareImages(original, images, *levels[k].mesh, images, ImageErrorParams{}));
+    }
+    check_progress(progress, 1.0, "Image error");
+    return out;
+}
+
 HeatmapData computeHeatmaps(const std::vector<LevelData>& levels, Progress* progress) {
     HeatmapData out;
     if (levels.empty()) return out;
@@ -134,9 +151,10 @@ HeatmapData computeHeatmaps(const std::vector<LevelData>& levels, Progress* prog
             surface = level.mesh.get();
             values = compare(original, *level.mesh, params, &sub).vertex_errors;
         }
-        const float levelMax = values.empty() ? 0.f : *std::max_element(values.begin(), values.end());
+        const float levelMax = heatmap_range(*surface, values, 1.f);
         out.levelMax.push_back(levelMax);
         out.maxError = std::max(out.maxError, double(levelMax));
+        out.autoRange = std::max(out.autoRange, double(heatmap_range(*surface, values)));
         out.scenes.push_back(buildScalarScene(*surface, values));
     }
     check_progress(progress, 1.0, "Heat map");

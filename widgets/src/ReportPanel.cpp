@@ -29,7 +29,8 @@ namespace {
 
 const QStringList columnTitles = {QStringLiteral("Level"), QStringLiteral("Triangles"), QStringLiteral("Vertices"),
                                   QStringLiteral("Error (% diagonal)"), QStringLiteral("Error (model units)"),
-                                  QStringLiteral("Time (ms)"), QStringLiteral("Stopped")};
+                                  QStringLiteral("Time (ms)"), QStringLiteral("Stopped"),
+                                  QStringLiteral("Image error (0-255, silhouette %)")};
 
 QStringList cellsOf(const ReportRow& r) {
     const QLocale locale;
@@ -39,8 +40,15 @@ QStringList cellsOf(const ReportRow& r) {
             QString::number(100.0 * r.errorRelative, 'f', 4),
             QString::number(r.error, 'g', 4),
             r.level == 0 ? QStringLiteral("—") : QString::number(r.buildMs, 'f', 1),
-            r.stopReason};
+            r.stopReason,
+            r.level == 0 ? QStringLiteral("—")
+            : r.imageError ? QStringLiteral("%1 (%2 %)")
+                                 .arg(*r.imageError, 0, 'f', 2)
+                                 .arg(100.0 * r.imageSilhouette.value_or(0.0), 0, 'f', 2)
+                           : QStringLiteral("…")};
 }
+
+bool isNumberColumn(int c) { return (c >= 1 && c <= 5) || c == 7; }
 
 QByteArray pngBytes(const QImage& image) {
     QByteArray bytes;
@@ -94,22 +102,37 @@ void ReportPanel::setReport(const QString& meshName, const QString& presetName, 
     method_ = method;
     rows_.clear();
     for (const LevelData& l : levels)
-        rows_.push_back({l.index, l.triangles, l.vertices, l.error, l.errorRelative, l.buildMs, l.stopReason});
-    table_->setRowCount(int(rows_.size()));
-    for (int r = 0; r < int(rows_.size()); ++r) {
-        const QStringList cells = cellsOf(rows_[std::size_t(r)]);
-        for (int c = 0; c < int(cells.size()); ++c) {
-            auto* item = new QTableWidgetItem(cells[c]);
-            if (c >= 1 && c <= 5) item->setTextAlignment(Qt::AlignRight | Qt::AlignVCenter);
-            table_->setItem(r, c, item);
-        }
-    }
+        rows_.push_back({l.index, l.triangles, l.vertices, l.error, l.errorRelative, l.buildMs, l.stopReason, {}, {}});
+    fillTable();
     title_->setText(tr("%1 — preset “%2”, %3, %n level(s) besides the original", "", int(rows_.size()) - 1)
                         .arg(meshName_, presetName_, method_));
     structure_ = levels.empty() ? QString() : levels.front().structureSummary;
     structureLabel_->setText(structure_);
     structureLabel_->setVisible(!structure_.isEmpty());
     updateChart();
+}
+
+void ReportPanel::fillTable() {
+    table_->setRowCount(int(rows_.size()));
+    for (int r = 0; r < int(rows_.size()); ++r) {
+        const QStringList cells = cellsOf(rows_[std::size_t(r)]);
+        for (int c = 0; c < int(cells.size()); ++c) {
+            auto* item = new QTableWidgetItem(cells[c]);
+            if (isNumberColumn(c)) item->setTextAlignment(Qt::AlignRight | Qt::AlignVCenter);
+            table_->setItem(r, c, item);
+        }
+    }
+}
+
+void ReportPanel::setImageErrors(const std::vector<ImageError>& errors) {
+    // With or without the original's (zero) entry.
+    const std::size_t offset = errors.size() + 1 == rows_.size() ? 1 : 0;
+    if (errors.size() + offset != rows_.size()) return;
+    for (std::size_t i = 0; i < errors.size(); ++i) {
+        rows_[i + offset].imageError = errors[i].mean_abs;
+        rows_[i + offset].imageSilhouette = errors[i].silhouette;
+    }
+    fillTable();
 }
 
 void ReportPanel::updateChart() {
@@ -182,7 +205,7 @@ QString ReportPanel::html(const QList<QImage>& thumbnails, bool embedImages) con
         out += QStringLiteral("<tr class=\"level\">");
         const QStringList cells = cellsOf(rows_[i]);
         for (int c = 0; c < int(cells.size()); ++c)
-            out += (c >= 1 && c <= 5 ? QStringLiteral("<td class=\"n\" align=\"right\">%1</td>")
+            out += (isNumberColumn(c) ? QStringLiteral("<td class=\"n\" align=\"right\">%1</td>")
                                      : QStringLiteral("<td>%1</td>"))
                        .arg(cells[c].toHtmlEscaped());
         if (!thumbnails.isEmpty()) {

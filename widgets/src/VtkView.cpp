@@ -2,6 +2,8 @@
 
 #include "MeshActorBuilder.h"
 
+#include "lodforge/render/surface.h"
+
 #include "lodforge/metrics/heatmap.h"
 
 #include <vtkActor.h>
@@ -46,15 +48,6 @@
 namespace lodforge::widgets {
 
 namespace {
-
-// Neutral material for surfaces with neither texture nor colours.
-constexpr double neutralGrey[3] = {0.78, 0.78, 0.80};
-
-double linearToSrgb(double c) {
-    if (!(c > 0.0)) return 0.0;
-    if (c >= 1.0) return 1.0;
-    return c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1.0 / 2.4) - 0.055;
-}
 
 const char* const normalColorsName = "NormalColors";
 
@@ -106,15 +99,8 @@ void ensureNormalColors(vtkPolyData* polyData) {
 struct VtkView::Private {
     explicit Private(VtkView* view) : q(view) {}
 
-    struct Actor {
-        vtkSmartPointer<vtkActor> actor;
-        vtkSmartPointer<vtkPolyDataMapper> mapper;
-        vtkSmartPointer<vtkTexture> texture;  // null when the part has no texture
-        bool hasTcoords = false;
-        bool hasColors = false;
-        bool hasMaterial = false;
+    struct Actor : render::SurfaceActor {
         bool hasScalars = false;
-        std::array<double, 4> baseColor{1, 1, 1, 1};
     };
 
     std::vector<Actor> makeActors(const MeshScene& scene);
@@ -198,29 +184,8 @@ std::vector<VtkView::Private::Actor> VtkView::Private::makeActors(const MeshScen
     std::vector<Actor> list;
     for (const MeshScene::Part& part : meshScene.parts) {
         Actor a;
-        a.mapper = vtkSmartPointer<vtkPolyDataMapper>::New();
-        a.mapper->SetInputData(part.polyData);
-        a.mapper->SetScalarModeToUsePointData();
-        a.mapper->SetColorModeToDirectScalars();
-        a.actor = vtkSmartPointer<vtkActor>::New();
-        a.actor->SetMapper(a.mapper);
-        a.hasTcoords = part.polyData->GetPointData()->GetTCoords() != nullptr;
-        a.hasColors = part.polyData->GetPointData()->GetScalars() != nullptr;
+        static_cast<render::SurfaceActor&>(a) = render::makeSurfaceActor(part);
         a.hasScalars = meshScene.hasScalars && part.polyData->GetPointData()->GetArray(scalarArrayName()) != nullptr;
-        a.hasMaterial = part.hasMaterial;
-        a.baseColor = part.baseColor;
-        if (part.texture && a.hasTcoords) {
-            a.texture = vtkSmartPointer<vtkTexture>::New();
-            a.texture->SetInputData(part.texture);
-            a.texture->InterpolateOn();
-            a.texture->MipmapOn();
-            a.texture->RepeatOn();
-            a.texture->SetColorModeToDirectScalars();
-        }
-        vtkProperty* property = a.actor->GetProperty();
-        property->SetSpecularPower(30.0);
-        property->BackfaceCullingOff();
-        property->SetEdgeColor(0.08, 0.08, 0.1);
         renderer->AddActor(a.actor);
         list.push_back(std::move(a));
     }
@@ -689,30 +654,10 @@ void VtkView::Private::applyOptions(std::vector<Actor>& list, vtkPlane* clip) {
             property->SetColor(1.0, 1.0, 1.0);
             continue;
         }
-        a.mapper->SetScalarModeToUsePointData();
-        a.mapper->SetColorModeToDirectScalars();
-
         // Texture first (the UV checker replaces it); vertex colours where no texture shows; else the
         // material colour or neutral grey.
         vtkTexture* texture = a.hasTcoords && o.uvChecker ? checker.Get() : (o.textures ? a.texture.Get() : nullptr);
-        const bool showTexture = texture != nullptr;
-        const bool showColors = !showTexture && o.vertexColors && a.hasColors;
-        a.actor->SetTexture(texture);
-        a.mapper->SetScalarVisibility(showColors);
-
-        const double opacity = a.hasMaterial ? std::clamp(a.baseColor[3], 0.0, 1.0) : 1.0;
-        property->SetOpacity(opacity);
-        const bool whiteMaterial = !a.hasMaterial ||
-                                   (a.baseColor[0] >= 1.0 && a.baseColor[1] >= 1.0 && a.baseColor[2] >= 1.0);
-        if (showColors || (showTexture && texture == checker.Get())) {
-            property->SetColor(1.0, 1.0, 1.0);
-        } else if (showTexture || !whiteMaterial) {
-            // A texture is modulated by the material's colour factor, as glTF defines it.
-            property->SetColor(linearToSrgb(a.baseColor[0]), linearToSrgb(a.baseColor[1]),
-                               linearToSrgb(a.baseColor[2]));
-        } else {
-            property->SetColor(neutralGrey[0], neutralGrey[1], neutralGrey[2]);
-        }
+        render::applySurfaceLook(a, texture, o.vertexColors, texture && texture == checker.Get());
     }
 }
 

@@ -74,6 +74,30 @@ Heatmap make_heatmap(const Mesh& mesh, const std::vector<float>& values, float r
     return h;
 }
 
+float heatmap_range(const Mesh& mesh, const std::vector<float>& values, float percentile) {
+    if (values.size() != mesh.vertex_count())
+        throw Error(Error::Kind::argument, "heatmap_range: " + std::to_string(values.size()) + " values for " +
+                                               std::to_string(mesh.vertex_count()) + " vertices");
+    if (!(percentile > 0.f && percentile <= 1.f))
+        throw Error(Error::Kind::argument, "heatmap_range: the percentile must be in (0, 1]");
+    std::vector<char> used(values.size(), 0);
+    for (std::uint32_t i : mesh.indices)
+        if (i < used.size()) used[i] = 1;
+    std::vector<float> kept;
+    kept.reserve(values.size());
+    for (std::size_t i = 0; i < values.size(); ++i)
+        if (used[i] && values[i] >= 0.f && std::isfinite(values[i])) kept.push_back(values[i]);
+    if (kept.empty()) return 0.f;
+    // The smallest value with at least `percentile` of the values at or below it (nearest rank).
+    // The float percentile back to the decimal it was written as (0.99f is 0.9900000095...), so that
+    // 99 % of 100 values is rank 99, not 100.
+    const double p = std::round(double(percentile) * 1e6) / 1e6;
+    const auto rank = static_cast<std::size_t>(std::ceil(p * double(kept.size())));
+    const auto nth = kept.begin() + static_cast<std::ptrdiff_t>(std::clamp<std::size_t>(rank, 1, kept.size()) - 1);
+    std::nth_element(kept.begin(), nth, kept.end());
+    return *nth;
+}
+
 void write_heatmap_ply(const Heatmap& heatmap, const std::string& path) {
     const Mesh& m = heatmap.mesh;
     if (heatmap.quality.size() != m.vertex_count() || m.colors.size() != m.vertex_count())

@@ -116,6 +116,7 @@ std::string manifest(const Mesh& mesh, const PackParams& params, const BuiltLeve
         l["wedges"] = level.wedges;
         l["ratio"] = static_cast<double>(level.triangles) / static_cast<double>(mesh.triangle_count());
         l["error"] = error_json(built.distance[k]);
+        if (level.image_error) l["image_error"] = ordered_json::parse(image_error_json(*level.image_error, true));
         l["screen_coverage"] = level.screen_coverage;
         l["screen_size"] = level.screen_size;
         l["files"] = level.files;
@@ -169,6 +170,16 @@ PackResult write_lod_pack(const Mesh& mesh, const PackParams& params, Progress* 
         level.screen_coverage = c;
         level.screen_size = 2.0 * std::sqrt(c * pack_reference_width * pack_reference_height / std::numbers::pi) /
                             pack_reference_height;
+    }
+
+    if (params.preset.exports.image_error && !params.image_error)
+        throw_error(Error::Kind::argument, params.source_path,
+                    "the preset asks for image errors (export.image_error) but this program cannot render them");
+    if (params.preset.exports.image_error) {
+        for (std::size_t k = 1; k < n; ++k) {
+            check_progress(progress, static_cast<double>(k - 1) / static_cast<double>(n - 1), "rendering levels");
+            result.levels[k].image_error = params.image_error(mesh, *built.meshes[k]);
+        }
     }
 
     std::string stem = fs::path(params.source_path).stem().string();

@@ -229,6 +229,7 @@ Preset parse_preset(std::string_view json_text, const std::string& source) {
         p.exports.ply = er.flag("ply", p.exports.ply);
         p.exports.obj = er.flag("obj", p.exports.obj);
         p.exports.lodstrips = er.flag("lodstrips", p.exports.lodstrips);
+        p.exports.image_error = er.flag("image_error", p.exports.image_error);
         er.finish();
     }
     r.finish();
@@ -263,7 +264,7 @@ std::string preset_to_json(const Preset& p) {
     j["mcoctree"] = {{"resolution", p.mcoctree.resolution}};
     j["strips"] = {{"primitive_restart", p.strips.primitive_restart}};
     j["export"] = {{"glb", p.exports.glb}, {"ply", p.exports.ply}, {"obj", p.exports.obj},
-                   {"lodstrips", p.exports.lodstrips}};
+                   {"lodstrips", p.exports.lodstrips}, {"image_error", p.exports.image_error}};
     return j.dump(2) + "\n";
 }
 

@@ -13,11 +13,14 @@
 #pragma once
 
 #include "lodforge/mesh.h"
+#include "lodforge/metrics/image_error.h"
 #include "lodforge/metrics/metrics.h"
 #include "lodforge/pack/preset.h"
 #include "lodforge/progress.h"
 
 #include <cstddef>
+#include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -30,6 +33,12 @@ struct PackParams {
     // Sampling of the error measurements (vertex_errors is not used). Part of what makes a pack: two
     // packs are identical only with equal parameters; the CLI and the studio use the defaults.
     DistanceParams distance;
+    // The image-space error of a level against the input, for presets with export.image_error: written
+    // into pack.json as each level's (after the first) "image_error". Rendering needs VTK, which the core
+    // does not link: the front ends set this (lodforge/render/image_compare.h; the CLI's `pack`, the
+    // studio's export). Must be set when the preset asks (else Error(argument)); may throw, and the pack
+    // then fails like any other step.
+    std::function<ImageError(const Mesh& input, const Mesh& level)> image_error;
 };
 
 struct PackLevel {
@@ -43,6 +52,7 @@ struct PackLevel {
     // The same switch point as an engine "screen size": projected bounding-sphere diameter / screen height.
     double screen_size = 0;
     std::vector<std::string> files;         // per-level files written (PLY/OBJ), relative to output_dir
+    std::optional<ImageError> image_error;  // PackParams::image_error's result (levels after the first)
 };
 
 struct PackResult {
@@ -54,7 +64,8 @@ struct PackResult {
     std::vector<std::string> notes;         // targets a method could not meet, ... (also in pack.json)
 };
 
-// Throws Error(argument) for a bad preset or parameters (empty source_path or output_dir, an error
+// Throws Error(argument) for a bad preset or parameters (empty source_path or output_dir, export.image_error
+// without PackParams::image_error, an error
 // target with the cluster, lodstrips, octree or mcoctree method, a .lodstrips export without the lodstrips
 // method),
 // Error(io) naming the file for an unreadable source or texture or an unwritable output, and

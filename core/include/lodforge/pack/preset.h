@@ -65,6 +65,9 @@ struct ExportOptions {
     bool ply = false;         // one PLY per level
     bool obj = false;         // one OBJ (+ MTL) per level
     bool lodstrips = false;   // the .lodstrips file (method lodstrips only)
+    // Each level's image-space error in pack.json (docs/image-compare.md): needs a front end with the
+    // renderer (PackParams::image_error); off by default, as rendering 14 views per level takes seconds.
+    bool image_error = false;
     bool operator==(const ExportOptions&) const = default;
 };
 

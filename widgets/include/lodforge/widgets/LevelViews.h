@@ -56,7 +56,7 @@ public:
     const HeatmapData& heatmaps() const { return heatmaps_; }
     void setHeatmapVisible(bool visible);
     bool heatmapVisible() const { return heatmapVisible_; }
-    // The distance mapped to the top of the colour map, model units; <= 0: the largest over all levels.
+    // The distance mapped to the top of the colour map, model units; <= 0: automatic (HeatmapData::autoRange).
     void setHeatmapRange(double maximum);
     double heatmapRange() const;
 

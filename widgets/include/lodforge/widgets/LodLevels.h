@@ -5,6 +5,7 @@
 #include "lodforge/io/image_decode.h"
 #include "lodforge/pack/preset_levels.h"
 #include "lodforge/mesh.h"
+#include "lodforge/metrics/image_error.h"
 #include "lodforge/pack/preset.h"
 #include "lodforge/progress.h"
 
@@ -70,9 +71,21 @@ struct HeatmapData {
     // Per level: a scene whose scalars are the distance to the original (model units) at each vertex of
     // the surface drawn (see LevelData::verticesOnOriginal). Level 0's field is zero.
     std::vector<std::shared_ptr<const MeshScene>> scenes;
+    // Values at vertices no triangle uses are left out of both (they colour nothing).
     std::vector<float> levelMax;  // largest value per level
     double maxError = 0;          // largest value over all levels
+    // The automatic colour range: the largest over the levels of each level's heatmap_range (a high
+    // percentile), so one stray vertex does not turn every level one flat colour.
+    double autoRange = 0;
 };
+
+// The image-space error of every level after the first against the original (levels[0]), rendered
+// offscreen with the default ImageErrorParams (docs/image-compare.md); `images` as for buildLodLevels.
+// Safe on a worker: each call renders in its own offscreen window. Throws lodforge::Error(cancelled)
+// between levels when `progress` asks to stop, Error(io) when no X display can be had.
+std::vector<lodforge::ImageError> computeImageErrors(const std::vector<LevelData>& levels,
+                                                     const std::vector<std::shared_ptr<const lodforge::Image>>& images,
+                                                     lodforge::Progress* progress = nullptr);
 
 // Throws lodforge::Error(cancelled) when `progress` asks to stop.
 HeatmapData computeHeatmaps(const std::vector<LevelData>& levels, lodforge::Progress* progress = nullptr);

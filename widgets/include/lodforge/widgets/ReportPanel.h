@@ -3,6 +3,7 @@
 // thumbnail of every level.
 #pragma once
 
+#include "lodforge/metrics/image_error.h"
 #include "lodforge/widgets/LodLevels.h"
 
 #include <QImage>
@@ -10,6 +11,7 @@
 #include <QString>
 #include <QWidget>
 
+#include <optional>
 #include <vector>
 
 class QChartView;
@@ -26,6 +28,10 @@ struct ReportRow {
     double errorRelative = 0;  // of the bounding-box diagonal
     double buildMs = 0;
     QString stopReason;
+    // Image-space error against the original (docs/image-compare.md), filled in by setImageErrors once
+    // the background render is done: mean absolute colour difference (0-255) and silhouette mismatch.
+    std::optional<double> imageError;
+    std::optional<double> imageSilhouette;
 };
 
 class ReportPanel : public QWidget {
@@ -37,6 +43,9 @@ public:
     void setReport(const QString& meshName, const QString& presetName, const QString& method,
                    const std::vector<LevelData>& levels);
     void clear();
+    // Per level (index = level; level 0, the original itself, included or not): the image-space errors
+    // computed after setReport. The column shows "…" until then. Ignored when the sizes do not fit.
+    void setImageErrors(const std::vector<lodforge::ImageError>& errors);
     bool isEmpty() const { return rows_.empty(); }
     const std::vector<ReportRow>& rows() const { return rows_; }
     QTableWidget* table() const { return table_; }
@@ -56,6 +65,7 @@ public:
 private:
     QString html(const QList<QImage>& thumbnails, bool embedImages) const;
     void updateChart();
+    void fillTable();
 
     QLabel* title_ = nullptr;
     QLabel* structureLabel_ = nullptr;

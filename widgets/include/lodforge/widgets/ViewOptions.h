@@ -24,7 +24,7 @@ struct ViewOptions {
 
 // The view's solid background. Tests and the screenshot checker use it to tell the model's pixels from
 // the background, so it is one constant rather than a setting.
-inline QColor viewBackgroundColor() { return QColor(46, 52, 64); }
+QColor viewBackgroundColor();  // the offscreen renderer's too (render::backgroundRgb)
 
 // The cells overlay's line colours (docs/studio.md): one saturated hue per depth (cycling after eight);
 // by triangle count, viridis over log(1 + triangles) / log(1 + the largest count of the scene).
