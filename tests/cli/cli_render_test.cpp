@@ -164,13 +164,13 @@ TEST(CliRender, HeadlessStartsItsOwnXvfbAndABadDisplayIsAClearError) {
 
 TEST(CliRender, RenderOptionsAreChecked) {
     CliRun r = run_cli("compare --render-size 64 " + quoted(spot()) + " " + quoted(spot()));
-    EXPECT_EQ(r.exit_code, 1) << r.out;
+    EXPECT_EQ(r.exit_code, 2) << r.out;  // a usage error
     EXPECT_NE(r.out.find("need --render"), std::string::npos) << r.out;
     r = run_cli("compare --render --render-size 8 " + quoted(spot()) + " " + quoted(spot()));
-    EXPECT_EQ(r.exit_code, 1) << r.out;
+    EXPECT_EQ(r.exit_code, 2) << r.out;  // a usage error
     EXPECT_NE(r.out.find("16..4096"), std::string::npos) << r.out;
     r = run_cli("compare --render --render-threshold 300 " + quoted(spot()) + " " + quoted(spot()));
-    EXPECT_EQ(r.exit_code, 1) << r.out;
+    EXPECT_EQ(r.exit_code, 2) << r.out;  // a usage error
     EXPECT_NE(r.out.find("0..255"), std::string::npos) << r.out;
 }
 
