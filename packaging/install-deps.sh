@@ -13,7 +13,7 @@ packages=(
   # studio
   qt6-base-dev libqt6opengl6-dev qt6-svg-dev qt6-charts-dev qt6-qpa-plugins libvtk9-dev libopenmpi-dev
   libgl1-mesa-dri libglx-mesa0 libegl-mesa0
-  # offscreen renderer (render/): Xlib to check the display (Xvfb, below, is started when DISPLAY is unset)
+  # offscreen renderer (widgets/render/): Xlib to check the display (Xvfb, below, is started when DISPLAY is unset)
   libx11-dev
   # tests, benchmarks, packaging
   libgtest-dev libgmock-dev libbenchmark-dev xvfb xauth dpkg-dev file

@@ -1,5 +1,5 @@
 # The installable library: installs the build into a temporary prefix with `cmake --install`, then
-# configures, builds and runs examples/ against that prefix alone (find_package(LodForge)), and runs the
+# configures, builds and runs packaging/examples/ against that prefix alone (find_package(LodForge)), and runs the
 # installed `lodforge` with a shipped preset, which it must find under its own prefix.
 # -DSOURCE_DIR -DBUILD_DIR -DWORK_DIR -DMESH (a small textured OBJ)
 file(REMOVE_RECURSE "${WORK_DIR}")
@@ -24,9 +24,9 @@ foreach(f include/lodforge/mesh.h include/lodforge/octree/octree_build.h include
 endforeach()
 
 # The examples see only the installed prefix (no package registry, no build tree).
-run("configuring examples/" "${CMAKE_COMMAND}" -S "${SOURCE_DIR}/examples" -B "${WORK_DIR}/examples" -G Ninja
+run("configuring packaging/examples/" "${CMAKE_COMMAND}" -S "${SOURCE_DIR}/packaging/examples" -B "${WORK_DIR}/examples" -G Ninja
     -DCMAKE_BUILD_TYPE=Release "-DCMAKE_PREFIX_PATH=${prefix}" -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF)
-run("building examples/" "${CMAKE_COMMAND}" --build "${WORK_DIR}/examples")
+run("building packaging/examples/" "${CMAKE_COMMAND}" --build "${WORK_DIR}/examples")
 
 run("simplify_mesh" "${WORK_DIR}/examples/simplify_mesh" "${MESH}" "${WORK_DIR}/half.ply" 0.5)
 if(NOT out MATCHES "^([0-9]+) -> ([0-9]+)")
