@@ -4,6 +4,7 @@
 #include "lodforge/morph/morph_file.h"
 #include "lodforge/morph/morph_lod.h"
 
+#include "lodforge/runtime/lodstrips_runtime.h"
 #include "support/test_paths.h"
 
 #include <gtest/gtest.h>
@@ -12,6 +13,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <map>
 
 namespace {
 
@@ -61,14 +63,27 @@ void write_bytes(const std::string& path, const std::vector<std::uint8_t>& b) {
     std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(b.data()), std::streamsize(b.size()));
 }
 
-// Recomputes the trailing checksum, so that structural checks (not the checksum) must catch the lie.
-void reseal(std::vector<std::uint8_t>& b) {
-    std::uint64_t h = 1469598103934665603ull;
-    for (std::size_t i = 0; i + 8 < b.size() + 0 && i < b.size() - 8; ++i) {
-        h ^= b[i];
-        h *= 1099511628211ull;
+// The container's sections: tag → where the payload starts and its length.
+struct Section {
+    std::size_t at = 0, size = 0;
+};
+std::map<std::string, Section> sections_of(const std::vector<std::uint8_t>& b) {
+    std::map<std::string, Section> out;
+    for (std::size_t at = 32; at + 12 <= b.size();) {
+        std::uint32_t len = 0;
+        std::memcpy(&len, b.data() + at + 4, 4);
+        out[std::string(reinterpret_cast<const char*>(b.data() + at), 4)] = {at + 12, len};
+        at += 12 + len;
     }
-    std::memcpy(b.data() + b.size() - 8, &h, 8);
+    return out;
+}
+
+// Recomputes every section's checksum, so that structural checks (not the checksums) must catch the lie.
+void reseal(std::vector<std::uint8_t>& b) {
+    for (const auto& [tag, s] : sections_of(b)) {
+        const std::uint32_t crc = lodstrips::detail::crc32(b.data() + s.at, s.size);
+        std::memcpy(b.data() + s.at - 4, &crc, 4);
+    }
 }
 
 std::string error_of(const std::string& path) {
@@ -181,8 +196,11 @@ TEST(MorphFile, CorruptAndLyingFilesAreRejected) {
     b[8] = 9;
     write_bytes(bad, b);
     EXPECT_NE(error_of(bad).find("version 9"), std::string::npos);
-    // Resealed lies: a face index out of range (first index, just after the header and one level).
-    const std::size_t header = 8 + 4 * 9 + 4 * f.lod.levels.size();
+    // Resealed lies: a face index out of range (the first index of section MESH).
+    const std::map<std::string, Section> sec = sections_of(good);
+    ASSERT_EQ(sec.size(), 4u);
+    ASSERT_EQ(sec.at("HEAD").size, 4 * 8 + 4 * f.lod.levels.size());  // the layout is docs/formats/lfmorph.md's
+    const std::size_t header = sec.at("MESH").at;
     b = good;
     const std::uint32_t huge = 0x7fffffffu;
     std::memcpy(b.data() + header, &huge, 4);
@@ -192,13 +210,13 @@ TEST(MorphFile, CorruptAndLyingFilesAreRejected) {
     // A vertex count larger than the data.
     b = good;
     const std::uint32_t more = 9000000;
-    std::memcpy(b.data() + 16, &more, 4);
+    std::memcpy(b.data() + sec.at("HEAD").at + 4, &more, 4);
     reseal(b);
     write_bytes(bad, b);
     EXPECT_NE(error_of(bad).find("truncated"), std::string::npos);
     // A move cycling back onto a removed vertex (last two moves swapped into a cycle).
     b = good;
-    const std::size_t moves_end = b.size() - 8;
+    const std::size_t moves_end = sec.at("SEQS").at + sec.at("SEQS").size;
     std::uint32_t from = 0, to = 0;
     std::memcpy(&from, b.data() + moves_end - 8, 4);
     std::memcpy(&to, b.data() + moves_end - 4, 4);
@@ -214,9 +232,8 @@ TEST(MorphFile, CorruptAndLyingFilesAreRejected) {
     // entry, right after its frame, collapse count, move count and L level collapse counts.
     {
         b = good;
-        const std::size_t nv = f.morph.vertex_count(), nt = f.morph.base.triangle_count(), K = f.morph.frame_count();
         const std::size_t L = f.lod.levels.size();
-        const std::size_t seq0 = header + 12 * nt + 8 * nv + 24 + 6 * nv * K;
+        const std::size_t seq0 = sec.at("SEQS").at;
         std::uint32_t tris = 0;
         std::memcpy(&tris, b.data() + seq0 + 12 + 4 * L, 4);
         ASSERT_EQ(tris, f.lod.sequences[0].level_triangles[0]);  // the layout is what docs/morph.md says
@@ -254,4 +271,29 @@ TEST(MorphFile, StorageIsAtLeastFourTimesBelowTheThesis) {
     const double per_frame = double(st.frame_bytes) + double(st.connectivity_bytes + st.sequence_bytes) / 48.0;
     const double thesis = 472.0 * 1024.0 / 10520.0 * double(f.morph.vertex_count());
     EXPECT_LE(per_frame * 4.0, thesis) << per_frame << " bytes per frame";
+}
+
+// Files written before the section container (version 1: one body, FNV-1a) are still read, and say so.
+TEST(MorphFile, ReadsVersionOneFiles) {
+    test::ScratchDir dir("morph-file-v1");
+    const std::string v1 = test::test_file("morph/data/cube-v1.lfmorph");  // AnimatedMorphCube, written by version 1
+    const MorphLodFile old = read_morph_lod(v1);
+    EXPECT_EQ(old.version, 1u);
+    EXPECT_EQ(old.morph.vertex_count(), 24u);
+    EXPECT_EQ(old.morph.base.triangle_count(), 12u);
+    EXPECT_EQ(old.file_bytes, fs::file_size(v1));
+    ASSERT_FALSE(old.lod.sequences.empty());
+    // Written again it is a version 2 file with the same content.
+    write_morph_lod(dir.file("v2.lfmorph"), old.morph, old.lod, {old.encoding});
+    const MorphLodFile now = read_morph_lod(dir.file("v2.lfmorph"));
+    EXPECT_EQ(now.version, kMorphFileVersion);
+    EXPECT_EQ(now.morph.base.indices, old.morph.base.indices);
+    EXPECT_EQ(now.morph.frame_positions, old.morph.frame_positions);
+    EXPECT_EQ(now.lod.levels, old.lod.levels);
+    EXPECT_EQ(now.lod.sequences[0].level_triangles, old.lod.sequences[0].level_triangles);
+    // A flipped byte in a version 1 file is caught by its own checksum.
+    std::vector<std::uint8_t> b = bytes_of(v1);
+    b[b.size() / 2] ^= 0x10;
+    write_bytes(dir.file("bad.lfmorph"), b);
+    EXPECT_NE(error_of(dir.file("bad.lfmorph")).find("checksum"), std::string::npos);
 }

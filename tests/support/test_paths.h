@@ -10,6 +10,10 @@ namespace lodforge::test {
 inline std::string shared_data(const std::string& relative) {
     return (std::filesystem::path(LODFORGE_SHARED_DATA) / relative).string();
 }
+// Files kept in the repository beside the tests (e.g. "mcoctree/data/cube-v2.mco").
+inline std::string test_file(const std::string& relative) {
+    return (std::filesystem::path(LODFORGE_TESTS_DIR) / relative).string();
+}
 inline std::string sample(const std::string& relative) {
     return (std::filesystem::path(LODFORGE_SAMPLES_DIR) / relative).string();
 }

@@ -1,69 +1,29 @@
-// The .mco file: a built marching-cube octree, versioned, little-endian, checksummed (docs/mcoctree.md,
-// "File format"). The reader checks the checksum, every count against the file size before allocating,
-// and then every structural invariant (validate_mc_octree), so a corrupt or lying file is an Error.
-#include "lodforge/io/atomic_file.h"
+// The .mco file: a built marching-cube octree in the tagged section container (io/binary_io.h,
+// docs/formats/mco.md). The reader checks the checksums, every count against the bytes left before
+// allocating, and then every structural invariant (validate_mc_octree), so a corrupt or lying file is an
+// Error. Version 2 files (one flat body and a 64-bit FNV-1a checksum) are still read: their body is the
+// version 3 sections' payloads back to back.
 #include "lodforge/error.h"
-#include "lodforge/io/input_file.h"
+#include "io/binary_io.h"
 #include "mcoctree/mc_octree_internal.h"
 
 #include <bit>
 #include <cmath>
 #include <cstring>
-#include <fstream>
 
 namespace lodforge {
 
 namespace {
 
 constexpr char magic[8] = {'L', 'F', 'M', 'C', 'O', '\r', '\n', '\x1a'};
-constexpr std::uint32_t version = 2;  // 2: priority levels (cuts), non-decreasing triangle table
-constexpr std::size_t node_bytes = 40;
+constexpr std::uint32_t version = 3;  // 3: the section container; 2: priority levels, non-decreasing triangle table
+constexpr std::uint32_t flat_version = 2;
+constexpr std::size_t node_bytes = 44;
 
-std::uint64_t fnv1a(const std::uint8_t* p, std::size_t n) {
-    std::uint64_t h = 0xcbf29ce484222325ULL;
-    for (std::size_t i = 0; i < n; ++i) h = (h ^ p[i]) * 0x100000001b3ULL;
-    return h;
-}
-
-class Writer {
-public:
-    template <class T> void put(const T& v) {
-        const auto* p = reinterpret_cast<const std::uint8_t*>(&v);
-        buf.insert(buf.end(), p, p + sizeof(T));
-    }
-    template <class T> void put_array(const std::vector<T>& v) {
-        const auto* p = reinterpret_cast<const std::uint8_t*>(v.data());
-        buf.insert(buf.end(), p, p + v.size() * sizeof(T));
-    }
-    std::vector<std::uint8_t> buf;
-};
-
-class Reader {
-public:
-    Reader(const std::vector<std::uint8_t>& b, const std::string& f) : buf(b), file(f) {}
-    template <class T> T get(const char* what) {
-        need(sizeof(T), what);
-        T v;
-        std::memcpy(&v, buf.data() + pos, sizeof(T));
-        pos += sizeof(T);
-        return v;
-    }
-    template <class T> void get_array(std::vector<T>& v, std::uint64_t count, const char* what) {
-        if (count > (buf.size() - pos) / sizeof(T)) truncated(what);
-        v.resize(static_cast<std::size_t>(count));
-        std::memcpy(v.data(), buf.data() + pos, v.size() * sizeof(T));
-        pos += v.size() * sizeof(T);
-    }
-    void need(std::size_t n, const char* what) {
-        if (buf.size() - pos < n) truncated(what);
-    }
-    [[noreturn]] void truncated(const char* what) {
-        throw_error(Error::Kind::format, file, std::string("truncated: the file ends inside the ") + what +
-                                                   " (byte " + std::to_string(pos) + ")");
-    }
-    const std::vector<std::uint8_t>& buf;
-    const std::string& file;
-    std::size_t pos = 0;
+// The counts in section HEAD that size the other sections.
+struct Counts {
+    std::uint32_t flags = 0;
+    std::uint64_t vertices = 0, nodes = 0, ids = 0, order = 0, cuts = 0, warnings = 0;
 };
 
 [[noreturn]] void bad(const std::string& file, const std::string& what) {
@@ -140,111 +100,135 @@ void validate_mc_octree(const McOctree& t, const std::string& file) {
 
 void write_mc_octree(const McOctree& t, const std::string& path, Progress* progress) {
     check_progress(progress, 0, "mcoctree: writing");
-    Writer w;
-    w.buf.insert(w.buf.end(), magic, magic + 8);
-    w.put(version);
-    w.put(std::uint32_t(t.has_colors() ? 1 : 0));
-    w.put(t.origin.x), w.put(t.origin.y), w.put(t.origin.z), w.put(t.cube_size);
-    w.put(std::uint32_t(t.levels));
-    w.put(std::uint64_t(t.input_points));
-    w.put(std::uint64_t(t.positions.size()));
-    w.put(std::uint64_t(t.nodes.size()));
-    w.put(std::uint64_t(t.vertex_ids.size()));
-    w.put(std::uint64_t(t.order.size()));
-    w.put(std::uint64_t(t.cuts.size()));
-    w.put(std::uint64_t(t.warnings.size()));
-    w.put_array(t.positions);
-    w.put_array(t.normals);
-    if (t.has_colors()) w.put_array(t.colors);
+    binary::Writer head, vert, node, prio, warn;
+    head.put(std::uint32_t(t.has_colors() ? 1 : 0));
+    head.put(t.origin.x), head.put(t.origin.y), head.put(t.origin.z), head.put(t.cube_size);
+    head.put(std::uint32_t(t.levels));
+    head.put(std::uint64_t(t.input_points));
+    for (std::size_t n : {t.positions.size(), t.nodes.size(), t.vertex_ids.size(), t.order.size(), t.cuts.size(),
+                          t.warnings.size()})
+        head.put(std::uint64_t(n));
+    vert.put_array(t.positions);
+    vert.put_array(t.normals);
+    if (t.has_colors()) vert.put_array(t.colors);
     for (const McNode& n : t.nodes) {
-        w.put(n.x), w.put(n.y), w.put(n.z);
-        w.put(n.level), w.put(n.child_mask), w.put(std::uint16_t(0));
-        w.put(n.first_child), w.put(n.parent), w.put(n.inside), w.put(n.crossings), w.put(n.first_vertex),
-            w.put(n.priority);
+        node.put(n.x), node.put(n.y), node.put(n.z);
+        node.put(n.level), node.put(n.child_mask), node.put(std::uint16_t(0));
+        node.put(n.first_child), node.put(n.parent), node.put(n.inside), node.put(n.crossings), node.put(n.first_vertex),
+            node.put(n.priority);
     }
-    w.put_array(t.vertex_ids);
-    w.put_array(t.neighbours);
-    w.put_array(t.order);
-    w.put_array(t.cuts);
-    w.put_array(t.triangle_counts);
-    w.put_array(t.metric);
+    node.put_array(t.vertex_ids);
+    node.put_array(t.neighbours);
+    prio.put_array(t.order);
+    prio.put_array(t.cuts);
+    prio.put_array(t.triangle_counts);
+    prio.put_array(t.metric);
     for (const std::string& s : t.warnings) {
-        w.put(std::uint32_t(s.size()));
-        w.buf.insert(w.buf.end(), s.begin(), s.end());
+        warn.put(std::uint32_t(s.size()));
+        warn.bytes.insert(warn.bytes.end(), s.begin(), s.end());
     }
-    w.put(fnv1a(w.buf.data(), w.buf.size()));
+    const std::vector<std::uint8_t> bytes = binary::write_container(
+        magic, version,
+        {{"HEAD", &head.bytes}, {"VERT", &vert.bytes}, {"NODE", &node.bytes}, {"PRIO", &prio.bytes}, {"WARN", &warn.bytes}});
     check_progress(progress, 0.5, "mcoctree: writing");
-    AtomicFile file(path);
-    file.stream().write(reinterpret_cast<const char*>(w.buf.data()), std::streamsize(w.buf.size()));
-    file.commit();
+    binary::write_file(path, bytes);
     check_progress(progress, 1, "mcoctree: writing");
 }
 
-McOctree read_mc_octree(const std::string& path, Progress* progress) {
-    check_progress(progress, 0, "mcoctree: reading");
-    check_input_file(path, "a .mco file");
-    std::ifstream in(path, std::ios::binary | std::ios::ate);
-    if (!in) throw_error(Error::Kind::io, path, "cannot open for reading");
-    const std::streamoff size = in.tellg();
-    if (size < 0) throw_error(Error::Kind::io, path, "cannot read");
-    std::vector<std::uint8_t> buf(static_cast<std::size_t>(size));
-    in.seekg(0);
-    if (!in.read(reinterpret_cast<char*>(buf.data()), size)) throw_error(Error::Kind::io, path, "cannot read");
-    if (buf.size() < 8 || std::memcmp(buf.data(), magic, 8) != 0)
-        throw_error(Error::Kind::format, path, "not a marching-cube octree (.mco) file: bad magic bytes");
-    if (buf.size() < 16) throw_error(Error::Kind::format, path, "truncated: the file ends inside the header");
-    std::uint32_t ver;
-    std::memcpy(&ver, buf.data() + 8, 4);
-    if (ver != version)
-        throw_error(Error::Kind::unsupported, path, "unsupported .mco version " + std::to_string(ver) + " (this build reads " +
-                                                        std::to_string(version) + ")");
-    if (buf.size() < 8 + 8) throw_error(Error::Kind::format, path, "truncated");
-    std::uint64_t stored;
-    std::memcpy(&stored, buf.data() + buf.size() - 8, 8);
-    if (buf.size() < 24 || fnv1a(buf.data(), buf.size() - 8) != stored)
-        throw_error(Error::Kind::format, path, "checksum mismatch: the file is truncated or corrupt");
-    const std::vector<std::uint8_t> body(buf.begin(), buf.end() - 8);
-    Reader r(body, path);
-    r.pos = 12;
-    McOctree t;
-    const auto flags = r.get<std::uint32_t>("header");
-    if (flags > 1) throw_error(Error::Kind::format, path, "unknown flags " + std::to_string(flags));
+namespace {
+
+Counts read_head(binary::Reader& r, McOctree& t) {
+    Counts c;
+    c.flags = r.get<std::uint32_t>("header");
+    if (c.flags > 1) r.fail("unknown flags " + std::to_string(c.flags));
     t.origin.x = r.get<float>("header"), t.origin.y = r.get<float>("header"), t.origin.z = r.get<float>("header");
     t.cube_size = r.get<float>("header");
     t.levels = r.get<std::uint32_t>("header");
     t.input_points = static_cast<std::size_t>(r.get<std::uint64_t>("header"));
-    const auto vertices = r.get<std::uint64_t>("header"), nodes = r.get<std::uint64_t>("header"),
-               ids = r.get<std::uint64_t>("header"), order = r.get<std::uint64_t>("header"),
-               cuts = r.get<std::uint64_t>("header"), warnings = r.get<std::uint64_t>("header");
-    r.get_array(t.positions, vertices, "positions");
-    r.get_array(t.normals, vertices, "normals");
-    if (flags & 1) r.get_array(t.colors, vertices, "colours");
-    if (nodes > (body.size() - r.pos) / node_bytes) r.truncated("nodes");
-    t.nodes.resize(static_cast<std::size_t>(nodes));
+    for (std::uint64_t* n : {&c.vertices, &c.nodes, &c.ids, &c.order, &c.cuts, &c.warnings}) *n = r.get<std::uint64_t>("header");
+    return c;
+}
+
+void read_vertices(binary::Reader& r, const Counts& c, McOctree& t) {
+    t.positions = r.get_array<Vec3f>(c.vertices, "positions");
+    t.normals = r.get_array<Vec3f>(c.vertices, "normals");
+    if (c.flags & 1) t.colors = r.get_array<Vec4f>(c.vertices, "colours");
+}
+
+void read_nodes(binary::Reader& r, const Counts& c, McOctree& t) {
+    if (c.nodes > r.left() / node_bytes) r.fail("truncated: the file ends inside the nodes");
+    t.nodes.resize(static_cast<std::size_t>(c.nodes));
     for (McNode& n : t.nodes) {
         n.x = r.get<std::uint32_t>("nodes"), n.y = r.get<std::uint32_t>("nodes"), n.z = r.get<std::uint32_t>("nodes");
         n.level = r.get<std::uint8_t>("nodes"), n.child_mask = r.get<std::uint8_t>("nodes");
-        if (r.get<std::uint16_t>("nodes") != 0) bad(path, "reserved node bytes are not zero");
+        if (r.get<std::uint16_t>("nodes") != 0) r.fail("corrupt marching-cube octree: reserved node bytes are not zero");
         n.first_child = r.get<std::uint32_t>("nodes"), n.parent = r.get<std::uint32_t>("nodes");
         n.inside = r.get<std::uint32_t>("nodes");
         n.crossings = r.get<std::uint64_t>("nodes");
         n.first_vertex = r.get<std::uint32_t>("nodes"), n.priority = r.get<std::uint32_t>("nodes");
     }
-    r.get_array(t.vertex_ids, ids, "vertex indices");
-    if (nodes > body.size()) r.truncated("neighbours");
-    r.get_array(t.neighbours, nodes * mc::neighbour_slots, "neighbours");
-    r.get_array(t.order, order, "priority order");
-    r.get_array(t.cuts, cuts, "priority levels");
-    r.get_array(t.triangle_counts, cuts, "triangle counts");
-    r.get_array(t.metric, nodes, "metric");
-    if (warnings > body.size()) r.truncated("warnings");
-    for (std::uint64_t i = 0; i < warnings; ++i) {
+    t.vertex_ids = r.get_array<std::uint32_t>(c.ids, "vertex indices");
+    t.neighbours = r.get_array<std::uint32_t>(c.nodes * mc::neighbour_slots, "neighbours");
+}
+
+void read_priorities(binary::Reader& r, const Counts& c, McOctree& t) {
+    t.order = r.get_array<std::uint32_t>(c.order, "priority order");
+    t.cuts = r.get_array<std::uint32_t>(c.cuts, "priority levels");
+    t.triangle_counts = r.get_array<std::uint64_t>(c.cuts, "triangle counts");
+    t.metric = r.get_array<float>(c.nodes, "metric");
+}
+
+void read_warnings(binary::Reader& r, const Counts& c, McOctree& t) {
+    if (c.warnings > r.left() / 4) r.fail("truncated: the file ends inside the warnings");
+    for (std::uint64_t i = 0; i < c.warnings; ++i) {
         const auto len = r.get<std::uint32_t>("warnings");
-        r.need(len, "warnings");
-        t.warnings.emplace_back(reinterpret_cast<const char*>(body.data() + r.pos), len);
-        r.pos += len;
+        t.warnings.push_back(r.get_string(len, "warnings"));
     }
-    if (r.pos != body.size()) bad(path, std::to_string(body.size() - r.pos) + " unexpected bytes after the warnings");
+}
+
+// Version 2: magic, version, the payloads of HEAD..WARN back to back, FNV-1a of everything before it.
+void read_flat(const std::vector<std::uint8_t>& buf, const std::string& path, McOctree& t) {
+    std::uint64_t stored = 0;
+    if (buf.size() >= 24) std::memcpy(&stored, buf.data() + buf.size() - 8, 8);
+    if (buf.size() < 24 || binary::legacy_fnv1a(buf.data(), buf.size() - 8) != stored)
+        throw_error(Error::Kind::format, path, "checksum mismatch: the file is truncated or corrupt");
+    binary::Reader r(buf.data() + 12, buf.size() - 20, path, 12);
+    const Counts c = read_head(r, t);
+    read_vertices(r, c, t);
+    read_nodes(r, c, t);
+    read_priorities(r, c, t);
+    read_warnings(r, c, t);
+    r.expect_end("warnings");
+}
+
+}  // namespace
+
+McOctree read_mc_octree(const std::string& path, Progress* progress) {
+    check_progress(progress, 0, "mcoctree: reading");
+    const std::vector<std::uint8_t> buf = binary::read_file(path, "a .mco file");
+    const std::uint32_t ver = binary::peek_version(buf, path, magic, "marching-cube octree (.mco)");
+    McOctree t;
+    if (ver == flat_version) {
+        read_flat(buf, path, t);
+    } else if (ver == version) {
+        const auto sec = binary::read_container(buf, path, magic, ".mco", {"HEAD", "VERT", "NODE", "PRIO", "WARN"});
+        binary::Reader head = sec[0].reader(path), vert = sec[1].reader(path), node = sec[2].reader(path),
+                       prio = sec[3].reader(path), warn = sec[4].reader(path);
+        const Counts c = read_head(head, t);
+        head.expect_end("header");
+        read_vertices(vert, c, t);
+        vert.expect_end("vertices");
+        read_nodes(node, c, t);
+        node.expect_end("neighbours");
+        read_priorities(prio, c, t);
+        prio.expect_end("metric");
+        read_warnings(warn, c, t);
+        warn.expect_end("warnings");
+    } else {
+        throw_error(Error::Kind::unsupported, path, "unsupported .mco version " + std::to_string(ver) +
+                                                        " (this build reads " + std::to_string(flat_version) + " and " +
+                                                        std::to_string(version) + ")");
+    }
     validate_mc_octree(t, path);
     check_progress(progress, 1, "mcoctree: reading");
     return t;

@@ -15,9 +15,8 @@
 // by the runtime's own replay (LodStrips::assign) and by encode_lodstrips.
 #include "lodforge/morph/morph_lodstrips.h"
 
-#include "lodforge/io/atomic_file.h"
 #include "lodforge/error.h"
-#include "lodforge/io/input_file.h"
+#include "io/binary_io.h"
 #include "lodforge/strips/lodstrips.h"
 #include "strips/lodstrips_record.h"
 #include "morph/morph_quantize.h"
@@ -27,32 +26,18 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <iterator>
 #include <numeric>
 
 namespace lodforge {
 namespace {
 
-template <class T>
-void put(std::vector<std::uint8_t>& out, const T& v) {
-    const auto* p = reinterpret_cast<const std::uint8_t*>(&v);
-    out.insert(out.end(), p, p + sizeof v);
-}
-
-void put_section(std::vector<std::uint8_t>& out, const char (&tag)[5], const std::vector<std::uint8_t>& payload) {
-    put(out, lodstrips::section_tag(tag));
-    put(out, static_cast<std::uint32_t>(payload.size()));
-    put(out, lodstrips::detail::crc32(payload.data(), payload.size()));
-    out.insert(out.end(), payload.begin(), payload.end());
-}
-
 std::vector<std::uint8_t> frames_payload(const lodstrips::MorphData& d, MorphEncoding encoding) {
     const std::uint32_t n = d.strips.vertex_count;
     const bool q = encoding == MorphEncoding::quantized16;
-    std::vector<std::uint8_t> out;
-    put(out, d.frame_count);
-    put(out, n);
-    put(out, q ? lodstrips::morph_flag_quantized : 0u);
+    binary::Writer out;
+    out.put(d.frame_count);
+    out.put(n);
+    out.put(q ? lodstrips::morph_flag_quantized : 0u);
     float lo[3] = {0, 0, 0}, size[3] = {0, 0, 0};
     if (q) {
         float hi[3];
@@ -64,8 +49,8 @@ std::vector<std::uint8_t> frames_payload(const lodstrips::MorphData& d, MorphEnc
             }
             size[a] = hi[a] - lo[a];
         }
-        for (float x : lo) put(out, x);
-        for (float x : size) put(out, x);
+        for (float x : lo) out.put(x);
+        for (float x : size) out.put(x);
     }
     for (std::uint32_t k = 0; k < d.frame_count; ++k) {
         const float* pos = d.frame_positions.data() + std::size_t(k) * 3u * n;
@@ -73,47 +58,38 @@ std::vector<std::uint8_t> frames_payload(const lodstrips::MorphData& d, MorphEnc
         if (q) {
             for (std::size_t i = 0; i < 3u * std::size_t(n); ++i) {
                 const float a = size[i % 3] > 0 ? (pos[i] - lo[i % 3]) / size[i % 3] : 0.f;
-                put(out, static_cast<std::uint16_t>(std::lround(std::clamp(a, 0.f, 1.f) * 65535.f)));
+                out.put(static_cast<std::uint16_t>(std::lround(std::clamp(a, 0.f, 1.f) * 65535.f)));
             }
             for (std::size_t v = 0; v < n; ++v) {
                 std::int16_t o[2];
                 oct_encode({nrm[3 * v], nrm[3 * v + 1], nrm[3 * v + 2]}, o);
-                put(out, o[0]);
-                put(out, o[1]);
+                out.put(o[0]);
+                out.put(o[1]);
             }
         } else {
             const auto* pp = reinterpret_cast<const std::uint8_t*>(pos);
             const auto* np = reinterpret_cast<const std::uint8_t*>(nrm);
-            out.insert(out.end(), pp, pp + 12u * std::size_t(n));
-            out.insert(out.end(), np, np + 12u * std::size_t(n));
+            out.bytes.insert(out.bytes.end(), pp, pp + 12u * std::size_t(n));
+            out.bytes.insert(out.bytes.end(), np, np + 12u * std::size_t(n));
         }
     }
-    return out;
-}
-
-void put_varint(std::vector<std::uint8_t>& out, std::uint64_t v) {
-    for (; v >= 0x80; v >>= 7) out.push_back(static_cast<std::uint8_t>(v | 0x80));
-    out.push_back(static_cast<std::uint8_t>(v));
-}
-
-void put_zigzag(std::vector<std::uint8_t>& out, std::int64_t v) {
-    put_varint(out, (static_cast<std::uint64_t>(v) << 1) ^ static_cast<std::uint64_t>(v >> 63));
+    return std::move(out.bytes);
 }
 
 // Section SETS (version 2, docs/formats/lfmstrips.md): every change set's frame, then per further set its numbering
 // and its records (vertices, targets, rewrite positions, removals, triangles lost per collapse).
 std::vector<std::uint8_t> sets_payload(const lodstrips::MorphData& d) {
     const std::uint32_t n = d.strips.vertex_count;
-    std::vector<std::uint8_t> out;
-    put_varint(out, d.change_set_count());
-    put_varint(out, d.strips_frame);
-    for (const lodstrips::MorphChangeSet& cs : d.frame_sets) put_varint(out, cs.frame);
+    binary::Writer out;
+    out.varint(d.change_set_count());
+    out.varint(d.strips_frame);
+    for (const lodstrips::MorphChangeSet& cs : d.frame_sets) out.varint(cs.frame);
     for (std::size_t i = 0; i < d.frame_sets.size(); ++i) {
         const lodstrips::MorphChangeSet& cs = d.frame_sets[i];
         const lodstrips::Data& r = cs.records;
         const std::string what = "morph strips: change set " + std::to_string(i + 1);
         if (cs.to_base.size() != n) throw Error(Error::Kind::invalid, what + ": numbering has the wrong size");
-        for (std::uint32_t v : cs.to_base) put_varint(out, v);
+        for (std::uint32_t v : cs.to_base) out.varint(v);
         const std::size_t C = r.collapse_count();
         const auto ranges = [](const std::vector<std::uint32_t>& begin, std::size_t end) {
             return !begin.empty() && begin.front() == 0 && begin.back() == end && std::is_sorted(begin.begin(), begin.end());
@@ -122,35 +98,35 @@ std::vector<std::uint8_t> sets_payload(const lodstrips::MorphData& d) {
             !ranges(r.collapse_begin, r.targets.size()) || !ranges(r.rewrite_begin, r.rewrite_positions.size()) ||
             !ranges(r.removal_begin, r.removals.size()) || r.targets.size() > n)
             throw Error(Error::Kind::invalid, what + ": records have inconsistent sizes");
-        put_varint(out, C);
+        out.varint(C);
         for (std::size_t k = 0; k < C; ++k) {
-            put_varint(out, r.collapse_begin[k + 1] - r.collapse_begin[k]);
-            put_zigzag(out, std::int64_t(r.triangles[k]) - std::int64_t(r.triangles[k + 1]));
+            out.varint(r.collapse_begin[k + 1] - r.collapse_begin[k]);
+            out.zigzag(std::int64_t(r.triangles[k]) - std::int64_t(r.triangles[k + 1]));
             for (std::uint32_t o = r.collapse_begin[k]; o < r.collapse_begin[k + 1]; ++o) {
                 const std::uint32_t v = n - 1 - o;
                 if (r.targets[o] >= v) throw Error(Error::Kind::invalid, what + ": a target is not below its vertex");
-                put_varint(out, v - r.targets[o]);
-                put_varint(out, r.rewrite_begin[o + 1] - r.rewrite_begin[o]);
+                out.varint(v - r.targets[o]);
+                out.varint(r.rewrite_begin[o + 1] - r.rewrite_begin[o]);
                 for (std::uint32_t j = r.rewrite_begin[o]; j < r.rewrite_begin[o + 1]; ++j) {
                     if (j > r.rewrite_begin[o] && r.rewrite_positions[j] <= r.rewrite_positions[j - 1])
                         throw Error(Error::Kind::invalid, what + ": rewrite positions are not increasing");
-                    put_varint(out, j == r.rewrite_begin[o] ? r.rewrite_positions[j] : r.rewrite_positions[j] - r.rewrite_positions[j - 1] - 1);
+                    out.varint(j == r.rewrite_begin[o] ? r.rewrite_positions[j] : r.rewrite_positions[j] - r.rewrite_positions[j - 1] - 1);
                 }
             }
-            put_varint(out, r.removal_begin[k + 1] - r.removal_begin[k]);
+            out.varint(r.removal_begin[k + 1] - r.removal_begin[k]);
             std::int64_t strip = 0;
             for (std::uint32_t j = r.removal_begin[k]; j < r.removal_begin[k + 1]; ++j) {
                 const lodstrips::Removal& x = r.removals[j];
                 if (x.count == 0 || x.count % 2 || (x.type != 1 && x.type != 2))
                     throw Error(Error::Kind::invalid, what + ": a removal has an odd count or unknown type");
-                put_zigzag(out, std::int64_t(x.strip) - strip);
+                out.zigzag(std::int64_t(x.strip) - strip);
                 strip = x.strip;
-                put_varint(out, x.pos);
-                put_varint(out, std::uint64_t(x.count / 2 - 1) << 1 | std::uint64_t(x.type - 1));
+                out.varint(x.pos);
+                out.varint(std::uint64_t(x.count / 2 - 1) << 1 | std::uint64_t(x.type - 1));
             }
         }
     }
-    return out;
+    return std::move(out.bytes);
 }
 
 }  // namespace
@@ -271,16 +247,8 @@ std::vector<std::uint8_t> encode_morph_lodstrips(const lodstrips::MorphData& dat
     const std::vector<std::uint8_t> strips = encode_lodstrips(data.strips);
     const std::vector<std::uint8_t> frames = frames_payload(data, encoding);
     const std::vector<std::uint8_t> sets = sets_payload(data);
-    std::vector<std::uint8_t> out(lodstrips::morph_file_magic, lodstrips::morph_file_magic + 8);
-    put(out, lodstrips::morph_format_version);
-    put(out, lodstrips::endian_tag);
-    put(out, std::uint32_t{3});
-    put(out, lodstrips::detail::crc32(out.data(), 20));
-    put(out, static_cast<std::uint64_t>(32 + 12 + strips.size() + 12 + frames.size() + 12 + sets.size()));
-    put_section(out, "LSTR", strips);
-    put_section(out, "FRMS", frames);
-    put_section(out, "SETS", sets);
-    return out;
+    return binary::write_container(lodstrips::morph_file_magic, lodstrips::morph_format_version,
+                                   {{"LSTR", &strips}, {"FRMS", &frames}, {"SETS", &sets}});
 }
 
 MorphStripsStorage morph_lodstrips_storage(const lodstrips::MorphData& data, MorphEncoding encoding) {
@@ -288,8 +256,9 @@ MorphStripsStorage morph_lodstrips_storage(const lodstrips::MorphData& data, Mor
     st.strips_bytes = encode_lodstrips(data.strips).size();
     st.frame_bytes = std::size_t(data.strips.vertex_count) * (encoding == MorphEncoding::quantized16 ? 10u : 24u);
     st.sets_bytes = sets_payload(data).size();
-    st.file_bytes = 32 + 12 + st.strips_bytes + 12 + 12 + (encoding == MorphEncoding::quantized16 ? 24u : 0u) +
-                    st.frame_bytes * data.frame_count + 12 + st.sets_bytes;
+    st.file_bytes = binary::container_size({st.strips_bytes, 12 + (encoding == MorphEncoding::quantized16 ? 24u : 0u) +
+                                                                 st.frame_bytes * data.frame_count,
+                                            st.sets_bytes});
     st.bytes_per_frame = data.frame_count ? double(st.file_bytes) / double(data.frame_count) : 0.0;
     return st;
 }
@@ -301,17 +270,11 @@ void write_morph_lodstrips(const lodstrips::MorphData& data, const std::string& 
     } catch (const Error& e) {
         throw_error(e.kind(), path, e.what());
     }
-    AtomicFile file(path, true);
-    file.stream().write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-    file.commit();
+    binary::write_file(path, bytes);
 }
 
 lodstrips::MorphData read_morph_lodstrips(const std::string& path) {
-    check_input_file(path, "a .lfmstrips file");
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw_error(Error::Kind::io, path, "cannot open for reading");
-    std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    if (in.bad()) throw_error(Error::Kind::io, path, "read error");
+    const std::vector<std::uint8_t> bytes = binary::read_file(path, "a .lfmstrips file");
     lodstrips::MorphData d;
     std::string why;
     if (!lodstrips::decode_morph(bytes.data(), bytes.size(), d, &why)) throw_error(Error::Kind::format, path, why);

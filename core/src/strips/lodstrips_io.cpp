@@ -1,53 +1,23 @@
 // The .lodstrips file: writer here, reader in lodstrips_runtime.h (one decoder for engines and the core).
 // Format: docs/lodstrips.md. Variable-width integers (LEB128) and per-strip positions follow the
-// grouping of Ramos 2008, ch. 5; checksums are CRC-32 (IEEE 802.3) per section.
-#include "lodforge/io/atomic_file.h"
+// grouping of Ramos 2008, ch. 5; the container (CRC-32 per section) is io/binary_io.h's.
 #include "lodforge/error.h"
-#include "lodforge/io/input_file.h"
 #include "lodforge/strips/lodstrips.h"
+#include "io/binary_io.h"
 
 #include <algorithm>
-#include <cstring>
-#include <fstream>
-#include <iterator>
 
 namespace lodforge {
 namespace {
 
-class Writer {
-public:
-    std::vector<std::uint8_t> bytes;
-    void u8(std::uint8_t v) { bytes.push_back(v); }
-    void u32(std::uint32_t v) {
-        for (int i = 0; i < 4; ++i) bytes.push_back(static_cast<std::uint8_t>(v >> (8 * i)));
-    }
-    void f32(float f) {
-        std::uint32_t b;
-        std::memcpy(&b, &f, 4);
-        u32(b);
-    }
-    void varint(std::uint64_t v) {
-        while (v >= 0x80) {
-            bytes.push_back(static_cast<std::uint8_t>(v | 0x80));
-            v >>= 7;
-        }
-        bytes.push_back(static_cast<std::uint8_t>(v));
-    }
-    void zigzag(std::int64_t v) { varint((static_cast<std::uint64_t>(v) << 1) ^ static_cast<std::uint64_t>(v >> 63)); }
-    void str(const std::string& s) {
-        varint(s.size());
-        bytes.insert(bytes.end(), s.begin(), s.end());
-    }
-};
-
 struct Sections {
-    Writer meta, vert, matl, strp, coll;
+    binary::Writer meta, vert, matl, strp, coll;
 };
 
 Sections encode_sections(const lodstrips::Data& d) {
     Sections out;
     const std::size_t N = d.vertex_count, S = d.strip_count(), K = d.collapse_count();
-    Writer& m = out.meta;
+    binary::Writer& m = out.meta;
     const std::uint32_t flags = (d.restart ? 1u : 0u) | (d.normals.empty() ? 0u : 2u) | (d.colors.empty() ? 0u : 4u) |
                                 (d.colors_8bit && !d.colors.empty() ? 8u : 0u);
     m.varint(flags);
@@ -61,24 +31,24 @@ Sections encode_sections(const lodstrips::Data& d) {
     m.varint(d.rewrite_positions.size());
     m.varint(d.removals.size());
 
-    Writer& v = out.vert;
-    for (float f : d.positions) v.f32(f);
-    for (float f : d.normals) v.f32(f);
+    binary::Writer& v = out.vert;
+    for (float f : d.positions) v.put(f);
+    for (float f : d.normals) v.put(f);
     if (d.colors_8bit)
-        for (float f : d.colors) v.u8(static_cast<std::uint8_t>(std::clamp(std::lround(f * 255.f), 0l, 255l)));
+        for (float f : d.colors) v.put<std::uint8_t>(static_cast<std::uint8_t>(std::clamp(std::lround(f * 255.f), 0l, 255l)));
     else
-        for (float f : d.colors) v.f32(f);
+        for (float f : d.colors) v.put(f);
     for (const auto& set : d.texcoords)
-        for (float f : set) v.f32(f);
+        for (float f : set) v.put(f);
 
-    Writer& t = out.matl;
+    binary::Writer& t = out.matl;
     for (const lodstrips::Material& mat : d.materials) {
         t.str(mat.name);
-        for (float c : mat.base_color) t.f32(c);
-        t.f32(mat.metallic);
-        t.f32(mat.roughness);
-        for (float c : mat.emissive) t.f32(c);
-        t.u8(mat.double_sided ? 1 : 0);
+        for (float c : mat.base_color) t.put(c);
+        t.put(mat.metallic);
+        t.put(mat.roughness);
+        for (float c : mat.emissive) t.put(c);
+        t.put(std::uint8_t{mat.double_sided});
         t.str(mat.base_color_texture);
         t.str(mat.normal_texture);
         t.str(mat.metallic_roughness_texture);
@@ -87,7 +57,7 @@ Sections encode_sections(const lodstrips::Data& d) {
         t.varint(mat.base_color_texcoord_set);
     }
 
-    Writer& s = out.strp;
+    binary::Writer& s = out.strp;
     for (std::size_t r = 0; r < S; ++r) {
         s.varint(d.strip_offsets[r + 1] - d.strip_offsets[r]);
         s.varint(d.strip_materials[r]);
@@ -103,7 +73,7 @@ Sections encode_sections(const lodstrips::Data& d) {
 
     // Per collapse: the removed vertices' targets, then one group per strip it touches with each removed
     // vertex's positions in that strip (delta-coded) and the strip's removals.
-    Writer& c = out.coll;
+    binary::Writer& c = out.coll;
     c.varint(d.triangles[0]);
     struct Item {
         std::uint32_t strip, vertex, pos;
@@ -172,27 +142,13 @@ std::vector<std::uint8_t> encode_lodstrips(const lodstrips::Data& data) {
         if (!check.assign(data, &why)) throw Error(Error::Kind::invalid, "encode_lodstrips: " + why);
     }
     const Sections s = encode_sections(data);
-    const Writer* parts[5] = {&s.meta, &s.vert, &s.matl, &s.strp, &s.coll};
-    const char* tags[5] = {"META", "VERT", "MATL", "STRP", "COLL"};
-    Writer out;
-    out.bytes.insert(out.bytes.end(), std::begin(lodstrips::file_magic), std::end(lodstrips::file_magic));
-    out.u32(lodstrips::format_version);
-    out.u32(lodstrips::endian_tag);
-    out.u32(5);
-    out.u32(lodstrips::detail::crc32(out.bytes.data(), 20));
-    std::uint64_t total = 32;
-    for (const Writer* w : parts) total += 12 + w->bytes.size();
-    out.u32(static_cast<std::uint32_t>(total));
-    out.u32(static_cast<std::uint32_t>(total >> 32));
-    for (int i = 0; i < 5; ++i) {
-        if (parts[i]->bytes.size() > 0xFFFFFFFFu) throw Error(Error::Kind::invalid, "encode_lodstrips: a section exceeds 4 GiB");
-        out.u32(std::uint32_t(std::uint8_t(tags[i][0])) | std::uint32_t(std::uint8_t(tags[i][1])) << 8 |
-                std::uint32_t(std::uint8_t(tags[i][2])) << 16 | std::uint32_t(std::uint8_t(tags[i][3])) << 24);
-        out.u32(static_cast<std::uint32_t>(parts[i]->bytes.size()));
-        out.u32(lodstrips::detail::crc32(parts[i]->bytes.data(), parts[i]->bytes.size()));
-        out.bytes.insert(out.bytes.end(), parts[i]->bytes.begin(), parts[i]->bytes.end());
+    try {
+        return binary::write_container(lodstrips::file_magic, lodstrips::format_version,
+                                       {{"META", &s.meta.bytes}, {"VERT", &s.vert.bytes}, {"MATL", &s.matl.bytes},
+                                        {"STRP", &s.strp.bytes}, {"COLL", &s.coll.bytes}});
+    } catch (const Error& e) {
+        throw Error(e.kind(), std::string("encode_lodstrips: ") + e.what());
     }
-    return std::move(out.bytes);
 }
 
 LodStripsStorage lodstrips_storage(const lodstrips::Data& data) {
@@ -201,26 +157,19 @@ LodStripsStorage lodstrips_storage(const lodstrips::Data& data) {
     st.vertex_bytes = s.vert.bytes.size();
     st.strip_bytes = s.strp.bytes.size();
     st.change_bytes = s.coll.bytes.size();
-    st.file_bytes = 32 + 5 * 12 + s.meta.bytes.size() + s.vert.bytes.size() + s.matl.bytes.size() + s.strp.bytes.size() +
-                    s.coll.bytes.size();
+    st.file_bytes = binary::container_size(
+        {s.meta.bytes.size(), s.vert.bytes.size(), s.matl.bytes.size(), s.strp.bytes.size(), s.coll.bytes.size()});
     st.indexed_mesh_bytes = st.vertex_bytes + 12u * std::size_t(data.triangles.empty() ? 0 : data.triangles[0]);
     st.ratio_to_indexed = st.indexed_mesh_bytes ? double(st.file_bytes) / double(st.indexed_mesh_bytes) : 0.0;
     return st;
 }
 
 void write_lodstrips(const lodstrips::Data& data, const std::string& path) {
-    const std::vector<std::uint8_t> bytes = encode_lodstrips(data);
-    AtomicFile file(path);
-    file.stream().write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-    file.commit();
+    binary::write_file(path, encode_lodstrips(data));
 }
 
 lodstrips::Data read_lodstrips(const std::string& path) {
-    check_input_file(path, "a .lodstrips file");
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw_error(Error::Kind::io, path, "cannot open for reading");
-    std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    if (in.bad()) throw_error(Error::Kind::io, path, "read error");
+    const std::vector<std::uint8_t> bytes = binary::read_file(path, "a .lodstrips file");
     lodstrips::Data d;
     std::string why;
     if (!lodstrips::decode(bytes.data(), bytes.size(), d, &why)) throw_error(Error::Kind::format, path, why);

@@ -18,7 +18,8 @@
 
 namespace lodforge {
 
-constexpr std::uint32_t kMorphFileVersion = 1;
+// 2: the tagged section container (docs/formats/lfmorph.md); version 1 files are still read.
+constexpr std::uint32_t kMorphFileVersion = 2;
 
 enum class MorphEncoding {
     float32,      // positions and normals as 32-bit floats (lossless)
@@ -31,7 +32,7 @@ struct MorphWriteOptions {
 };
 
 struct MorphFileStats {
-    std::size_t header_bytes = 0;        // header, levels, checksum
+    std::size_t header_bytes = 0;        // container, counts, levels, quantisation box
     std::size_t connectivity_bytes = 0;  // faces, point ids, base attributes
     std::size_t frame_bytes = 0;         // positions (+ normals) of one frame
     std::size_t sequence_bytes = 0;      // all collapse sequences

@@ -230,6 +230,66 @@ inline bool fail(std::string* error, const std::string& what) {
     return false;
 }
 
+// One section of a tagged section container: a view into the file image.
+struct Section {
+    std::uint32_t tag = 0;
+    const std::uint8_t* data = nullptr;
+    std::size_t size = 0;
+};
+
+// The container every LodForge binary format shares (docs/formats/README.md, "Container"): 8-byte magic,
+// u32 version, u32 byte-order tag, u32 section count, u32 CRC-32 of the 20 bytes before it, u64 file size;
+// then per section u32 tag, u32 length, u32 CRC-32 of the payload, the payload. Checks everything but
+// the version and what the sections mean; `kind` names the format in messages (".lodstrips").
+inline bool read_container(const std::uint8_t* base, std::size_t size, const char (&magic)[8], const char* kind,
+                           std::uint32_t& version, std::vector<Section>& sections, std::string* error) {
+    if (size < 32) return fail(error, "file too short for the header (" + std::to_string(size) + " bytes)");
+    if (std::memcmp(base, magic, 8) != 0) return fail(error, std::string("not a ") + kind + " file (bad magic)");
+    Reader h(base + 8, 24);
+    version = h.u32();
+    const std::uint32_t endian = h.u32(), count = h.u32(), header_crc = h.u32();
+    const std::uint32_t size_lo = h.u32(), size_hi = h.u32();
+    const std::uint64_t declared = std::uint64_t(size_lo) | std::uint64_t(size_hi) << 32;
+    if (endian != endian_tag) return fail(error, "unsupported byte order tag");
+    if (header_crc != crc32(base, 20)) return fail(error, "header checksum mismatch");
+    if (declared != size)
+        return fail(error, "file is " + std::to_string(size) + " bytes, header says " + std::to_string(declared) +
+                               " (truncated or padded)");
+    if (count > (size - 32) / 12) return fail(error, "header announces " + std::to_string(count) + " sections");
+    sections.clear();
+    Reader dir(base + 32, size - 32);
+    for (std::uint32_t i = 0; i < count; ++i) {
+        Section s;
+        s.tag = dir.u32();
+        const std::uint32_t len = dir.u32(), crc = dir.u32();
+        if (!dir.ok()) return fail(error, "truncated before section " + std::to_string(i + 1));
+        std::string name = "section ";
+        for (int k = 0; k < 4; ++k) name += char(s.tag >> (8 * k));
+        if (dir.left() < len) return fail(error, name + " is truncated");
+        s.data = dir.here();
+        s.size = len;
+        if (crc32(s.data, len) != crc) return fail(error, name + " checksum mismatch (corrupt file)");
+        dir.skip(len);
+        sections.push_back(s);
+    }
+    if (!dir.at_end()) return fail(error, "bytes after the last section");
+    return true;
+}
+
+// Checks that the sections carry exactly `tags`, in this order (four ASCII characters each).
+inline bool expect_sections(const std::vector<Section>& sections, const char* const* tags, std::size_t count,
+                            std::string* error) {
+    if (sections.size() != count)
+        return fail(error, "expected " + std::to_string(count) + " sections, header says " +
+                               std::to_string(sections.size()));
+    for (std::size_t i = 0; i < count; ++i) {
+        std::uint32_t want = 0;
+        for (int k = 0; k < 4; ++k) want |= std::uint32_t(std::uint8_t(tags[i][k])) << (8 * k);
+        if (sections[i].tag != want) return fail(error, std::string("expected section ") + tags[i] + " here");
+    }
+    return true;
+}
+
 }  // namespace detail
 
 // Section tags (four ASCII characters, little-endian u32).
@@ -242,43 +302,18 @@ inline constexpr std::uint32_t section_tag(const char (&s)[5]) {
 // problem; the record-level consistency check is LodStrips::assign's (replay of the whole sequence).
 inline bool decode(const void* bytes, std::size_t size, Data& out, std::string* error) {
     using detail::fail;
-    const auto* base = static_cast<const std::uint8_t*>(bytes);
-    if (size < 32) return fail(error, "file too short for the header (" + std::to_string(size) + " bytes)");
-    if (std::memcmp(base, file_magic, 8) != 0) return fail(error, "not a .lodstrips file (bad magic)");
-    detail::Reader h(base + 8, 24);
-    const std::uint32_t version = h.u32();
-    const std::uint32_t endian = h.u32();
-    const std::uint32_t sections = h.u32();
-    const std::uint32_t header_crc = h.u32();
-    const std::uint32_t size_lo = h.u32(), size_hi = h.u32();
-    const std::uint64_t declared = std::uint64_t(size_lo) | std::uint64_t(size_hi) << 32;
-    if (endian != endian_tag) return fail(error, "unsupported byte order tag");
+    std::uint32_t version = 0;
+    std::vector<detail::Section> sec;
+    if (!detail::read_container(static_cast<const std::uint8_t*>(bytes), size, file_magic, ".lodstrips", version, sec,
+                                error))
+        return false;
     if (version != format_version)
         return fail(error, "unsupported format version " + std::to_string(version) + " (this reader: 1)");
-    if (header_crc != detail::crc32(base, 20)) return fail(error, "header checksum mismatch");
-    if (declared != size)
-        return fail(error, "file is " + std::to_string(size) + " bytes, header says " + std::to_string(declared) +
-                               " (truncated or padded)");
-    if (sections != 5) return fail(error, "expected 5 sections, header says " + std::to_string(sections));
-
-    static const std::uint32_t order[5] = {section_tag("META"), section_tag("VERT"), section_tag("MATL"),
-                                           section_tag("STRP"), section_tag("COLL")};
-    static const char* names[5] = {"META", "VERT", "MATL", "STRP", "COLL"};
+    static const char* const names[5] = {"META", "VERT", "MATL", "STRP", "COLL"};
+    if (!detail::expect_sections(sec, names, 5, error)) return false;
     const std::uint8_t* sec_data[5];
     std::size_t sec_size[5];
-    detail::Reader dir(base + 32, size - 32);
-    for (int i = 0; i < 5; ++i) {
-        const std::uint32_t tag = dir.u32(), len = dir.u32(), crc = dir.u32();
-        if (!dir.ok()) return fail(error, std::string("truncated before section ") + names[i]);
-        if (tag != order[i]) return fail(error, std::string("expected section ") + names[i] + " here");
-        if (dir.left() < len) return fail(error, std::string("section ") + names[i] + " is truncated");
-        sec_data[i] = dir.here();
-        sec_size[i] = len;
-        if (detail::crc32(sec_data[i], len) != crc)
-            return fail(error, std::string("section ") + names[i] + " checksum mismatch (corrupt file)");
-        dir.skip(len);
-    }
-    if (!dir.at_end()) return fail(error, "bytes after the last section");
+    for (int i = 0; i < 5; ++i) sec_data[i] = sec[std::size_t(i)].data, sec_size[i] = sec[std::size_t(i)].size;
 
     Data d;
     // META

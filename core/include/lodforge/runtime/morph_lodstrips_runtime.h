@@ -173,40 +173,18 @@ inline bool decode_sets(const std::uint8_t* p, std::size_t size, MorphData& d, s
 // strip records are checked by MorphLodStrips::assign (LodStrips::assign's replay).
 inline bool decode_morph(const void* bytes, std::size_t size, MorphData& out, std::string* error) {
     using detail::fail;
-    const auto* base = static_cast<const std::uint8_t*>(bytes);
-    if (size < 32) return fail(error, "file too short for the header (" + std::to_string(size) + " bytes)");
-    if (std::memcmp(base, morph_file_magic, 8) != 0) return fail(error, "not a .lfmstrips file (bad magic)");
-    detail::Reader h(base + 8, 24);
-    const std::uint32_t version = h.u32(), endian = h.u32(), sections = h.u32(), header_crc = h.u32();
-    const std::uint32_t size_lo = h.u32(), size_hi = h.u32();
-    const std::uint64_t declared = std::uint64_t(size_lo) | std::uint64_t(size_hi) << 32;
-    if (endian != endian_tag) return fail(error, "unsupported byte order tag");
+    std::uint32_t version = 0;
+    std::vector<detail::Section> sections;
+    if (!detail::read_container(static_cast<const std::uint8_t*>(bytes), size, morph_file_magic, ".lfmstrips", version,
+                                sections, error))
+        return false;
     if (version != 1 && version != 2)
         return fail(error, "unsupported format version " + std::to_string(version) + " (this reader: 1 and 2)");
-    if (header_crc != detail::crc32(base, 20)) return fail(error, "header checksum mismatch");
-    if (declared != size)
-        return fail(error, "file is " + std::to_string(size) + " bytes, header says " + std::to_string(declared) +
-                               " (truncated or padded)");
-    const std::uint32_t want = version == 1 ? 2u : 3u;
-    if (sections != want)
-        return fail(error, "expected " + std::to_string(want) + " sections, header says " + std::to_string(sections));
-    static const std::uint32_t order[3] = {section_tag("LSTR"), section_tag("FRMS"), section_tag("SETS")};
-    static const char* names[3] = {"LSTR", "FRMS", "SETS"};
+    static const char* const names[3] = {"LSTR", "FRMS", "SETS"};
+    if (!detail::expect_sections(sections, names, version == 1 ? 2u : 3u, error)) return false;
     const std::uint8_t* sec[3] = {nullptr, nullptr, nullptr};
     std::size_t len[3] = {0, 0, 0};
-    detail::Reader dir(base + 32, size - 32);
-    for (std::uint32_t i = 0; i < want; ++i) {
-        const std::uint32_t tag = dir.u32(), n = dir.u32(), crc = dir.u32();
-        if (!dir.ok()) return fail(error, std::string("truncated before section ") + names[i]);
-        if (tag != order[i]) return fail(error, std::string("expected section ") + names[i] + " here");
-        if (dir.left() < n) return fail(error, std::string("section ") + names[i] + " is truncated");
-        sec[i] = dir.here();
-        len[i] = n;
-        if (detail::crc32(sec[i], n) != crc)
-            return fail(error, std::string("section ") + names[i] + " checksum mismatch (corrupt file)");
-        dir.skip(n);
-    }
-    if (!dir.at_end()) return fail(error, "bytes after the last section");
+    for (std::size_t i = 0; i < sections.size(); ++i) sec[i] = sections[i].data, len[i] = sections[i].size;
 
     MorphData d;
     d.version = version;
