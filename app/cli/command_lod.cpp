@@ -7,6 +7,7 @@
 #include "lodforge/error.h"
 #include "lodforge/io/mesh_io.h"
 #include "lodforge/io/staged_directory.h"
+#include "lodforge/metrics/distance_json.h"
 #include "lodforge/pack/preset_levels.h"
 
 #include <nlohmann/json.hpp>
@@ -124,15 +125,7 @@ void add_lod_command(CLI::App& app, const GlobalOptions& global) {
                 e["accumulated_relative"] = level.accumulated_error_relative;
             }
             if (measured(i) || i == 0) {
-                const DistanceResult d = i == 0 ? DistanceResult{} : built.distance[i - 1];
-                e["hausdorff"] = d.hausdorff;
-                e["hausdorff_relative"] = d.hausdorff_relative;
-                e["mean"] = d.mean;
-                e["mean_relative"] = d.mean_relative;
-                e["rms"] = d.rms;
-                e["rms_relative"] = d.rms_relative;
-                if (d.has_color_error) e["color_rms"] = d.color_rms;
-                if (d.has_texcoord_error) e["texcoord_rms"] = d.texcoord_rms;
+                e.update(nlohmann::ordered_json::parse(distance_json(i == 0 ? DistanceResult{} : built.distance[i - 1])));
             }
             j["error"] = e;
             if (chain) {

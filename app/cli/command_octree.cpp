@@ -24,22 +24,9 @@
 namespace lodforge::cli {
 namespace {
 
+// Exactly `count` comma-separated numbers (the list parser is simplify_options.h's).
 std::vector<double> parse_numbers(const std::string& text, const std::string& what, std::size_t count) {
-    std::vector<double> out;
-    std::stringstream ss(text);
-    std::string item;
-    while (std::getline(ss, item, ',')) {
-        std::size_t used = 0;
-        double v = 0;
-        try {
-            v = std::stod(item, &used);
-        } catch (const std::exception&) {
-            used = 0;
-        }
-        if (used != item.size() || item.empty() || !std::isfinite(v))
-            throw Error(Error::Kind::argument, "octree: " + what + ": '" + item + "' is not a number");
-        out.push_back(v);
-    }
+    std::vector<double> out = parse_number_list(text, "octree: " + what);
     if (out.size() != count)
         throw Error(Error::Kind::argument, "octree: " + what + " needs " + std::to_string(count) + " comma-separated numbers, got " +
                                                std::to_string(out.size()));

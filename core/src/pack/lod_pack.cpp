@@ -18,6 +18,7 @@
 #include "lodforge/io/gltf_writer.h"
 #include "lodforge/io/mesh_io.h"
 #include "lodforge/io/staged_directory.h"
+#include "lodforge/metrics/distance_json.h"
 #include "lodforge/pack/preset_levels.h"
 
 #include <nlohmann/json.hpp>
@@ -80,19 +81,6 @@ void write_method_files(const BuiltLevels& built, const PackParams& params, cons
     file.commit();
 }
 
-ordered_json error_json(const DistanceResult& d) {
-    ordered_json e;
-    e["hausdorff"] = d.hausdorff;
-    e["hausdorff_relative"] = d.hausdorff_relative;
-    e["mean"] = d.mean;
-    e["mean_relative"] = d.mean_relative;
-    e["rms"] = d.rms;
-    e["rms_relative"] = d.rms_relative;
-    if (d.has_color_error) e["color_rms"] = d.color_rms;
-    if (d.has_texcoord_error) e["texcoord_rms"] = d.texcoord_rms;
-    return e;
-}
-
 std::string manifest(const Mesh& mesh, const PackParams& params, const BuiltLevels& built, const PackResult& r) {
     ordered_json j;
     j["format"] = "lodforge-pack";
@@ -115,7 +103,7 @@ std::string manifest(const Mesh& mesh, const PackParams& params, const BuiltLeve
         l["vertices"] = level.vertices;
         l["wedges"] = level.wedges;
         l["ratio"] = static_cast<double>(level.triangles) / static_cast<double>(mesh.triangle_count());
-        l["error"] = error_json(built.distance[k]);
+        l["error"] = ordered_json::parse(distance_json(built.distance[k]));
         if (level.image_error) l["image_error"] = ordered_json::parse(image_error_json(*level.image_error, true));
         l["screen_coverage"] = level.screen_coverage;
         l["screen_size"] = level.screen_size;
