@@ -119,8 +119,8 @@ void write_file(const std::string& path, const std::vector<std::uint8_t>& bytes)
     file.commit();
 }
 
-std::uint64_t legacy_fnv1a(const std::uint8_t* p, std::size_t n) {
-    std::uint64_t h = 0xcbf29ce484222325ULL;
+std::uint64_t legacy_fnv1a(const std::uint8_t* p, std::size_t n, std::uint64_t basis) {
+    std::uint64_t h = basis;
     for (std::size_t i = 0; i < n; ++i) h = (h ^ p[i]) * 0x100000001b3ULL;
     return h;
 }

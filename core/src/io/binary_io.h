@@ -119,6 +119,8 @@ std::vector<std::uint8_t> read_file(const std::string& path, const char* kind);
 void write_file(const std::string& path, const std::vector<std::uint8_t>& bytes);
 
 // 64-bit FNV-1a: only to verify files of the formats' versions before the container (.mco 2, .lfmorph 1).
-std::uint64_t legacy_fnv1a(const std::uint8_t* p, std::size_t n);
+// `basis`: the offset basis those writers used (.lfmorph 1's lacks the standard basis' last digit).
+constexpr std::uint64_t fnv1a_basis = 0xcbf29ce484222325ULL, lfmorph1_fnv1a_basis = 1469598103934665603ULL;
+std::uint64_t legacy_fnv1a(const std::uint8_t* p, std::size_t n, std::uint64_t basis);
 
 }  // namespace lodforge::binary

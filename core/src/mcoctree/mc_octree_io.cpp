@@ -190,7 +190,7 @@ void read_warnings(binary::Reader& r, const Counts& c, McOctree& t) {
 void read_flat(const std::vector<std::uint8_t>& buf, const std::string& path, McOctree& t) {
     std::uint64_t stored = 0;
     if (buf.size() >= 24) std::memcpy(&stored, buf.data() + buf.size() - 8, 8);
-    if (buf.size() < 24 || binary::legacy_fnv1a(buf.data(), buf.size() - 8) != stored)
+    if (buf.size() < 24 || binary::legacy_fnv1a(buf.data(), buf.size() - 8, binary::fnv1a_basis) != stored)
         throw_error(Error::Kind::format, path, "checksum mismatch: the file is truncated or corrupt");
     binary::Reader r(buf.data() + 12, buf.size() - 20, path, 12);
     const Counts c = read_head(r, t);

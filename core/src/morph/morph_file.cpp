@@ -152,7 +152,7 @@ MorphLodFile read_morph_lod(const std::string& path, Progress* progress) {
         const std::size_t body = data.size() - 8;
         std::uint64_t stored = 0;
         std::memcpy(&stored, data.data() + body, 8);
-        if (binary::legacy_fnv1a(data.data(), body) != stored)
+        if (binary::legacy_fnv1a(data.data(), body, binary::lfmorph1_fnv1a_basis) != stored)
             throw_error(Error::Kind::format, path, "checksum mismatch: the file is truncated or corrupt");
         readers.emplace_back(data.data() + 12, body - 12, path, 12);
     } else if (version == kMorphFileVersion) {
