@@ -2,6 +2,7 @@
 #include "lodforge/error.h"
 #include "lodforge/mcoctree/mc_octree.h"
 #include "mc_test_support.h"
+#include "support/test_files.h"
 #include "support/test_paths.h"
 
 #include <gtest/gtest.h>
@@ -105,11 +106,12 @@ TEST(McOctreeIo, ALyingTriangleTableCannotOverflowTheExtraction) {
 // Files written before the section container (version 2: one body, FNV-1a) are still read.
 TEST(McOctreeIo, ReadsVersionTwoFiles) {
     lodforge::test::ScratchDir dir("mco-v2");
-    // AnimatedMorphCube at resolution 4, written by version 2: 102 nodes, 5 levels, 36 priorities.
-    const std::string v2 = lodforge::test::test_file("mcoctree/data/cube-v2.mco");
+    // AnimatedMorphCube at resolution 4, written by version 2 (its `mcoctree build` said: 102 nodes, 5 levels,
+    // 36 priorities, 0..124 triangles).
+    const std::string v2 = lodforge::test::suite_file("data/cube-v2.mco");
     const McOctree old = read_mc_octree(v2);
     EXPECT_EQ(old.nodes.size(), 102u);
-    EXPECT_EQ(old.levels, 5u);
+    EXPECT_EQ(old.levels, 4u);  // root level 4: five levels, 0 to 4
     EXPECT_EQ(old.max_priority(), 36u);
     EXPECT_EQ(extract_mc_octree(old, old.max_priority()).mesh.triangle_count(), 124u);
     write_mc_octree(old, dir.file("v3.mco"));

@@ -5,6 +5,7 @@
 #include "lodforge/morph/morph_lod.h"
 
 #include "lodforge/runtime/lodstrips_runtime.h"
+#include "support/test_files.h"
 #include "support/test_paths.h"
 
 #include <gtest/gtest.h>
@@ -276,7 +277,7 @@ TEST(MorphFile, StorageIsAtLeastFourTimesBelowTheThesis) {
 // Files written before the section container (version 1: one body, FNV-1a) are still read, and say so.
 TEST(MorphFile, ReadsVersionOneFiles) {
     test::ScratchDir dir("morph-file-v1");
-    const std::string v1 = test::test_file("morph/data/cube-v1.lfmorph");  // AnimatedMorphCube, written by version 1
+    const std::string v1 = test::suite_file("data/cube-v1.lfmorph");  // AnimatedMorphCube, written by version 1
     const MorphLodFile old = read_morph_lod(v1);
     EXPECT_EQ(old.version, 1u);
     EXPECT_EQ(old.morph.vertex_count(), 24u);

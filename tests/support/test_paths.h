@@ -10,12 +10,6 @@ namespace lodforge::test {
 inline std::string shared_data(const std::string& relative) {
     return (std::filesystem::path(LODFORGE_SHARED_DATA) / relative).string();
 }
-#ifdef LODFORGE_TESTS_DIR  // defined for the GoogleTest suites (tests/CMakeLists.txt), not the fixture programs
-// Files kept in the repository beside the tests (e.g. "mcoctree/data/cube-v2.mco").
-inline std::string test_file(const std::string& relative) {
-    return (std::filesystem::path(LODFORGE_TESTS_DIR) / relative).string();
-}
-#endif
 inline std::string sample(const std::string& relative) {
     return (std::filesystem::path(LODFORGE_SAMPLES_DIR) / relative).string();
 }
