@@ -524,12 +524,15 @@ TEST(MorphLodStrips, DamagedPerFrameFilesAreRefusedWithTheFileNamed) {
     expect_format_error(write_bytes(dir, "trunc.lfmstrips", {bytes.begin(), bytes.end() - 9}), "truncated");
     std::vector<char> three = bytes;
     put_u32(three, 8, 3);
-    expect_format_error(write_bytes(dir, "v3.lfmstrips", three), "version");
+    expect_format_error(write_bytes(dir, "v3.lfmstrips", three), "header checksum");
+    put_u32(three, 20, lodstrips::detail::crc32(reinterpret_cast<const std::uint8_t*>(three.data()), 20));
+    expect_format_error(write_bytes(dir, "v3.lfmstrips", three), "version 3");
     // A v2 header over a v1 body (two sections) and a v1 header over a v2 body (three) are refused.
     std::vector<char> two = bytes;
     put_u32(two, 16, 2);
     put_u32(two, 20, lodstrips::detail::crc32(reinterpret_cast<const std::uint8_t*>(two.data()), 20));
-    expect_format_error(write_bytes(dir, "two.lfmstrips", two), "expected 3 sections");
+    // (the container is read before the version's section count is checked: the third section is extra)
+    expect_format_error(write_bytes(dir, "two.lfmstrips", two), "bytes after the last section");
 
     // Well-formed sections, lying contents (the checksums are right: only the checks can catch them).
     auto expect_bad = [&](const char* name, lodstrips::MorphData d, const std::string& part) {
