@@ -65,31 +65,20 @@ Interrupted interrupt_at_temporary(const std::vector<std::string>& args, const f
     return r;
 }
 
-// The staging directory of `lod` exists from after the input is read to the end: the dragon's
-// simplification keeps it there for seconds, so the signal always lands while it exists.
-TEST(CliSignal, LodLeavesNoStagingDirectoryAndNoOutput) {
-    for (const int signal_number : kSignals) {
-        SCOPED_TRACE(signal_number);
-        ScratchDir dir("cli-signal-lod");
-        const Interrupted r = interrupt_at_temporary(
-            {"lod", shared_data("scan-dragon/dragon_vrip.ply"), "-o", dir.file("out"), "--levels", "0.5,0.1"},
-            dir.path(), signal_number);
-        ASSERT_TRUE(r.signalled) << "no staging directory appeared; exit " << r.exit_code;
-        EXPECT_EQ(r.exit_code, 128 + signal_number);
-        EXPECT_TRUE(names_in(dir.path()).empty()) << names_in(dir.path()).front();
-    }
-}
-
-TEST(CliSignal, PackLeavesNoStagingDirectoryAndNoOutput) {
-    for (const int signal_number : kSignals) {
-        SCOPED_TRACE(signal_number);
-        ScratchDir dir("cli-signal-pack");
-        const Interrupted r = interrupt_at_temporary(
-            {"pack", shared_data("scan-dragon/dragon_vrip.ply"), "-o", dir.file("out"), "--levels", "0.5,0.1"},
-            dir.path(), signal_number);
-        ASSERT_TRUE(r.signalled) << "no staging directory appeared; exit " << r.exit_code;
-        EXPECT_EQ(r.exit_code, 128 + signal_number);
-        EXPECT_TRUE(names_in(dir.path()).empty()) << names_in(dir.path()).front();
+// The staging directory of `lod` and `pack` exists from after the input is read to the end: the
+// dragon's simplification keeps it there for seconds, so the signal always lands while it exists.
+TEST(CliSignal, LodAndPackLeaveNoStagingDirectoryAndNoOutput) {
+    for (const char* command : {"lod", "pack"}) {
+        for (const int signal_number : kSignals) {
+            SCOPED_TRACE(std::string(command) + " " + std::to_string(signal_number));
+            ScratchDir dir("cli-signal-staged");
+            const Interrupted r = interrupt_at_temporary(
+                {command, shared_data("scan-dragon/dragon_vrip.ply"), "-o", dir.file("out"), "--levels", "0.5,0.1"},
+                dir.path(), signal_number);
+            ASSERT_TRUE(r.signalled) << "no staging directory appeared; exit " << r.exit_code;
+            EXPECT_EQ(r.exit_code, 128 + signal_number);
+            EXPECT_TRUE(names_in(dir.path()).empty()) << names_in(dir.path()).front();
+        }
     }
 }
 
