@@ -83,4 +83,51 @@ TEST(CliHostile, GlbNamedWithBytesThatAreNotUtf8IsWritten) {
     EXPECT_EQ(info.exit_code, 0) << info.out;
 }
 
+// An output that cannot be written (here: under a regular file, which no user, root included, can
+// create a directory in) fails before the long part with exit 1 and the user's own path; the names of
+// temporaries (".NAME.tmp-PID-N", ".lodforge-tmp-PID-N") are never shown, and nothing is left.
+TEST(CliHostile, UnwritableOutputsNameTheUsersPathNotATemporary) {
+    ScratchDir dir("cli-unwritable");
+    const std::string ply = shared_data("color-open3d-small/color.ply");
+    const std::string blocker = dir.file("file.txt");
+    std::ofstream(blocker) << "a file, not a directory\n";
+    const std::string under = blocker + "/sub";
+    const std::vector<std::string> commands = {
+        "lod " + quoted(ply) + " -o " + quoted(under) + " --levels 0.5",
+        "pack " + quoted(ply) + " -o " + quoted(under) + " --levels 0.5",
+        "octree build " + quoted(ply) + " -o " + quoted(under + "/o.lfo"),
+        "octree build " + quoted(ply) + " -o " + quoted(dir.file("o.lfo")) + " --temp-dir " + quoted(under),
+        "strips " + quoted(ply) + " -o " + quoted(under + "/o.lodstrips"),
+        "convert " + quoted(ply) + " " + quoted(under + "/o.ply"),
+        "simplify " + quoted(ply) + " -o " + quoted(under + "/o.ply") + " --ratio 0.5",
+    };
+    for (const std::string& args : commands) {
+        SCOPED_TRACE(args);
+        const CliRun r = run_cli(args);
+        EXPECT_EQ(r.exit_code, 1) << r.out;
+        EXPECT_NE(r.out.find(under), std::string::npos) << r.out;
+        for (const char* internal : {".tmp-", ".lodforge-tmp-", "lodforge-method-", "internal error", "bad_alloc"})
+            EXPECT_EQ(r.out.find(internal), std::string::npos) << r.out;
+        std::vector<std::string> left;
+        for (const auto& e : fs::directory_iterator(dir.path())) left.push_back(e.path().filename().string());
+        EXPECT_EQ(left, std::vector<std::string>{"file.txt"});
+    }
+}
+
+// A write that fails in the octree's scratch files (here the file-size limit stands in for a full
+// disk) names the user's output and the directory of the temporaries, not the scratch file.
+TEST(CliHostile, FullDiskDuringTheOctreeBuildNamesTheOutput) {
+    ScratchDir dir("cli-octree-efbig");
+    const std::string out = dir.file("dragon.lfo");
+    // SIGXFSZ ignored (inherited through exec), so the write fails with EFBIG instead of killing.
+    const CliRun r = lodforge::test::run_command(
+        "bash -c \"trap '' XFSZ; ulimit -f 2048; exec " + std::string(LODFORGE_BIN_DIR) + "/lodforge --quiet octree build " +
+        quoted(shared_data("scan-dragon/dragon_vrip.ply")) + " -o " + quoted(out) + " --memory 4\" 2>&1");
+    EXPECT_EQ(r.exit_code, 1) << r.out;
+    EXPECT_NE(r.out.find("lodforge: error: " + out + ": "), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("write failed"), std::string::npos) << r.out;
+    EXPECT_EQ(r.out.find(".lodforge-tmp-"), std::string::npos) << r.out;
+    EXPECT_EQ(std::distance(fs::directory_iterator(dir.path()), fs::directory_iterator()), 0);
+}
+
 }  // namespace

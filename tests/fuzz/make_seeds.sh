@@ -44,4 +44,6 @@ cat > "$out/preset/default.json" <<'JSON'
  "strips": {"primitive_restart": true}, "export": {"glb": true, "ply": false, "obj": false, "lodstrips": false}}
 JSON
 printf '{"format": "lodforge-landmarks", "version": 1, "pairs": [[0, 5], [12, 7], [3, 3]]}\n' > "$out/landmarks/pairs.json"
+# landmarks_fuzz's first finding (a "format" that is not a string), kept so every run replays it.
+printf '{"format": 1}' > "$out/landmarks/format-number.json"
 rm -rf "$work"

@@ -68,6 +68,32 @@ TEST(Landmarks, BadFilesNameTheProblem)
               Error::Kind::format);
 }
 
+// landmarks_fuzz's finding: a member of another type than the format says (`"format": 1`) made nlohmann
+// throw its own type_error, which ended the fuzzer (and reached the CLI as a message without the file).
+TEST(Landmarks, MembersOfTheWrongTypeAreFormatErrorsNamingTheFile)
+{
+    lodforge::test::ScratchDir dir("landmarks");
+    const char* const texts[] = {
+        "{\"format\": 1}",  // the fuzzer's crashing input
+        "{\"format\": [\"lodforge-landmarks\"], \"version\": 1, \"pairs\": []}",
+        "{\"format\": null, \"version\": 1, \"pairs\": []}",
+        "{\"format\": \"lodforge-landmarks\", \"version\": \"1\", \"pairs\": []}",
+        "{\"format\": \"lodforge-landmarks\", \"version\": 4294967297, \"pairs\": []}",  // 1 as a 32-bit int
+        "{\"format\": \"lodforge-landmarks\", \"version\": 1, \"pairs\": {\"0\": [1, 2]}}",
+        "{\"format\": \"lodforge-landmarks\", \"version\": 1, \"pairs\": [[18446744073709551615, 2]]}",
+        "[\"format\", \"lodforge-landmarks\"]",
+        "\"lodforge-landmarks\"",
+    };
+    int n = 0;
+    for (const char* text : texts) {
+        SCOPED_TRACE(text);
+        const std::string name = "wrong-type-" + std::to_string(n++) + ".json";
+        std::string message;
+        EXPECT_EQ(kind_of_read(write_text(dir, name, text), &message), Error::Kind::format);
+        EXPECT_NE(message.find(name), std::string::npos) << message;
+    }
+}
+
 TEST(Landmarks, CheckRejectsOutOfRangeAndRepeats)
 {
     Landmarks l;

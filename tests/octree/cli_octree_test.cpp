@@ -29,36 +29,9 @@ using test::run_cli;
 using test::ScratchDir;
 using test::shared_data;
 
-struct Measured {
-    int exit_code = -1;
-    long peak_kb = 0;
-};
-
-pid_t spawn(const std::vector<std::string>& args) {
-    const std::string bin = std::string(LODFORGE_BIN_DIR) + "/lodforge";
-    const pid_t pid = ::fork();
-    if (pid == 0) {
-        const int null = ::open("/dev/null", O_WRONLY);
-        ::dup2(null, 1);
-        ::dup2(null, 2);
-        std::vector<char*> argv{const_cast<char*>(bin.c_str()), const_cast<char*>("--quiet")};
-        for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-        argv.push_back(nullptr);
-        ::execv(bin.c_str(), argv.data());
-        ::_exit(127);
-    }
-    return pid;
-}
-
-Measured wait_measured(pid_t pid) {
-    Measured m;
-    int status = 0;
-    rusage usage{};
-    if (::wait4(pid, &status, 0, &usage) != pid) return m;
-    m.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    m.peak_kb = usage.ru_maxrss;  // kilobytes on Linux
-    return m;
-}
+using Measured = test::Waited;
+pid_t spawn(const std::vector<std::string>& args) { return test::spawn_cli(args); }
+Measured wait_measured(pid_t pid) { return test::wait_cli(pid); }
 
 TEST(OctreeCli, PeakMemoryHonoursTheBudgetOnTheDragon) {
     ScratchDir dir("octree-cli-memory");

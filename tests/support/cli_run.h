@@ -4,8 +4,14 @@
 
 #include <array>
 #include <cstdio>
+#include <cstdlib>
+#include <fcntl.h>
 #include <string>
+#include <sys/resource.h>
 #include <sys/wait.h>
+#include <unistd.h>
+#include <utility>
+#include <vector>
 
 namespace lodforge::test {
 
@@ -29,6 +35,41 @@ inline CliRun run_command(const std::string& cmd) {
 inline CliRun run_cli(const std::string& args, bool merge_stderr = true) {
     return run_command(std::string(LODFORGE_BIN_DIR) + "/lodforge --quiet " + args +
                        (merge_stderr ? " 2>&1" : " 2>/dev/null"));
+}
+
+// `lodforge --quiet ARGS...` as a child process with its output discarded, for tests that signal it or
+// measure it while it runs; `env` is set in the child only (TMPDIR=...).
+inline pid_t spawn_cli(const std::vector<std::string>& args,
+                       const std::vector<std::pair<std::string, std::string>>& env = {}) {
+    const std::string bin = std::string(LODFORGE_BIN_DIR) + "/lodforge";
+    const pid_t pid = ::fork();
+    if (pid == 0) {
+        const int null = ::open("/dev/null", O_WRONLY);
+        ::dup2(null, 1);
+        ::dup2(null, 2);
+        for (const auto& [name, value] : env) ::setenv(name.c_str(), value.c_str(), 1);
+        std::vector<char*> argv{const_cast<char*>(bin.c_str()), const_cast<char*>("--quiet")};
+        for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+        argv.push_back(nullptr);
+        ::execv(bin.c_str(), argv.data());
+        ::_exit(127);
+    }
+    return pid;
+}
+
+struct Waited {
+    int exit_code = -1;  // 128 + the signal when a signal ended it, as a shell reports it
+    long peak_kb = 0;    // peak resident memory (wait4's ru_maxrss)
+};
+
+inline Waited wait_cli(pid_t pid) {
+    Waited w;
+    int status = 0;
+    rusage usage{};
+    if (::wait4(pid, &status, 0, &usage) != pid) return w;
+    w.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    w.peak_kb = usage.ru_maxrss;  // kilobytes on Linux
+    return w;
 }
 
 // Single-quoted for the shell (the test paths contain no quotes).

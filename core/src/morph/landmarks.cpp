@@ -41,11 +41,15 @@ Landmarks read_landmarks(const std::string& path)
     text << in.rdbuf();
     nlohmann::json doc = nlohmann::json::parse(text.str(), nullptr, /*allow_exceptions=*/false);
     if (doc.is_discarded()) throw_error(Error::Kind::format, path, "not valid JSON");
-    if (!doc.is_object() || doc.value("format", std::string()) != k_format) {
+    // Every member's type is checked before it is read: nlohmann's value() and get() throw their own
+    // type_error on a member of another type (`"format": 1`), which named neither the file nor the entry.
+    const auto format = doc.is_object() ? doc.find("format") : doc.end();
+    if (format == doc.end() || !format->is_string() || format->get_ref<const std::string&>() != k_format) {
         throw_error(Error::Kind::format, path, std::string("not a landmark file (\"format\" must be \"") +
                                                    k_format + "\")");
     }
-    if (!doc.contains("version") || !doc["version"].is_number_integer() || doc["version"].get<int>() != k_version) {
+    // Compared as a JSON number, not through get<int>(), which would wrap 4294967297 to 1.
+    if (!doc.contains("version") || !doc["version"].is_number_integer() || doc["version"] != k_version) {
         throw_error(Error::Kind::format, path, "unsupported landmark file version (this build reads version 1)");
     }
     if (!doc.contains("pairs") || !doc["pairs"].is_array()) {

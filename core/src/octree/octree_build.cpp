@@ -750,8 +750,10 @@ private:
 
 }  // namespace
 
-OctreeBuildResult build_octree(const std::string& input_ply, const std::string& asset_path,
-                               const OctreeBuildParams& params, Progress* progress) {
+namespace {
+
+OctreeBuildResult build_octree_with_scratch(const std::string& input_ply, const std::string& asset_path,
+                                            const OctreeBuildParams& params, Progress* progress) {
     if (params.max_triangles < 1) throw Error(Error::Kind::argument, "octree: max triangles per leaf must be at least 1");
     if (params.max_depth < 0 || params.max_depth > 20)
         throw Error(Error::Kind::argument, "octree: max depth must be in [0, 20], got " + std::to_string(params.max_depth));
@@ -806,6 +808,17 @@ OctreeBuildResult build_octree(const std::string& input_ply, const std::string& 
         result.warnings.push_back(std::to_string(result.oversized_leaves) +
                                   " leaf node(s) at the maximum depth hold more than max-triangles");
     return result;
+}
+
+}  // namespace
+
+OctreeBuildResult build_octree(const std::string& input_ply, const std::string& asset_path,
+                               const OctreeBuildParams& params, Progress* progress) {
+    try {
+        return build_octree_with_scratch(input_ply, asset_path, params, progress);
+    } catch (const Error& e) {
+        throw without_temporary_names(e, asset_path);
+    }
 }
 
 }  // namespace lodforge

@@ -181,7 +181,9 @@ OocClusterResult ooc_cluster_soup(const std::string& soup_path, const OocCluster
     return r;
 }
 
-OocClusterResult ooc_cluster(const std::string& input_ply, const OocClusterParams& params, Progress* progress) {
+namespace {
+OocClusterResult ooc_cluster_with_scratch(const std::string& input_ply, const OocClusterParams& params,
+                                          Progress* progress) {
     if (params.grid_resolution < 2 || params.grid_resolution > (std::size_t{1} << 20))
         throw Error(Error::Kind::argument, "cluster: the grid resolution must be in [2, 1048576]");
     TempDirectory scratch(params.temp_dir.empty() ? std::filesystem::temp_directory_path().string() : params.temp_dir);
@@ -196,6 +198,15 @@ OocClusterResult ooc_cluster(const std::string& input_ply, const OocClusterParam
     r.soup = std::move(soup);
     r.soup_seconds = soup_seconds;
     return r;
+}
+}  // namespace
+
+OocClusterResult ooc_cluster(const std::string& input_ply, const OocClusterParams& params, Progress* progress) {
+    try {
+        return ooc_cluster_with_scratch(input_ply, params, progress);
+    } catch (const Error& e) {
+        throw without_temporary_names(e, input_ply);
+    }
 }
 
 }  // namespace lodforge

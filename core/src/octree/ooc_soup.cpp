@@ -36,6 +36,7 @@
 #include <mutex>
 #include <optional>
 #include <span>
+#include <string_view>
 #include <thread>
 #include <cmath>
 #include <filesystem>
@@ -624,7 +625,7 @@ TempDirectory::TempDirectory(const std::string& parent) {
             return;
         }
         if (ec && ec != std::errc::file_exists)
-            throw_error(Error::Kind::io, p.string(), "cannot create temporary directory: " + ec.message());
+            throw_error(Error::Kind::io, base.string(), "cannot create a temporary directory in it: " + ec.message());
     }
     throw_error(Error::Kind::io, base.string(), "cannot create a temporary directory");
 }
@@ -632,6 +633,22 @@ TempDirectory::TempDirectory(const std::string& parent) {
 TempDirectory::~TempDirectory() {
     std::error_code ignored;
     fs::remove_all(path_, ignored);
+}
+
+Error without_temporary_names(const Error& e, const std::string& owner) {
+    const std::string message = e.what();
+    constexpr std::string_view kTag = ".lodforge-tmp-";
+    const std::size_t first = message.find(kTag);
+    if (first == std::string::npos) return e;
+    // The path starts after the last space or the message start; its directory held the temporaries.
+    const std::size_t space = message.rfind(' ', first);
+    const std::size_t start = space == std::string::npos ? 0 : space + 1;
+    const std::size_t slash = message.rfind('/', first);
+    const std::string dir = slash == std::string::npos || slash < start ? "." : message.substr(start, slash - start);
+    // The problem is what follows the last temporary path (errors may nest one in another).
+    const std::size_t colon = message.find(": ", message.rfind(kTag));
+    const std::string problem = colon == std::string::npos ? "failed" : message.substr(colon + 2);
+    return Error(e.kind(), owner + ": temporary files in " + (dir.empty() ? "/" : dir) + ": " + problem);
 }
 
 std::string TempDirectory::file(const std::string& name) const { return (fs::path(path_) / name).string(); }

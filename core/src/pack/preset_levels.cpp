@@ -253,7 +253,7 @@ void octree_levels(const Mesh& mesh, const Preset& preset, const PresetLevelsPar
     out.target_triangles = triangle_targets(mesh, preset, params.source_path);
     std::error_code ec;
     const fs::path system_temp = fs::temp_directory_path(ec);
-    if (ec) throw Error(Error::Kind::io, "no temporary directory: " + ec.message());
+    if (ec) throw_error(Error::Kind::io, params.source_path, "no temporary directory (TMPDIR): " + ec.message());
     TempDirectory temp(system_temp.string());
     // The octree streams a PLY from disk; other formats (already in memory here) are written as one.
     std::string ply = params.source_path;
@@ -268,7 +268,12 @@ void octree_levels(const Mesh& mesh, const Preset& preset, const PresetLevelsPar
     p.weights = preset.weights;
     const std::string asset = temp.file("asset.lfoct");
     ProgressRange build_progress(progress, 0.0, 0.8);
-    OctreeBuildResult built = build_octree(ply, asset, p, &build_progress);
+    OctreeBuildResult built;
+    try {
+        built = build_octree(ply, asset, p, &build_progress);
+    } catch (const Error& e) {
+        throw without_temporary_names(e, params.source_path);  // the asset is a temporary too
+    }
     for (const std::string& w : built.warnings) out.notes.push_back(w);
 
     OctreeStore store(asset);

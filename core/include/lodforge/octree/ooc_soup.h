@@ -12,6 +12,7 @@
 // the data whatever its size, no comparison sort, no merge phase.
 #pragma once
 
+#include "lodforge/error.h"
 #include "lodforge/progress.h"
 #include "lodforge/types.h"
 
@@ -63,6 +64,11 @@ public:
 private:
     std::string path_;
 };
+
+// `e` reworded when its message names a file inside a TempDirectory (".lodforge-tmp-PID-N/..."): the
+// user never named those files, so the message names `owner` (the user's output or input) and the
+// directory that held the temporaries, then the problem. Other errors come back unchanged.
+Error without_temporary_names(const Error& e, const std::string& owner);
 
 // A run of `count` triangle records in a temporary file, from byte `offset` on.
 struct SoupRegion {

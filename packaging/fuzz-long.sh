@@ -1,0 +1,64 @@
+#!/usr/bin/env bash
+# The long fuzz run of issue 32 (docs/bad-input.md): each reader's libFuzzer target, one after the other,
+# from its seed corpus, until RUNS executions or SECONDS seconds, whichever comes first. Prints one line
+# per target (executions, seconds, finding or not) and exits 1 when any target found something; the
+# crashing inputs are kept in OUT/TARGET/ as libFuzzer writes them (crash-*, leak-*, oom-*, timeout-*).
+#   packaging/fuzz-long.sh [--runs N] [--seconds S] [--out DIR] [TARGET...]
+# Targets: ply gltf obj lfo mco lodstrips lodstrips_file preset landmarks lfmorph lfmstrips (default: all).
+# Needs a configured build/ (the fuzz targets and the seed corpora are built here when missing).
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+build="$root/build"
+runs=1000000
+seconds=0
+out="$build/fuzz-long"
+targets=()
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --runs) runs="$2"; shift 2 ;;
+    --seconds) seconds="$2"; shift 2 ;;
+    --out) out="$2"; shift 2 ;;
+    -h|--help) sed -n '2,8p' "${BASH_SOURCE[0]}"; exit 0 ;;
+    -*) echo "fuzz-long.sh: unknown option $1" >&2; exit 2 ;;
+    *) targets+=("$1"); shift ;;
+  esac
+done
+[ ${#targets[@]} -gt 0 ] || targets=(ply gltf obj lfo mco lodstrips lodstrips_file preset landmarks lfmorph lfmstrips)
+
+# The seed corpora are written by ctest fixtures (they need the CLI and the shared meshes).
+cmake --build "$build" --target lodforge ply_fuzz_seeds $(for t in "${targets[@]}"; do echo "${t}_fuzz"; done) >/dev/null
+(cd "$build" && ctest -R fuzz_seed_corpus --output-on-failure >/dev/null) ||
+  { echo "fuzz-long.sh: writing the seed corpora failed (ctest -R fuzz_seed_corpus)" >&2; exit 1; }
+
+seeds_of() {
+  case "$1" in
+    ply) echo "$build/tests/fuzz/ply_corpus/seeds" ;;
+    lodstrips|lodstrips_file) echo "$build/tests/fuzz/reader_corpus/lodstrips" ;;  # runtime and file reader
+    *) echo "$build/tests/fuzz/reader_corpus/$1" ;;
+  esac
+}
+
+found=0
+printf '%-16s %12s %8s  %s\n' target executions seconds result
+for t in "${targets[@]}"; do
+  bin="$build/bin/${t}_fuzz"
+  [ -x "$bin" ] || { echo "fuzz-long.sh: no $bin (clang++ missing?)" >&2; exit 1; }
+  seeds="$(seeds_of "$t")"
+  [ -d "$seeds" ] || { echo "fuzz-long.sh: no seed corpus $seeds for $t" >&2; exit 1; }
+  mkdir -p "$out/$t/corpus"
+  log="$out/$t/fuzz.log"
+  start=$(date +%s)
+  rc=0
+  # The new corpus first (libFuzzer writes there), the seeds second; -rss_limit_mb=1024 makes any input
+  # that needs more than 1 GB a finding, -timeout=20 any input that takes more than 20 s (a hang).
+  (cd "$out/$t" && "$bin" corpus "$seeds" -runs="$runs" -max_total_time="$seconds" -max_len=200000 \
+    -rss_limit_mb=1024 -timeout=20 -print_final_stats=1 -artifact_prefix="$out/$t/") >"$log" 2>&1 || rc=$?
+  execs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' || echo '?')
+  result="no finding"
+  if [ "$rc" -ne 0 ]; then
+    found=1
+    result="FINDING (exit $rc): $(grep -m1 -o 'SUMMARY: .*\|ERROR: libFuzzer: .*' "$log" || echo "see $log")"
+  fi
+  printf '%-16s %12s %8s  %s\n' "$t" "$execs" "$(( $(date +%s) - start ))" "$result"
+done
+exit "$found"
