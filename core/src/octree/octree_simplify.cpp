@@ -594,7 +594,6 @@ NodeMesh simplify_node(const NodeMesh& input, const NodeQuadric& quadric, const 
                 counted[root] = 1;
                 ++st.closed_components;
             }
-            closed.push_back(static_cast<std::uint32_t>(t));
             continue;
         }
         for (int k = 0; k < 3; ++k) {
@@ -611,13 +610,24 @@ NodeMesh simplify_node(const NodeMesh& input, const NodeQuadric& quadric, const 
         kept = collapse_free_chains(input, kept, *border, cell_size, st, origin);
         for (std::uint32_t& c : origin) c = kept_component[c];
         kept_component.swap(origin);
-        // A component whose boundary was all free and is gone (an almost closed model whose holes were
-        // filled) shares nothing with another node: it is clustered like a closed one.
-        for (std::uint32_t c : kept_component) alive[c] = 1;
+    }
+    for (std::uint32_t c : kept_component) alive[c] = 1;
+    // Parts without kept uses: a closed part, or one whose boundary was all free and is gone (an almost
+    // closed model whose holes were filled). Where they hang on a part that is fanned through a vertex
+    // they are dropped with the fan's interior; otherwise they share nothing with another node and are
+    // clustered (or copied).
+    {
+        detail::UnionFind touching(n);
         for (std::size_t t = 0; t < tris; ++t)
-            if (!degenerate(t) && has_boundary[component[t]] && !alive[component[t]]) closed.push_back(static_cast<std::uint32_t>(t));
-    } else {
-        for (std::uint32_t c : kept_component) alive[c] = 1;
+            if (!degenerate(t)) {
+                touching.unite(idx[3 * t], idx[3 * t + 1]);
+                touching.unite(idx[3 * t], idx[3 * t + 2]);
+            }
+        std::vector<std::uint8_t> fanned(n, 0);
+        for (std::size_t e = 0; e < kept.size(); ++e) fanned[touching.find(kept[e].first)] = 1;
+        for (std::size_t t = 0; t < tris; ++t)
+            if (!degenerate(t) && !alive[component[t]] && !fanned[touching.find(idx[3 * t])])
+                closed.push_back(static_cast<std::uint32_t>(t));
     }
 
     // One fan per component: a single representative for separate sheets (both sides of a thin tail, a
@@ -639,7 +649,22 @@ NodeMesh simplify_node(const NodeMesh& input, const NodeQuadric& quadric, const 
     // Within a component, the kept uses split into simple cycles (a boundary that touches itself at a
     // vertex, as a staircase cut through a grid does, is two cycles there), each fanned to a vertex of its
     // own: one apex for both would use the spoke to the touching vertex four times (non-manifold).
-    const std::vector<std::uint32_t> cycle = simple_cycles(n, kept);
+    // Cycles are walked within one part (parts may touch at a vertex): a vertex of each part is a node
+    // of its own in the walk.
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> part_uses(kept.size());
+    std::uint32_t part_vertices = 0;
+    {
+        ooc::FlatMap part_vertex(kept.size() + 16);
+        auto id = [&](std::uint32_t v, std::uint32_t part) {
+            bool inserted = false;
+            const std::uint32_t i = part_vertex.find_or_insert(std::uint64_t{part} << 32 | v, part_vertices, inserted);
+            part_vertices += inserted;
+            return i;
+        };
+        for (std::size_t e = 0; e < kept.size(); ++e)
+            part_uses[e] = {id(kept[e].first, kept_component[e]), id(kept[e].second, kept_component[e])};
+    }
+    const std::vector<std::uint32_t> cycle = simple_cycles(part_vertices, part_uses);
     std::vector<std::uint32_t> slot(tris, kNone);
     for (std::size_t i = 0; i < fans.size(); ++i) slot[fans[i]] = static_cast<std::uint32_t>(i);
     std::vector<std::vector<std::uint32_t>> fan_vertices(fans.size());
