@@ -189,8 +189,14 @@ void add_info(CLI::App& octree) {
         std::printf("\ntriangles per depth (in leaves):");
         for (std::uint64_t v : s.triangles_per_depth) std::printf(" %llu", static_cast<unsigned long long>(v));
         std::printf("\nlevels: %zu (0 = input, %zu = root)\n", s.triangles_per_level.size(), s.triangles_per_level.size() - 1);
-        for (std::size_t l = 0; l < s.triangles_per_level.size(); ++l)
-            std::printf("  level %zu: %llu triangles\n", l, static_cast<unsigned long long>(s.triangles_per_level[l]));
+        for (std::size_t l = 0; l < s.triangles_per_level.size(); ++l) {
+            std::printf("  level %zu: %llu triangles", l, static_cast<unsigned long long>(s.triangles_per_level[l]));
+            // How much each level saves over the one below (the document's levels give 30-50 %).
+            if (l > 0 && s.triangles_per_level[l - 1] > 0)
+                std::printf(" (%.0f %% of level %zu)", 100.0 * static_cast<double>(s.triangles_per_level[l]) /
+                                                         static_cast<double>(s.triangles_per_level[l - 1]), l - 1);
+            std::printf("\n");
+        }
         std::printf("file: %llu bytes\n", static_cast<unsigned long long>(s.file_bytes));
     });
 }
