@@ -12,6 +12,7 @@
 
 #include <chrono>
 #include <csignal>
+#include <cstdio>
 #include <fcntl.h>
 #include <filesystem>
 #include <fstream>
@@ -87,6 +88,11 @@ TEST(OctreeCli, BuildInfoAndExtract) {
     const auto text = run_cli("octree info " + quoted(asset));
     EXPECT_EQ(text.exit_code, 0);
     EXPECT_NE(text.out.find("depth reached"), std::string::npos);
+    // Each level's size against the level below, as the JSON counts give it.
+    char ratio[64];
+    std::snprintf(ratio, sizeof ratio, "level 2: %llu triangles (%.0f %% of level 1)", static_cast<unsigned long long>(levels[2]),
+                  100.0 * static_cast<double>(levels[2]) / static_cast<double>(levels[1]));
+    EXPECT_NE(text.out.find(ratio), std::string::npos) << text.out;
 
     const std::string l2 = dir.file("l2.ply");
     const auto e = run_cli("octree extract " + quoted(asset) + " --level 2 -o " + quoted(l2));

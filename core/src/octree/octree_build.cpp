@@ -181,8 +181,8 @@ public:
         result.closed_components = closed_components_;
         result.degenerate_triangles = degenerate_;
         result.oversized_leaves = oversized_;
-        result.simplify_seconds = simplify_seconds_;
     }
+    double simplify_seconds() const { return simplify_seconds_; }
 
 private:
     void write(const void* data, std::size_t bytes) {
@@ -753,13 +753,17 @@ private:
 namespace {
 
 OctreeBuildResult build_octree_with_scratch(const std::string& input_ply, const std::string& asset_path,
-                                            const OctreeBuildParams& params, Progress* progress) {
+                                            const OctreeBuildParams& params, Progress* progress,
+                                            OctreeBuildStats* stats) {
     if (params.max_triangles < 1) throw Error(Error::Kind::argument, "octree: max triangles per leaf must be at least 1");
     if (params.max_depth < 0 || params.max_depth > 20)
         throw Error(Error::Kind::argument, "octree: max depth must be in [0, 20], got " + std::to_string(params.max_depth));
     if (params.memory_bytes < (std::size_t{4} << 20)) throw Error(Error::Kind::argument, "octree: the memory budget must be at least 4 MB");
     if (params.threads < 1 || params.threads > 2) throw Error(Error::Kind::argument, "octree: threads must be 1 or 2");
     OctreeBuildResult result;
+    OctreeBuildStats local_stats;
+    OctreeBuildStats& times = stats ? *stats : local_stats;
+    times = {};
     {
         AtomicFile asset(asset_path);
         TempDirectory scratch(params.temp_dir.empty() ? TempDirectory::beside(asset_path) : params.temp_dir);
@@ -792,15 +796,16 @@ OctreeBuildResult build_octree_with_scratch(const std::string& input_ply, const 
             ~EndEdgeJob() { soup.edge_job.reset(); }
         } end_edge_job{result.soup};
         check_extent(input_ply, result.soup.bounds);
-        result.soup_seconds = seconds_since(t0);
+        times.soup_seconds = seconds_since(t0);
         const Clock::time_point t1 = Clock::now();
         Builder b(params, result.soup, scratch.path(), asset, progress);
         b.run(result);
+        times.simplify_seconds = b.simplify_seconds();
         result.soup.wait_edges();
         std::vector<std::byte>().swap(result.soup.memory);
         check_progress(progress, 1.0, "octree: simplifying");
         asset.commit();
-        result.build_seconds = seconds_since(t1);
+        times.build_seconds = seconds_since(t1);
     }
     OctreeStore store(asset_path, 0);
     result.stats = store.stats();
@@ -813,9 +818,9 @@ OctreeBuildResult build_octree_with_scratch(const std::string& input_ply, const 
 }  // namespace
 
 OctreeBuildResult build_octree(const std::string& input_ply, const std::string& asset_path,
-                               const OctreeBuildParams& params, Progress* progress) {
+                               const OctreeBuildParams& params, Progress* progress, OctreeBuildStats* stats) {
     try {
-        return build_octree_with_scratch(input_ply, asset_path, params, progress);
+        return build_octree_with_scratch(input_ply, asset_path, params, progress, stats);
     } catch (const Error& e) {
         throw without_temporary_names(e, asset_path);
     }

@@ -14,8 +14,6 @@
 
 #include "octree/ooc_internal.h"
 
-#include <Eigen/Dense>
-
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -42,7 +40,7 @@ double texcoord_weight(const SimplifyWeights& w) {
 // (a hole wholly inside the node) is dropped, which fills the hole. docs/octree.md, "Coarse levels".
 std::vector<std::pair<std::uint32_t, std::uint32_t>> collapse_free_chains(
     const NodeMesh& input, const std::vector<std::pair<std::uint32_t, std::uint32_t>>& kept, const NodeBorderEdges& border,
-    float cell_size, NodeSimplifyStats& st) {
+    float cell_size, NodeSimplifyStats& st, std::vector<std::uint32_t>& origin) {
     const std::size_t n = input.vertex_count();
     auto is_free = [&](std::uint32_t a, std::uint32_t b) {
         const std::uint64_t ka = input.keys[a], kb = input.keys[b];
@@ -79,15 +77,26 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> collapse_free_chains(
         ++free_in[b];
         next_use[a] = static_cast<std::uint32_t>(i);
     }
-    if (!any) return kept;
+    origin.clear();
+    if (!any) {
+        origin.resize(kept.size());
+        std::iota(origin.begin(), origin.end(), 0u);
+        return kept;
+    }
     for (std::size_t v = 0; v < n; ++v)
         if (free_in[v] != 1 || free_out[v] != 1) pinned[v] = 1;
     std::vector<std::pair<std::uint32_t, std::uint32_t>> out;
     out.reserve(kept.size());
     std::vector<std::uint8_t> done(kept.size(), 0);
     std::vector<std::uint32_t> chain;  // vertices of the chain being walked
-    auto chord = [&](std::uint32_t a, std::uint32_t b) {
+    // Each output use remembers the kept use it comes from (`origin`); a chain lies in one component.
+    std::uint32_t from = 0;
+    auto emit = [&](std::uint32_t a, std::uint32_t b) {
         out.emplace_back(a, b);
+        origin.push_back(from);
+    };
+    auto chord = [&](std::uint32_t a, std::uint32_t b) {
+        emit(a, b);
         st.chords.emplace_back(std::min(input.keys[a], input.keys[b]), std::max(input.keys[a], input.keys[b]));
     };
     auto walk = [&](std::size_t i) {
@@ -103,8 +112,9 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> collapse_free_chains(
         return end;
     };
     for (std::size_t i = 0; i < kept.size(); ++i) {
+        from = static_cast<std::uint32_t>(i);
         if (!free[i]) {
-            out.push_back(kept[i]);
+            emit(kept[i].first, kept[i].second);
             continue;
         }
         if (done[i] || !pinned[kept[i].first]) continue;
@@ -115,7 +125,7 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> collapse_free_chains(
         const std::uint32_t a = chain.front();
         if (a == end) continue;  // a loop through one pinned vertex: in and out vanish together
         if (chain.size() <= 2) {
-            for (std::size_t k = 0; k < chain.size(); ++k) out.emplace_back(chain[k], k + 1 < chain.size() ? chain[k + 1] : end);
+            for (std::size_t k = 0; k < chain.size(); ++k) emit(chain[k], k + 1 < chain.size() ? chain[k + 1] : end);
             continue;
         }
         const std::uint32_t m = chain[chain.size() / 2];
@@ -127,6 +137,7 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> collapse_free_chains(
     constexpr std::size_t kLoopVertices = 8;
     for (std::size_t i = 0; i < kept.size(); ++i) {
         if (!free[i] || done[i]) continue;
+        from = static_cast<std::uint32_t>(i);
         walk(i);
         float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
         for (std::uint32_t v : chain)
@@ -137,7 +148,7 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> collapse_free_chains(
         const float extent = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
         if (extent < cell_size / 16) continue;
         if (chain.size() <= kLoopVertices) {
-            for (std::size_t k = 0; k < chain.size(); ++k) out.emplace_back(chain[k], chain[(k + 1) % chain.size()]);
+            for (std::size_t k = 0; k < chain.size(); ++k) emit(chain[k], chain[(k + 1) % chain.size()]);
             continue;
         }
         for (std::size_t k = 0; k < kLoopVertices; ++k)
@@ -252,6 +263,144 @@ void cluster_closed(const NodeMesh& input, const std::vector<std::uint32_t>& clo
     st.closed_triangles_out += emitted;
     // Every cluster vertex lies within one grid cell of the surface it stands for.
     st.error = std::max(st.error, static_cast<double>(cell_size) / kClosedGrid);
+}
+
+// Splits directed uses that come in and go out equally often at every vertex into simple cycles (no
+// vertex twice): cycle number per use. Walks from each unused use, and closes a cycle whenever the walk
+// reaches a vertex already on its path. Uses that cannot be closed (a vertex with more uses out than in,
+// only possible at odd non-manifold edges) share one number per walk.
+std::vector<std::uint32_t> simple_cycles(std::size_t n, const std::vector<std::pair<std::uint32_t, std::uint32_t>>& uses) {
+    std::vector<std::uint32_t> first(n + 1, 0);
+    for (const auto& [a, b] : uses) ++first[a + 1];
+    for (std::size_t v = 0; v < n; ++v) first[v + 1] += first[v];
+    std::vector<std::uint32_t> out(uses.size()), cursor(first.begin(), first.end() - 1);
+    for (std::size_t e = 0; e < uses.size(); ++e) out[cursor[uses[e].first]++] = static_cast<std::uint32_t>(e);
+    std::copy(first.begin(), first.end() - 1, cursor.begin());
+    std::vector<std::uint32_t> cycle(uses.size(), kNone), position(n, kNone), path;  // path: uses walked
+    std::vector<std::uint8_t> used(uses.size(), 0);
+    std::uint32_t cycles = 0;
+    auto next_use = [&](std::uint32_t v) {
+        while (cursor[v] < first[v + 1] && used[out[cursor[v]]]) ++cursor[v];
+        return cursor[v] < first[v + 1] ? out[cursor[v]] : kNone;
+    };
+    for (std::size_t start = 0; start < uses.size(); ++start) {
+        if (used[start]) continue;
+        std::uint32_t e = static_cast<std::uint32_t>(start), w = uses[e].first;
+        position[w] = 0;
+        while (e != kNone) {
+            used[e] = 1;
+            path.push_back(e);
+            w = uses[e].second;
+            if (position[w] == kNone) {
+                position[w] = static_cast<std::uint32_t>(path.size());
+            } else {
+                // The uses since w's place on the path close a cycle.
+                for (std::size_t i = position[w]; i < path.size(); ++i) {
+                    cycle[path[i]] = cycles;
+                    if (i > position[w]) position[uses[path[i]].first] = kNone;
+                }
+                path.resize(position[w]);
+                ++cycles;
+            }
+            e = next_use(w);
+        }
+        for (std::uint32_t u : path) {
+            cycle[u] = cycles;
+            position[uses[u].first] = kNone;
+        }
+        if (!path.empty()) ++cycles;
+        path.clear();
+        position[uses[start].first] = position[w] = kNone;
+    }
+    return cycle;
+}
+
+// The apex record of a fan: position minimising `quadric` (geometry plus the attribute part eliminated)
+// by pseudo-inverse around its mean vertex, so flat and straight patches keep a point near their middle,
+// clamped into the node cell and into the bounds of the patch's vertices `patch` (so no fan reaches past
+// the surface it replaces); attributes at their quadric optimum there. `error`: RMS plane distance, model units.
+std::vector<float> representative(const NodeQuadric& quadric, const NodeMesh& input, const std::vector<std::uint32_t>& patch,
+                                  const QuadricFrame& frame, const float cell_min[3], float cell_size, double& error) {
+    Quadric total = quadric.geometry;
+    if (frame.attribute_dimension() > 0) total += quadric.attributes.eliminated(0);
+    double lo[3], hi[3], box_lo[3] = {INFINITY, INFINITY, INFINITY}, box_hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    Vec3d mean{0, 0, 0};
+    for (std::uint32_t v : patch) {
+        const Vec3d p = frame.to_frame(input.vertex(v));
+        const double c[3] = {p.x, p.y, p.z};
+        for (int a = 0; a < 3; ++a) {
+            box_lo[a] = std::min(box_lo[a], c[a]);
+            box_hi[a] = std::max(box_hi[a], c[a]);
+        }
+        mean = {mean.x + p.x, mean.y + p.y, mean.z + p.z};
+    }
+    const double count = static_cast<double>(std::max<std::size_t>(patch.size(), 1));
+    mean = {mean.x / count, mean.y / count, mean.z / count};
+    if (quadric.position_count > 0) {
+        const double k = 1.0 / quadric.position_count;
+        mean = {quadric.position_sum[0] * k, quadric.position_sum[1] * k, quadric.position_sum[2] * k};
+    }
+    const double o[3] = {frame.origin.x, frame.origin.y, frame.origin.z};
+    for (int a = 0; a < 3; ++a) {
+        lo[a] = (cell_min[a] - o[a]) / frame.scale;
+        hi[a] = lo[a] + cell_size / frame.scale;
+        // A patch always meets its cell (its triangles' centroids are inside); if rounding says not, the
+        // patch's bounds alone.
+        if (!patch.empty() && std::max(lo[a], box_lo[a]) <= std::min(hi[a], box_hi[a])) {
+            lo[a] = std::max(lo[a], box_lo[a]);
+            hi[a] = std::min(hi[a], box_hi[a]);
+        } else if (!patch.empty()) {
+            lo[a] = box_lo[a];
+            hi[a] = box_hi[a];
+        }
+    }
+    const Vec3d p = clamped_minimizer(total, mean, lo, hi);
+    const std::size_t f = input.layout.floats();
+    std::vector<float> rep(f, 0.f);
+    rep[0] = static_cast<float>(p.x * frame.scale + frame.origin.x);
+    rep[1] = static_cast<float>(p.y * frame.scale + frame.origin.y);
+    rep[2] = static_cast<float>(p.z * frame.scale + frame.origin.z);
+    const std::size_t m = frame.attribute_dimension();
+    if (m > 0) {
+        double s[9] = {};
+        if (!quadric.attributes.optimal_attributes(0, p, s)) {
+            // No area to weigh by (all triangles degenerate): the plain mean of the patch's vertices.
+            double tmp[9];
+            for (std::uint32_t v : patch) {
+                frame.attributes(input.vertex(v), tmp);
+                for (std::size_t j = 0; j < m; ++j) s[j] += tmp[j] / count;
+            }
+        }
+        std::size_t j = 0, r = 3;
+        if (frame.layout.normals) {
+            const double w = weight_or_floor(frame.weights.normal);
+            double nx = s[j] / w, ny = s[j + 1] / w, nz = s[j + 2] / w;
+            const double len = std::sqrt(nx * nx + ny * ny + nz * nz);
+            if (len > 0) {
+                nx /= len;
+                ny /= len;
+                nz /= len;
+            } else {
+                nx = 0;
+                ny = 0;
+                nz = 1;
+            }
+            rep[r++] = static_cast<float>(nx);
+            rep[r++] = static_cast<float>(ny);
+            rep[r++] = static_cast<float>(nz);
+            j += 3;
+        }
+        if (frame.layout.colors) {
+            const double w = weight_or_floor(frame.weights.color);
+            for (int a = 0; a < 4; ++a) rep[r++] = static_cast<float>(std::clamp(s[j++] / w, 0.0, 1.0));
+        }
+        if (frame.layout.texcoords) {
+            const double w = texcoord_weight(frame.weights);
+            for (int a = 0; a < 2; ++a) rep[r++] = static_cast<float>(s[j++] / w);
+        }
+    }
+    error = quadric.geometry.weight > 0 ? std::sqrt(quadric.geometry.evaluate(p) / quadric.geometry.weight) * frame.scale : 0;
+    return rep;
 }
 
 }  // namespace
@@ -409,21 +558,129 @@ NodeMesh simplify_node(const NodeMesh& input, const NodeQuadric& quadric, const 
         return true;
     };
 
-    // Components (union-find over the triangles' vertices) and whether each has a boundary edge.
-    detail::UnionFind sets(n);
-    for (std::size_t t = 0; t < tris; ++t) {
-        if (degenerate(t)) continue;
-        sets.unite(idx[3 * t], idx[3 * t + 1]);
-        sets.unite(idx[3 * t], idx[3 * t + 2]);
+    // Components: triangles joined through shared edges (not through a vertex alone, so two parts of the
+    // patch that touch at a vertex get fans of their own), and whether each has a boundary edge. All
+    // uses of an edge lie in one component, so each component's kept uses are a cycle of their own.
+    detail::UnionFind sets(tris);
+    {
+        std::vector<std::uint32_t> first_triangle(net.size(), kNone);
+        for (std::size_t t = 0; t < tris; ++t)
+            for (int k = 0; k < 3; ++k) {
+                const std::uint32_t e = edge_of[3 * t + k];
+                if (e == kNone) continue;
+                if (first_triangle[e] == kNone) first_triangle[e] = static_cast<std::uint32_t>(t);
+                else sets.unite(first_triangle[e], static_cast<std::uint32_t>(t));
+            }
     }
-    std::vector<std::uint8_t> has_boundary(n, 0);
-    bool any_boundary = false;
+    std::vector<std::uint32_t> component(tris, kNone);
+    for (std::size_t t = 0; t < tris; ++t)
+        if (!degenerate(t)) component[t] = sets.find(static_cast<std::uint32_t>(t));
+    std::vector<std::uint8_t> has_boundary(tris, 0);
     for (std::size_t t = 0; t < tris; ++t) {
         if (degenerate(t)) continue;
         for (int k = 0; k < 3; ++k)
-            if (boundary(3 * t + k)) {
-                has_boundary[sets.find(idx[3 * t])] = 1;
-                any_boundary = true;
+            if (boundary(3 * t + k)) has_boundary[component[t]] = 1;
+    }
+
+    // Kept boundary uses (a→b, in triangle order) with their component, and the closed components' triangles.
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> kept;
+    std::vector<std::uint32_t> kept_component, closed;
+    std::vector<std::uint8_t> counted(tris, 0);
+    for (std::size_t t = 0; t < tris; ++t) {
+        if (degenerate(t)) continue;
+        const std::uint32_t root = component[t];
+        if (!has_boundary[root]) {
+            if (!counted[root]) {
+                counted[root] = 1;
+                ++st.closed_components;
+            }
+            continue;
+        }
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t a = idx[3 * t + k], b = idx[3 * t + (k + 1) % 3];
+            if (take(3 * t + k, a, b)) {
+                kept.emplace_back(a, b);
+                kept_component.push_back(root);
+            }
+        }
+    }
+    std::vector<std::uint8_t> alive(tris, 0);  // per component: it keeps boundary uses
+    if (border && (border->input || border->chords) && !kept.empty()) {
+        std::vector<std::uint32_t> origin;
+        kept = collapse_free_chains(input, kept, *border, cell_size, st, origin);
+        for (std::uint32_t& c : origin) c = kept_component[c];
+        kept_component.swap(origin);
+    }
+    for (std::uint32_t c : kept_component) alive[c] = 1;
+    // Parts without kept uses: a closed part, or one whose boundary was all free and is gone (an almost
+    // closed model whose holes were filled). Where they hang on a part that is fanned through a vertex
+    // they are dropped with the fan's interior; otherwise they share nothing with another node and are
+    // clustered (or copied).
+    {
+        detail::UnionFind touching(n);
+        for (std::size_t t = 0; t < tris; ++t)
+            if (!degenerate(t)) {
+                touching.unite(idx[3 * t], idx[3 * t + 1]);
+                touching.unite(idx[3 * t], idx[3 * t + 2]);
+            }
+        std::vector<std::uint8_t> fanned(n, 0);
+        for (std::size_t e = 0; e < kept.size(); ++e) fanned[touching.find(kept[e].first)] = 1;
+        for (std::size_t t = 0; t < tris; ++t)
+            if (!degenerate(t) && !alive[component[t]] && !fanned[touching.find(idx[3 * t])])
+                closed.push_back(static_cast<std::uint32_t>(t));
+    }
+
+    // One fan per component: a single representative for separate sheets (both sides of a thin tail, a
+    // claw beside a leg) made fan triangles across the empty space between them, up to a cell long
+    // (issue #27). A component whose fan would not be smaller than its triangles keeps them (same
+    // oriented boundary, so no crack), so no node grows (issue #32 row 10).
+    std::vector<std::uint32_t> fan_triangles(tris, 0), component_triangles(tris, 0);
+    for (std::uint32_t c : kept_component) ++fan_triangles[c];
+    for (std::size_t t = 0; t < tris; ++t)
+        if (!degenerate(t)) ++component_triangles[component[t]];
+    std::vector<std::uint32_t> fans;  // roots with a fan, in order of their first kept use
+    std::vector<std::uint8_t> copied(tris, 0);
+    for (std::uint32_t root : kept_component) {
+        if (alive[root] == 2) continue;
+        if (fan_triangles[root] >= component_triangles[root]) copied[root] = 1;
+        else if (alive[root] == 1) fans.push_back(root);
+        alive[root] = 2;
+    }
+    // Within a component, the kept uses split into simple cycles (a boundary that touches itself at a
+    // vertex, as a staircase cut through a grid does, is two cycles there), each fanned to a vertex of its
+    // own: one apex for both would use the spoke to the touching vertex four times (non-manifold).
+    // Cycles are walked within one part (parts may touch at a vertex): a vertex of each part is a node
+    // of its own in the walk.
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> part_uses(kept.size());
+    std::uint32_t part_vertices = 0;
+    {
+        ooc::FlatMap part_vertex(kept.size() + 16);
+        auto id = [&](std::uint32_t v, std::uint32_t part) {
+            bool inserted = false;
+            const std::uint32_t i = part_vertex.find_or_insert(std::uint64_t{part} << 32 | v, part_vertices, inserted);
+            part_vertices += inserted;
+            return i;
+        };
+        for (std::size_t e = 0; e < kept.size(); ++e)
+            part_uses[e] = {id(kept[e].first, kept_component[e]), id(kept[e].second, kept_component[e])};
+    }
+    const std::vector<std::uint32_t> cycle = simple_cycles(part_vertices, part_uses);
+    std::vector<std::uint32_t> slot(tris, kNone);
+    for (std::size_t i = 0; i < fans.size(); ++i) slot[fans[i]] = static_cast<std::uint32_t>(i);
+    std::vector<std::vector<std::uint32_t>> fan_vertices(fans.size());
+    std::vector<NodeQuadric> fan_quadrics;
+    if (fans.size() > 1) fan_quadrics.assign(fans.size(), NodeQuadric(frame.attribute_dimension()));
+    std::vector<std::uint8_t> listed(n, 0);
+    for (std::size_t t = 0; t < tris; ++t) {
+        if (degenerate(t)) continue;
+        const std::uint32_t s = slot[component[t]];
+        if (s == kNone) continue;
+        if (fans.size() > 1) fan_quadrics[s].add_triangle(frame, input.vertex(idx[3 * t]), input.vertex(idx[3 * t + 1]),
+                                                          input.vertex(idx[3 * t + 2]));
+        for (int k = 0; k < 3; ++k)
+            if (!listed[idx[3 * t + k]]) {
+                listed[idx[3 * t + k]] = 1;
+                fan_vertices[s].push_back(idx[3 * t + k]);
             }
     }
 
@@ -439,120 +696,40 @@ NodeMesh simplify_node(const NodeMesh& input, const NodeQuadric& quadric, const 
         }
         return remap[v];
     };
-
-    std::vector<float> rep;
-    if (any_boundary) {
-        // The representative: pseudo-inverse solve of the generalized quadric (attributes eliminated)
-        // around the mean vertex, so flat and straight nodes stay put instead of flying off.
-        Quadric total = quadric.geometry;
-        if (frame.attribute_dimension() > 0) total += quadric.attributes.eliminated(0);
-        const double k = quadric.position_count > 0 ? 1.0 / quadric.position_count : 0.0;
-        Eigen::Vector3d xbar(quadric.position_sum[0] * k, quadric.position_sum[1] * k, quadric.position_sum[2] * k);
-        if (quadric.position_count == 0) {
-            xbar.setZero();
-            for (std::size_t v = 0; v < n; ++v) {
-                const Vec3d p = frame.to_frame(input.vertex(v));
-                xbar += Eigen::Vector3d(p.x, p.y, p.z);
-            }
-            if (n) xbar /= static_cast<double>(n);
-        }
-        double lo[3], hi[3];
-        const double o[3] = {frame.origin.x, frame.origin.y, frame.origin.z};
-        for (int a = 0; a < 3; ++a) {
-            lo[a] = (cell_min[a] - o[a]) / frame.scale;
-            hi[a] = lo[a] + cell_size / frame.scale;
-        }
-        const Vec3d p = clamped_minimizer(total, {xbar(0), xbar(1), xbar(2)}, lo, hi);
-        rep.assign(f, 0.f);
-        rep[0] = static_cast<float>(p.x * frame.scale + frame.origin.x);
-        rep[1] = static_cast<float>(p.y * frame.scale + frame.origin.y);
-        rep[2] = static_cast<float>(p.z * frame.scale + frame.origin.z);
-        const std::size_t m = frame.attribute_dimension();
-        if (m > 0) {
-            double s[9] = {};
-            if (!quadric.attributes.optimal_attributes(0, p, s)) {
-                // No area to weigh by (all triangles degenerate): the plain mean of the node's vertices.
-                double tmp[9];
-                for (std::size_t v = 0; v < n; ++v) {
-                    frame.attributes(input.vertex(v), tmp);
-                    for (std::size_t j = 0; j < m; ++j) s[j] += tmp[j] / static_cast<double>(std::max<std::size_t>(n, 1));
-                }
-            }
-            std::size_t j = 0, r = 3;
-            if (frame.layout.normals) {
-                const double w = weight_or_floor(frame.weights.normal);
-                double nx = s[j] / w, ny = s[j + 1] / w, nz = s[j + 2] / w;
-                const double len = std::sqrt(nx * nx + ny * ny + nz * nz);
-                if (len > 0) {
-                    nx /= len;
-                    ny /= len;
-                    nz /= len;
-                } else {
-                    nx = 0;
-                    ny = 0;
-                    nz = 1;
-                }
-                rep[r++] = static_cast<float>(nx);
-                rep[r++] = static_cast<float>(ny);
-                rep[r++] = static_cast<float>(nz);
-                j += 3;
-            }
-            if (frame.layout.colors) {
-                const double w = weight_or_floor(frame.weights.color);
-                for (int a = 0; a < 4; ++a) rep[r++] = static_cast<float>(std::clamp(s[j++] / w, 0.0, 1.0));
-            }
-            if (frame.layout.texcoords) {
-                const double w = texcoord_weight(frame.weights);
-                for (int a = 0; a < 2; ++a) rep[r++] = static_cast<float>(s[j++] / w);
-            }
-        }
-        if (quadric.geometry.weight > 0)
-            st.error = std::sqrt(quadric.geometry.evaluate(p) / quadric.geometry.weight) * frame.scale;
+    // Apex records: the first fan keeps the node's representative key, the others add their number
+    // above the node id (bit 62 stays clear: that is a cluster vertex).
+    std::vector<std::vector<float>> apex(fans.size());
+    for (std::size_t i = 0; i < fans.size(); ++i) {
+        // A single fan uses the node's quadric, which sums the input triangles below it (children's
+        // fans only approximate them); several use their own component's triangles.
+        double component_error = 0;
+        apex[i] = representative(fans.size() == 1 ? quadric : fan_quadrics[i], input, fan_vertices[i], frame, cell_min,
+                                 cell_size, component_error);
+        st.error = std::max(st.error, component_error);
     }
-    // Kept boundary uses (a→b, in triangle order) and the closed components' triangles.
-    std::vector<std::pair<std::uint32_t, std::uint32_t>> kept;
-    std::vector<std::uint32_t> closed;
-    std::vector<std::uint8_t> counted(n, 0);
-    for (std::size_t t = 0; t < tris; ++t) {
-        if (degenerate(t)) continue;
-        const std::uint32_t root = sets.find(idx[3 * t]);
-        if (!has_boundary[root]) {
-            if (!counted[root]) {
-                counted[root] = 1;
-                ++st.closed_components;
-            }
-            closed.push_back(static_cast<std::uint32_t>(t));
-            continue;
+    std::vector<std::uint32_t> apex_of_cycle;
+    std::uint64_t apexes = 0;
+    for (std::size_t e = 0; e < kept.size(); ++e) {
+        const auto [a, b] = kept[e];
+        const std::uint32_t root = kept_component[e];
+        if (copied[root]) continue;
+        if (cycle[e] >= apex_of_cycle.size()) apex_of_cycle.resize(cycle[e] + 1, kNone);
+        std::uint32_t& v = apex_of_cycle[cycle[e]];
+        if (v == kNone) {
+            v = static_cast<std::uint32_t>(out.keys.size());
+            out.keys.push_back(representative_key | apexes++ << 32);
+            const std::vector<float>& r = apex[slot[root]];
+            out.vertices.insert(out.vertices.end(), r.begin(), r.end());
         }
-        for (int k = 0; k < 3; ++k) {
-            const std::uint32_t a = idx[3 * t + k], b = idx[3 * t + (k + 1) % 3];
-            if (take(3 * t + k, a, b)) kept.emplace_back(a, b);
-        }
+        // The fan: the edge keeps its direction in its source triangle, so the fan faces the same way.
+        out.indices.push_back(use(a));
+        out.indices.push_back(use(b));
+        out.indices.push_back(v);
+        ++st.boundary_edges;
     }
-    if (border && (border->input || border->chords) && !kept.empty()) {
-        kept = collapse_free_chains(input, kept, *border, cell_size, st);
-        // A component whose boundary was all free and is gone (an almost closed model whose holes were
-        // filled) shares nothing with another node: it is clustered like a closed one.
-        std::vector<std::uint8_t> alive(n, 0);
-        for (const auto& [a, b] : kept) alive[sets.find(a)] = 1;
-        for (std::size_t t = 0; t < tris; ++t) {
-            if (degenerate(t)) continue;
-            const std::uint32_t root = sets.find(idx[3 * t]);
-            if (has_boundary[root] && !alive[root]) closed.push_back(static_cast<std::uint32_t>(t));
-        }
-    }
-
-    // The fan: the edge keeps its direction in its source triangle, so the fan faces the same way.
-    if (!kept.empty()) {
-        out.keys.push_back(representative_key);
-        out.vertices.insert(out.vertices.end(), rep.begin(), rep.end());
-        for (const auto& [a, b] : kept) {
-            out.indices.push_back(use(a));
-            out.indices.push_back(use(b));
-            out.indices.push_back(0);
-        }
-    }
-    st.boundary_edges = kept.size();
+    for (std::size_t t = 0; t < tris; ++t)
+        if (!degenerate(t) && copied[component[t]])
+            for (int k = 0; k < 3; ++k) out.indices.push_back(use(idx[3 * t + k]));
     if (!closed.empty()) {
         if (border && border->cluster_closed)
             cluster_closed(input, closed, cell_min, cell_size, representative_key, out, st);

@@ -34,7 +34,8 @@ struct Cell {
 
 }  // namespace
 
-OocClusterResult ooc_cluster_soup(const std::string& soup_path, const OocClusterParams& params, Progress* progress) {
+OocClusterResult ooc_cluster_soup(const std::string& soup_path, const OocClusterParams& params, Progress* progress,
+                                  OocClusterStats* stats) {
     if (params.grid_resolution < 2 || params.grid_resolution > (std::size_t{1} << 20))
         throw Error(Error::Kind::argument, "cluster: the grid resolution must be in [2, 1048576]");
     const Clock::time_point t0 = Clock::now();
@@ -176,14 +177,14 @@ OocClusterResult ooc_cluster_soup(const std::string& soup_path, const OocCluster
     }
     m.indices = std::move(out_tris);
     r.occupied_cells = cells.size();
-    r.cluster_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+    if (stats) stats->cluster_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
     check_progress(progress, 1.0, "cluster: representatives");
     return r;
 }
 
 namespace {
 OocClusterResult ooc_cluster_with_scratch(const std::string& input_ply, const OocClusterParams& params,
-                                          Progress* progress) {
+                                          Progress* progress, OocClusterStats* stats) {
     if (params.grid_resolution < 2 || params.grid_resolution > (std::size_t{1} << 20))
         throw Error(Error::Kind::argument, "cluster: the grid resolution must be in [2, 1048576]");
     TempDirectory scratch(params.temp_dir.empty() ? std::filesystem::temp_directory_path().string() : params.temp_dir);
@@ -194,16 +195,17 @@ OocClusterResult ooc_cluster_with_scratch(const std::string& input_ply, const Oo
     SoupResult soup = convert_to_soup(input_ply, scratch.file("soup"), sp, progress);
     check_extent(input_ply, soup.bounds);
     const double soup_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
-    OocClusterResult r = ooc_cluster_soup(soup.path, params, progress);
+    OocClusterResult r = ooc_cluster_soup(soup.path, params, progress, stats);
     r.soup = std::move(soup);
-    r.soup_seconds = soup_seconds;
+    if (stats) stats->soup_seconds = soup_seconds;
     return r;
 }
 }  // namespace
 
-OocClusterResult ooc_cluster(const std::string& input_ply, const OocClusterParams& params, Progress* progress) {
+OocClusterResult ooc_cluster(const std::string& input_ply, const OocClusterParams& params, Progress* progress,
+                             OocClusterStats* stats) {
     try {
-        return ooc_cluster_with_scratch(input_ply, params, progress);
+        return ooc_cluster_with_scratch(input_ply, params, progress, stats);
     } catch (const Error& e) {
         throw without_temporary_names(e, input_ply);
     }

@@ -38,9 +38,6 @@ struct OctreeBuildParams {
 struct OctreeBuildResult {
     SoupResult soup;
     OctreeStats stats;
-    double soup_seconds = 0;     // PLY → soup
-    double build_seconds = 0;    // soup → octree + every node simplified + asset written
-    double simplify_seconds = 0; // time in the node operator, summed over the threads (may exceed build_seconds)
     std::uint64_t split_passes = 0;       // nodes split by streaming over a temporary file
     std::uint64_t closed_components = 0;  // components without a boundary edge in their node (clustered), per node
     std::uint64_t degenerate_triangles = 0;  // input triangles with a repeated vertex (in no simplified mesh)
@@ -48,9 +45,17 @@ struct OctreeBuildResult {
     std::vector<std::string> warnings;
 };
 
+// Optional profile of a build (not part of the asset or its description).
+struct OctreeBuildStats {
+    double soup_seconds = 0;     // PLY → soup
+    double build_seconds = 0;    // soup → octree + every node simplified + asset written
+    double simplify_seconds = 0; // time in the node operator, summed over the threads (may exceed build_seconds)
+};
+
 // Throws Error(argument) for bad parameters, Error(io / format / invalid) naming the input or the
 // asset, Error(cancelled). On any failure no asset and no temporary file is left behind.
 OctreeBuildResult build_octree(const std::string& input_ply, const std::string& asset_path,
-                               const OctreeBuildParams& params = {}, Progress* progress = nullptr);
+                               const OctreeBuildParams& params = {}, Progress* progress = nullptr,
+                               OctreeBuildStats* stats = nullptr);
 
 }  // namespace lodforge

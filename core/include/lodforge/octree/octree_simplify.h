@@ -1,6 +1,8 @@
 // The node simplification operator of the out-of-core octree (docs/octree.md, "Node simplification"):
-// one representative vertex per node from the node's generalized quadric, the node's boundary edges
-// kept and fanned to it, everything else dropped.
+// the node's boundary edges kept and fanned to a representative vertex from the generalized quadric,
+// everything else dropped. One fan per connected part of the node's patch and per simple boundary cycle
+// (so no fan crosses the space between separate sheets, and no spoke is used more than twice); a part
+// whose fan would not be smaller than its triangles keeps them, so a node never grows.
 //
 // "Boundary edge" here is the oriented boundary of the node's surface patch: an edge whose uses a→b and
 // b→a inside the node do not cancel, kept |a→b − b→a| times in the surviving direction, plus every use
@@ -24,8 +26,8 @@
 namespace lodforge {
 
 // Vertex identity shared by all nodes of an asset: input vertices keep their PLY index (with wedge UVs,
-// a UV hash in bits 32-62 above it); the representative vertex of node n is kRepresentativeKey | n, the
-// cluster vertices of its clustered closed components kRepresentativeKey | 1 << 62 | (cell + 1) << 32 | n.
+// a UV hash in bits 32-62 above it); the apex of fan i (0, 1, ...) of node n is kRepresentativeKey | i << 32 | n,
+// the cluster vertices of its clustered closed components kRepresentativeKey | 1 << 62 | (cell + 1) << 32 | n.
 constexpr std::uint64_t kRepresentativeKey = std::uint64_t{1} << 63;
 
 // An indexed mesh of one node at one level. Vertices carry `layout.floats()` floats each (position
@@ -92,17 +94,18 @@ struct NodeBorderEdges {
 };
 
 struct NodeSimplifyStats {
-    std::size_t boundary_edges = 0;      // kept directed edge uses (= fan triangles)
+    std::size_t boundary_edges = 0;      // kept directed edge uses fanned (= fan triangles)
     std::size_t closed_components = 0;   // components with no boundary edge (clustered, or kept unchanged)
     std::size_t closed_triangles_in = 0, closed_triangles_out = 0;  // of those components, when clustered
     std::size_t free_uses_removed = 0;   // free boundary uses replaced by chords or dropped with their loop
     std::vector<std::pair<std::uint64_t, std::uint64_t>> chords;  // made here (sorted): free for the parent
     std::size_t degenerate_dropped = 0;  // input triangles with a repeated vertex
-    double error = 0;                    // RMS plane distance of the representative, model units
+    double error = 0;                    // largest RMS plane distance of an apex, model units
 };
 
-// The operator. `cell_min`/`cell_size` are the node's cell in model units (the representative is
-// clamped into it). A connected component of `input` without boundary edges (a closed surface wholly
+// The operator. `cell_min`/`cell_size` are the node's cell in model units (each apex is clamped into it
+// and into the bounds of its part's vertices; a single part's apex minimises `quadric`, several parts'
+// apexes the quadrics of their own triangles in `input`). The output never has more triangles than `input`. A connected component of `input` without boundary edges (a closed surface wholly
 // inside the node, or a closed model at the root) is copied unchanged rather than lost, or, with
 // `border` (cluster_closed), clustered on a 16³ grid over the cell into a closed chain.
 // With `border`, chains of free edges shrink to chords (NodeBorderEdges).

@@ -32,16 +32,21 @@ struct OocClusterResult {
     std::size_t occupied_cells = 0;
     std::uint32_t grid_dims[3] = {0, 0, 0};
     float cell_size = 0;
-    double soup_seconds = 0, cluster_seconds = 0;
+};
+
+// Optional profile of a run (not part of the result).
+struct OocClusterStats {
+    double soup_seconds = 0;     // PLY → soup (0 for ooc_cluster_soup)
+    double cluster_seconds = 0;  // soup → mesh
 };
 
 // Throws Error(argument) for a resolution outside [2, 2^20], Error(io / format / invalid) for the input,
 // Error(cancelled). Temporary files are removed in every case.
 OocClusterResult ooc_cluster(const std::string& input_ply, const OocClusterParams& params = {},
-                             Progress* progress = nullptr);
+                             Progress* progress = nullptr, OocClusterStats* stats = nullptr);
 
 // The same over a soup that already exists (the benchmark times the two steps separately).
 OocClusterResult ooc_cluster_soup(const std::string& soup_path, const OocClusterParams& params = {},
-                                  Progress* progress = nullptr);
+                                  Progress* progress = nullptr, OocClusterStats* stats = nullptr);
 
 }  // namespace lodforge
