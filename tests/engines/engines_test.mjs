@@ -112,6 +112,7 @@ const same = (a, b) => a.length === b.length && a.every((v, i) => v === b[i]);
 const browser = await puppeteer.launch({
   executablePath: process.env.LODFORGE_CHROMIUM || '/usr/bin/chromium',
   headless: true,
+  protocolTimeout: 60000,
   args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--ignore-gpu-blocklist', '--disable-dev-shm-usage'],
 });
 try {
@@ -157,6 +158,23 @@ try {
       const diff = difference(a, b);
       check(diff.mean_abs <= allowed, `${name}: level ${k} looks like level 0 where it takes over (sphere radius ${rho.toFixed(1)} px: mean |diff| ${diff.mean_abs.toFixed(1)} <= ${allowed.toFixed(1)}, silhouette ${diff.silhouette.toFixed(3)})`);
     }
+    await page.close();
+  }
+  // The stock loaders, without the runtimes, on the first pack: they draw level 0 where the coarsest
+  // level belongs (docs/engines.md). This is what the draw-call check above must tell apart.
+  const { file, url, coverage, shown, radius, expected } = packs[0];
+  for (const engine of ['babylon-stock', 'three-stock']) {
+    const page = await browser.newPage();
+    page.on('pageerror', (e) => console.log(`${engine} page error: ${e.message}`));
+    await page.goto(`${origin}/test/page.html?engine=${engine}`);
+    await page.waitForFunction('window.probeReady === true', { timeout: 30000 });
+    const { fov, aspect } = await page.evaluate((u) => window.probe.load(u), origin + url);
+    const last = shown[shown.length - 1];
+    const a = coverage[last - 1] / 5;
+    const d = (radius / (2 * Math.tan(fov / 2))) * Math.sqrt(Math.PI / (a * aspect));
+    const drawn = triangles(await page.evaluate((dd) => window.probe.drawsAt(dd), d));
+    check(same(drawn, expected[0]) && !same(drawn, expected[last]),
+          `${engine} ${file}: the stock loader draws level 0 [${expected[0]}] where level ${last} [${expected[last]}] belongs — drew [${drawn}]`);
     await page.close();
   }
 } finally {

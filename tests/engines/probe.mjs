@@ -1,7 +1,9 @@
 // Runs in the page (page.html): loads a pack with LodForge's runtime for Babylon.js or three.js and
 // answers the test's probes. Every draw call of a frame is recorded from the WebGL context itself, so
 // the test sees what the engine drew, not what it says is active.
+// ?engine=babylon|three, or babylon-stock|three-stock: the engine's own glTF loader without the runtime.
 const engineName = new URLSearchParams(location.search).get('engine');
+const stock = engineName.endsWith('-stock');
 const canvas = document.getElementById('view');
 const background = [0.2, 0.2, 0.25];
 
@@ -37,7 +39,17 @@ async function babylon(packUrl) {
   new BABYLON.HemisphericLight('sky', new BABYLON.Vector3(0.3, 1, 0.5), scene);
   const camera = new BABYLON.UniversalCamera('camera', new BABYLON.Vector3(0, 0, -10), scene);
   camera.fov = 0.8;
-  const [pack] = await loadLodForgePack(BABYLON, scene, packUrl);
+  let pack;
+  if (stock) {
+    // Babylon's own loader, MSFT_lod on: done once every level it loads progressively has come in.
+    let complete = null;
+    BABYLON.SceneLoader.OnPluginActivatedObservable.addOnce((loader) => { complete = loader.whenCompleteAsync(); });
+    await BABYLON.ImportMeshAsync(packUrl, scene);
+    await complete;
+    pack = { levels: scene.meshes.filter((m) => m.getTotalVertices() > 0) };
+  } else {
+    [pack] = await loadLodForgePack(BABYLON, scene, packUrl);
+  }
   const base = pack.levels[0];
   const sphere = () => base.getBoundingInfo().boundingSphere;
   await scene.whenReadyAsync();
@@ -79,7 +91,8 @@ async function three(packUrl) {
   const camera = new THREE.PerspectiveCamera(0.8 * 180 / Math.PI, canvas.width / canvas.height, 0.01, 1000);
   const gltf = await new GLTFLoader().loadAsync(packUrl);
   scene.add(gltf.scene);
-  const [pack] = await createLodForgeLods(THREE, gltf);
+  // The stock loader alone: level 0 in a stand-in for the LOD (nothing switches).
+  const [pack] = stock ? [{ lod: gltf.scene.children[0], levels: [gltf.scene.children[0]] }] : await createLodForgeLods(THREE, gltf);
   const gl = renderer.getContext();
   return {
     fov: 0.8,
@@ -128,7 +141,7 @@ async function drawnFrame() {
 
 window.probe = {
   async load(packUrl) {
-    view = engineName === 'babylon' ? await babylon(packUrl) : await three(packUrl);
+    view = engineName.startsWith('babylon') ? await babylon(packUrl) : await three(packUrl);
     return { fov: view.fov, aspect: view.aspect };
   },
   // The draw calls of a frame with the camera `distance` from the sphere centre.
