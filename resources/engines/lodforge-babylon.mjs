@@ -1,7 +1,7 @@
 // LodForge packs in Babylon.js: every level of a pack, switching at the pack's screen coverage.
 //
 // Babylon's stock glTF loader treats MSFT_lod as progressive loading only: it loads every level,
-// keeps level 0 and never reads MSFT_screencoverage (docs/pack.md, "Engines"). This module loads the
+// keeps level 0 and never reads MSFT_screencoverage (docs/engines.md). This module loads the
 // pack with MSFT_lod off, puts every level node into the scene, and gives each LOD group one Babylon
 // LOD chain (`useLODScreenCoverage`, `addLODLevel`), so Babylon itself picks the level per frame from
 // the projected bounding sphere, the measure the pack's thresholds are made for.
@@ -13,10 +13,11 @@
 //     with pluginOptions). Tested with 9.28.
 //   - Resolves to one entry per node that carries MSFT_lod: { levels: [Mesh, ...] (level 0 first),
 //     coverage: [c0, c1, ...] (the pack's MSFT_screencoverage), result } where `result` is Babylon's
-//     ImportMeshAsync result. levels[0] is the mesh to move, hide or dispose; the other levels follow it.
+//     ImportMeshAsync result. levels[0] is the mesh to move, hide or dispose: Babylon draws a LOD level
+//     with its master's world matrix, so the other levels follow it.
 //   - Level k is drawn while the coverage is at most c[k-1] and above c[k] (level 0 from 1, the last
-//     down to 0); a level with an empty range is disabled. A level whose glTF mesh has several primitives (materials) becomes one mesh with a
-//     MultiMaterial, because a Babylon LOD level is one mesh.
+//     down to 0); a level with an empty range is disabled. A level whose glTF mesh has several
+//     primitives (materials) becomes one mesh with a MultiMaterial: a Babylon LOD level is one mesh.
 //   - Rejects with an Error naming the URL when the file has no MSFT_lod node.
 
 const LOD = 'MSFT_lod';
