@@ -9,8 +9,8 @@
 // Contract:
 //   const packs = await loadLodForgePack(BABYLON, scene, url);
 //   - BABYLON: the Babylon namespace (the `babylonjs` UMD global or `import * as BABYLON from
-//     "@babylonjs/core"` with the glTF loader registered); Babylon.js 7.40 or later (ImportMeshAsync
-//     with pluginOptions). Tested with 9.28.
+//     "@babylonjs/core"` with the glTF loader registered) that has the module-level ImportMeshAsync
+//     with pluginOptions (Babylon.js 7.x and later). Tested with 9.28.
 //   - Resolves to one entry per node that carries MSFT_lod: { levels: [Mesh, ...] (level 0 first),
 //     coverage: [c0, c1, ...] (the pack's MSFT_screencoverage), result } where `result` is Babylon's
 //     ImportMeshAsync result. levels[0] is the mesh to move, hide or dispose: Babylon draws a LOD level
