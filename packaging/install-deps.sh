@@ -19,6 +19,8 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev xvfb xauth dpkg-dev file
   # glTF validation in the tests (Khronos gltf-validator from npm)
   nodejs
+  # engine tests: Babylon.js and three.js in headless Chromium (tests/engines)
+  chromium
 )
 
 missing=()
@@ -45,6 +47,15 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 if [ ! -f "$root/tests/gltf_validator/node_modules/gltf-validator/package.json" ]; then
   echo "install-deps: installing gltf-validator (npm)"
   (cd "$root/tests/gltf_validator" && npm ci --no-audit --no-fund --loglevel=error)
+fi
+
+# The engine tests' packages (npm): puppeteer-core, Babylon.js with its loaders, three.js, pinned in
+# tests/engines/package-lock.json (tests/engines/engines_test.mjs).
+if [ ! -f "$root/tests/engines/node_modules/puppeteer-core/package.json" ] ||
+   [ ! -f "$root/tests/engines/node_modules/babylonjs-loaders/package.json" ] ||
+   [ ! -f "$root/tests/engines/node_modules/three/package.json" ]; then
+  echo "install-deps: installing puppeteer-core, babylonjs, three (npm, engine tests)"
+  (cd "$root/tests/engines" && npm ci --no-audit --no-fund --loglevel=error)
 fi
 
 # The fidelity benchmark's comparators (npm): gltfpack and meshoptimizer's JS simplifier, pinned in

@@ -59,7 +59,11 @@ void add_pack_command(CLI::App& app, const GlobalOptions& global) {
 #endif
 
         TerminalProgress progress(!global.quiet && stderr_is_terminal());
-        const Mesh mesh = read_mesh(o.input, {}, &progress);
+        // Every placement of an instanced glTF mesh, baked at its node's world transform, as the studio
+        // loads it: a pack is the whole model (a wheel mesh placed by two nodes is two wheels).
+        ReadOptions read;
+        read.place_every_instance = true;
+        const Mesh mesh = read_mesh(o.input, read, &progress);
         PackResult r;
         try {
             r = write_lod_pack(mesh, params, &progress);
@@ -88,6 +92,7 @@ void add_pack_command(CLI::App& app, const GlobalOptions& global) {
                     levels[k]["image_error"] = nlohmann::ordered_json::parse(image_error_json(*r.levels[k].image_error, false));
             j["levels"] = levels;
             j["files"] = r.files;
+            j["dropped_levels"] = r.dropped_levels;
             j["notes"] = r.notes;
             std::printf("%s\n", j.dump(2).c_str());
             return;

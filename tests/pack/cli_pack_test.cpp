@@ -81,6 +81,28 @@ TEST(CliPack, JsonListsLevelsAndFiles) {
     EXPECT_EQ(g.json["images"].size(), 1u);
 }
 
+// CesiumMilkTruck's "Wheels" mesh is placed by two nodes (front and rear axle): the pack holds both,
+// at their nodes' transforms, as the studio shows the truck (3,624 triangles, not the 2,856 of one
+// placement per mesh).
+TEST(CliPack, EveryPlacementOfAnInstancedMeshIsInThePack) {
+    ScratchDir dir("cli-pack-instances");
+    const CliRun r = run_cli("pack --json " + quoted(shared_data("tex-cesium-milk-truck/CesiumMilkTruck.gltf")) +
+                                 " --levels 0.5 -o " + quoted(dir.file("out")),
+                             false);
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["levels"][0]["triangles"], 3624);
+    const test::Glb g = test::split_glb(test::read_bytes(dir.file("out/CesiumMilkTruck.glb")));
+    EXPECT_EQ(test::node_triangles(g, 0), 3624u);
+    // The reader's default (each mesh once, at its first placement) is what packs held before.
+    const Mesh one = read_mesh(shared_data("tex-cesium-milk-truck/CesiumMilkTruck.gltf"));
+    ReadOptions every;
+    every.place_every_instance = true;
+    const Mesh all = read_mesh(shared_data("tex-cesium-milk-truck/CesiumMilkTruck.gltf"), every);
+    EXPECT_EQ(all.triangle_count(), 3624u);
+    EXPECT_EQ(one.triangle_count(), 2856u);
+}
+
 TEST(CliPack, BadPresetMissingInputAndUnwritableOutputFailCleanly) {
     ScratchDir dir("cli-pack-bad");
     const std::string input = quoted(sample("spot/spot_triangulated.obj"));

@@ -2,6 +2,7 @@
 // with pack.json and PackResult, packs are byte-identical when repeated, and every failure (bad method,
 // missing source, unwritable output, cancellation at any stage) leaves nothing behind.
 #include "pack_test_util.h"
+#include "support/icosphere.h"
 #include "support/test_paths.h"
 
 #include "lodforge/error.h"
@@ -136,6 +137,34 @@ TEST(LodPack, ScreenCoverageFormula) {
     // e = 0.01: the sphere may be 50 px in radius, pi 2500 / (1920 1080).
     EXPECT_NEAR(screen_coverage_for_error(0.01), 3.14159265358979 * 2500 / (1920.0 * 1080.0), 1e-12);
     EXPECT_GT(screen_coverage_for_error(0.001), screen_coverage_for_error(0.002));
+}
+
+// A closed sphere cannot lose triangles below a tetrahedron's four, so targets of 3 and 2 triangles
+// give two equal levels (the chain stops at its topology limit): the second is left out of the GLB,
+// the levels and pack.json, and reported, so no engine gets an empty switch range.
+TEST(LodPack, LevelsEqualToThePreviousOneAreLeftOutAndReported) {
+    ScratchDir dir("pack-dropped");
+    PackParams p;
+    p.source_path = dir.file("sphere.ply");
+    write_mesh(test::icosphere(2), p.source_path);
+    p.output_dir = dir.file("pack");
+    p.preset.levels = {{LodTarget::Kind::triangles, 40}, {LodTarget::Kind::triangles, 3},
+                       {LodTarget::Kind::triangles, 2}};
+    const PackResult r = write_lod_pack(read_mesh(p.source_path), p);
+    ASSERT_EQ(r.levels.size(), 3u);
+    EXPECT_EQ(r.dropped_levels, std::vector<std::size_t>{3});
+    EXPECT_EQ(r.levels[2].triangles, 4u);
+    for (std::size_t k = 1; k < r.levels.size(); ++k) EXPECT_LT(r.levels[k].triangles, r.levels[k - 1].triangles);
+    EXPECT_TRUE(std::any_of(r.notes.begin(), r.notes.end(),
+                            [](const std::string& n) { return n.find("level 3 (4 triangles)") == 0; }));
+    const auto manifest = nlohmann::json::parse(r.manifest);
+    EXPECT_EQ(manifest["dropped_levels"], nlohmann::json::array({3}));
+    EXPECT_EQ(manifest["levels"].size(), 3u);
+    const test::Glb g = test::split_glb(test::read_bytes(p.output_dir + "/" + r.glb));
+    EXPECT_EQ(g.json["nodes"][0]["extensions"]["MSFT_lod"]["ids"].size(), 2u);
+    EXPECT_EQ(g.json["nodes"][0]["extras"]["MSFT_screencoverage"].size(), 3u);
+    EXPECT_EQ(test::node_triangles(g, 2), r.levels[2].triangles);
+    EXPECT_EQ(test::validate_gltf(p.output_dir + "/" + r.glb).exit_code, 0);
 }
 
 TEST(LodPack, RepeatedPacksAreByteIdentical) {

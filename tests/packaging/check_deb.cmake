@@ -19,6 +19,7 @@ foreach(path ./usr/bin/lodforge ./usr/bin/lodforge-studio ./usr/share/applicatio
              ./usr/share/lodforge/samples/spot/spot_triangulated.obj
              ./usr/share/lodforge/presets/mobile.json ./usr/share/lodforge/presets/console.json
              ./usr/share/lodforge/presets/web.json ./usr/share/lodforge/presets/scan-archive.json
+             ./usr/share/lodforge/engines/lodforge-babylon.mjs ./usr/share/lodforge/engines/lodforge-three.mjs
              ./usr/lib/liblodforge_core.a ./usr/lib/cmake/LodForge/LodForgeConfig.cmake
              ./usr/lib/cmake/LodForge/LodForgeConfigVersion.cmake ./usr/lib/cmake/LodForge/LodForgeTargets.cmake
              ./usr/include/lodforge/mesh.h ./usr/include/lodforge/io/mesh_io.h

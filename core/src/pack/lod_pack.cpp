@@ -48,9 +48,22 @@ using nlohmann::ordered_json;
 // The levels of a pack: the preset's levels (preset_levels.h) with the input as level 0.
 struct BuiltLevels {
     PresetLevels built;
-    std::vector<const Mesh*> meshes;        // every level, level 0 = the input
-    std::vector<DistanceResult> distance;   // per level (level 0: zero)
+    std::vector<const Mesh*> meshes;        // every level kept, level 0 = the input
+    std::vector<DistanceResult> distance;   // per level kept (level 0: zero)
+    std::vector<std::size_t> dropped;       // preset levels (1-based) equal to the level before them
 };
+
+// What an engine draws: equal meshes give equal frames. Normals are compared to 1e-5 because a chain
+// that stopped re-normalises them, which moves them by an ulp.
+bool same_surface(const Mesh& a, const Mesh& b) {
+    if (a.indices != b.indices || a.positions != b.positions || a.colors != b.colors ||
+        a.texcoords != b.texcoords || a.face_materials != b.face_materials || a.normals.size() != b.normals.size())
+        return false;
+    for (std::size_t i = 0; i < a.normals.size(); ++i)
+        for (int c = 0; c < 3; ++c)
+            if (std::abs(a.normals[i][c] - b.normals[i][c]) > 1e-5f) return false;
+    return true;
+}
 
 BuiltLevels make_levels(const Mesh& mesh, const PackParams& params, Progress* progress) {
     PresetLevelsParams p;
@@ -60,9 +73,25 @@ BuiltLevels make_levels(const Mesh& mesh, const PackParams& params, Progress* pr
     out.built = build_preset_levels(mesh, params.preset, p, progress);
     out.meshes.push_back(&mesh);
     out.distance.emplace_back();
+    // A level equal to the one before it (a method that cannot go lower repeats its coarsest level)
+    // is left out: it would add an empty switch range and bytes, nothing an engine can show.
+    std::vector<std::size_t> kept_ranges{0};  // chain index ranges kept (0: the input)
     for (std::size_t k = 0; k < out.built.levels.size(); ++k) {
+        if (same_surface(out.built.levels[k], *out.meshes.back())) {
+            out.dropped.push_back(k + 1);
+            out.built.notes.push_back("level " + std::to_string(k + 1) + " (" +
+                                      std::to_string(out.built.levels[k].triangle_count()) +
+                                      " triangles) is identical to the level before it; left out of the pack");
+            continue;
+        }
         out.meshes.push_back(&out.built.levels[k]);
         out.distance.push_back(out.built.distance[k]);
+        kept_ranges.push_back(k + 1);
+    }
+    if (out.built.chain && !out.dropped.empty()) {
+        std::vector<LodIndexRange> ranges;
+        for (std::size_t k : kept_ranges) ranges.push_back(out.built.chain->shared.levels[k]);
+        out.built.chain->shared.levels = std::move(ranges);
     }
     return out;
 }
@@ -111,6 +140,7 @@ std::string manifest(const Mesh& mesh, const PackParams& params, const BuiltLeve
         levels.push_back(l);
     }
     j["levels"] = levels;
+    j["dropped_levels"] = built.dropped;
     j["notes"] = built.built.notes;
     std::vector<std::string> files = r.files;
     files.push_back("pack.json");
@@ -138,6 +168,7 @@ PackResult write_lod_pack(const Mesh& mesh, const PackParams& params, Progress* 
     StagedDirectory staging(params.output_dir);
     const BuiltLevels built = make_levels(mesh, params, progress);
     result.notes = built.built.notes;
+    result.dropped_levels = built.dropped;
     const std::size_t n = built.meshes.size();
 
     // Level k is shown down to the coverage at which level k+1's error is one pixel; the coarsest

@@ -62,6 +62,10 @@ struct PackResult {
     std::string source_sha256;              // as in pack.json
     std::string manifest;                   // the text of pack.json
     std::vector<std::string> notes;         // targets a method could not meet, ... (also in pack.json)
+    // Preset levels (1-based, as the preset lists them) left out because they were identical to the
+    // level before them (same vertices, attributes, triangles and materials): an engine would switch
+    // between equal meshes. Each one also has a note; pack.json lists them as "dropped_levels".
+    std::vector<std::size_t> dropped_levels;
 };
 
 // Throws Error(argument) for a bad preset or parameters (empty source_path or output_dir, export.image_error
