@@ -31,7 +31,7 @@ MorphOrder parse_order(const std::string& s) {
     throw Error(Error::Kind::argument, "morph build: --order must be single, per-frame or naive, got '" + s + "'");
 }
 
-void add_build(CLI::App& morph, const GlobalOptions& global) {
+void add_morph_build(CLI::App& morph, const GlobalOptions& global) {
     struct Options {
         std::vector<std::string> inputs;
         std::string output, order = "single", levels = "0.5,0.25,0.1,0.03", landmarks, weights;
@@ -153,7 +153,7 @@ void add_build(CLI::App& morph, const GlobalOptions& global) {
     });
 }
 
-void add_extract(CLI::App& morph, const GlobalOptions& global) {
+void add_morph_extract(CLI::App& morph, const GlobalOptions& global) {
     struct Options {
         std::string input, output;
         double t = 0, lod = 1;
@@ -230,7 +230,7 @@ void print_strips_info(const std::string& path, bool json) {
                     d.frame_sets.back().frame);
 }
 
-void add_info(CLI::App& morph) {
+void add_morph_info(CLI::App& morph) {
     struct Options {
         std::string input;
         bool json = false;
@@ -291,9 +291,9 @@ void add_info(CLI::App& morph) {
 void add_morph_command(CLI::App& app, const GlobalOptions& global) {
     CLI::App* morph = app.add_subcommand("morph", "Morphing meshes with LOD: build, extract, info");
     morph->require_subcommand(1);
-    add_build(*morph, global);
-    add_extract(*morph, global);
-    add_info(*morph);
+    add_morph_build(*morph, global);
+    add_morph_extract(*morph, global);
+    add_morph_info(*morph);
 }
 
 }  // namespace lodforge::cli
