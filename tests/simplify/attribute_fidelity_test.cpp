@@ -16,6 +16,7 @@
 #include <map>
 #include <numeric>
 #include <string>
+#include <vector>
 
 using namespace lodforge;
 
@@ -60,13 +61,10 @@ Mesh many_chart_atlas(const Mesh& in) {
     return weld_seams(out);
 }
 
-}  // namespace
-
-// The seam slits of issue 26: a face whose corners come from two texture charts samples the texture
-// across the gap between them. Every textured asset, at the benchmark's three levels.
-TEST(AttributeFidelity, NoFaceInterpolatesAcrossUvCharts) {
+// Every textured asset of the corpus (and the many-chart atlas), for the chart tests below.
+std::vector<std::pair<std::string, Mesh>> textured_assets() {
     const Mesh spot = read_mesh(test::sample("spot/spot_triangulated.obj"));
-    const std::pair<std::string, Mesh> assets[] = {
+    return {
         {"spot", spot},
         {"duck", read_mesh(test::shared_data("tex-duck/glTF/Duck.gltf"))},
         {"milk truck", read_mesh(test::shared_data("tex-cesium-milk-truck/CesiumMilkTruck.gltf"))},
@@ -75,7 +73,14 @@ TEST(AttributeFidelity, NoFaceInterpolatesAcrossUvCharts) {
         {"matteonormb", read_mesh(test::shared_data("tex-ply-wedge-uv/matteonormb.ply"))},
         {"many-chart atlas", many_chart_atlas(spot)},
     };
-    for (const auto& [name, in] : assets) {
+}
+
+}  // namespace
+
+// The seam slits of issue 26: a face whose corners come from two texture charts samples the texture
+// across the gap between them. Every textured asset, at the benchmark's three levels.
+TEST(AttributeFidelity, NoFaceInterpolatesAcrossUvCharts) {
+    for (const auto& [name, in] : textured_assets()) {
         ASSERT_TRUE(in.has_texcoords()) << name;
         for (float ratio : {0.5f, 0.2f, 0.05f}) {
             const SimplifyResult r = simplify(in, at(ratio));
@@ -117,16 +122,7 @@ std::size_t folded_texture_faces(const Mesh& in, const SimplifyResult& r) {
 // same runs fold 4, 12 and 9 of Spot's faces at 50, 20 and 5 % and 20, 56 and 24 of the Duck's, unseen
 // by the normal test (a face may turn by up to 78 degrees) and by the attribute cost.
 TEST(AttributeFidelity, NoFaceTurnsItsTextureOver) {
-    const Mesh spot = read_mesh(test::sample("spot/spot_triangulated.obj"));
-    const std::pair<std::string, Mesh> assets[] = {
-        {"spot", spot},
-        {"duck", read_mesh(test::shared_data("tex-duck/glTF/Duck.gltf"))},
-        {"milk truck", read_mesh(test::shared_data("tex-cesium-milk-truck/CesiumMilkTruck.gltf"))},
-        {"laurana500", read_mesh(test::shared_data("tex-ply-wedge-uv/laurana500.ply"))},
-        {"matteonormb", read_mesh(test::shared_data("tex-ply-wedge-uv/matteonormb.ply"))},
-        {"many-chart atlas", many_chart_atlas(spot)},
-    };
-    for (const auto& [name, in] : assets) {
+    for (const auto& [name, in] : textured_assets()) {
         ASSERT_TRUE(in.has_texcoords()) << name;
         for (float ratio : {0.5f, 0.2f, 0.05f}) {
             const SimplifyResult r = simplify(in, at(ratio));
