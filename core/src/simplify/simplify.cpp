@@ -420,6 +420,7 @@ private:
     double frames_cost(std::uint32_t u, std::uint32_t v, double geometric, double attribute, double weight) const;
     bool frames_valid(std::uint32_t u, std::uint32_t v) const;
     bool valid(std::uint32_t u, std::uint32_t v, const Plan& plan);
+    bool texture_kept(std::uint32_t u, std::uint32_t v, const Plan& plan) const;
     // Geometry only, half-edge: an interior or border point with one wedge onto a point with one wedge.
     // The mapping is trivial and the cost is Q_u(p_v) over u's area, so plain_plan() and plain_valid()
     // give evaluate(full) and valid() in one walk over u's faces (a border point's edge count, which
@@ -574,6 +575,7 @@ private:
         double scale;  // attrs_ value = scale * attribute
     };
     std::vector<AttrChannel> attr_channels_;
+    std::vector<const std::vector<Vec2f>*> uv_sets_;  // half-edge: the texcoord sets with a weight (texture_kept())
     // Optimal placement: per wedge, the box of the (weighted) attribute values at the corners of the
     // faces its quadric holds; the solved values are clamped into it, since the face planes extrapolate
     // once the point moves past a chart's edge (UVs outside the chart sample the atlas's gutter).
@@ -676,6 +678,12 @@ void Simplifier::setup() {
         if (ws > 0 && !mesh_.texcoords[s].empty()) add_channel(&mesh_.texcoords[s][0].x, 2, ws, AK::texcoord, s);
     }
     if (nv == 0) dims_ = 0;
+    // Half-edge only: there the kept wedges keep their UVs, so the fold test is exact; optimal placement
+    // re-solves them after the run (testing its faces at the input UVs refused collapses it needs).
+    uv_sets_.clear();
+    for (const AttrChannel& c : attr_channels_)
+        if (c.kind == AK::texcoord && dims_ > 0 && params_.placement == Placement::half_edge)
+            uv_sets_.push_back(&mesh_.texcoords[c.set]);
     attrs_.assign(nv * dims_, 0.0);
     if (dims_ > 0) {
         for (std::size_t v = 0; v < nv; ++v) {
@@ -1214,7 +1222,37 @@ bool Simplifier::valid(std::uint32_t u, std::uint32_t v, const Plan& plan) {
             if (!face_ok(f, v)) return false;
         }
     }
+    if (!uv_sets_.empty() && !texture_kept(u, v, plan)) return false;
     return frames_ == 0 || frames_valid(u, v);
+}
+
+// No face of u that survives the collapse turns its texture over: in every weighted texcoord set, the
+// face's UV triangle with u's wedge replaced by its target keeps its orientation and a non-zero area.
+// Neither the normal test nor the attribute cost sees a fold: a face may turn by up to
+// acos(min_normal_dot) in space while its UV triangle folds over, and the attribute planes extrapolate
+// smoothly past it; a folded UV triangle draws a mirrored strip of texture from beyond its neighbours,
+// often from beyond the chart's edge (laurana500 at 20 %: 389 px of wrong texture along seams, 238 px
+// without folds; docs/image-compare.md, "Seam slits"). Mirrored charts are fine: each face is compared
+// with its own orientation.
+bool Simplifier::texture_kept(std::uint32_t u, std::uint32_t v, const Plan& plan) const {
+    for (std::uint32_t f : faces_of(u)) {
+        const std::uint32_t* fp = &fpt_[3 * f];
+        if (killed(fp) || fp[0] == v || fp[1] == v || fp[2] == v) continue;  // removed with the collapse
+        const std::uint32_t* c = &corners_[3 * f];
+        const int k = fp[0] == u ? 0 : fp[1] == u ? 1 : 2;
+        int i = 0;
+        while (i < plan.count && plan.wedge[i] != c[k]) ++i;
+        if (i == plan.count || plan.target[i] == c[k]) continue;
+        for (const std::vector<Vec2f>* set : uv_sets_) {
+            const Vec2f a = (*set)[c[(k + 1) % 3]], b = (*set)[c[(k + 2) % 3]];
+            auto area = [&](Vec2f p) {
+                return (double(a.x) - p.x) * (double(b.y) - p.y) - (double(a.y) - p.y) * (double(b.x) - p.x);
+            };
+            const double before = area((*set)[c[k]]);
+            if (before != 0 && !(area((*set)[plan.target[i]]) * before > 0)) return false;
+        }
+    }
+    return true;
 }
 
 double Simplifier::plain_plan(std::uint32_t u, std::uint32_t v, Plan& plan) const {
@@ -1815,7 +1853,9 @@ void Simplifier::run_passes(std::size_t target, double limit, double& max_cost) 
                 limited = true;
                 continue;
             }
-            const bool ok = plain ? plain_valid(u, v, plan) : fused ? plain_valid<true>(u, v, plan) : valid(u, v, plan);
+            const bool ok = plain   ? plain_valid(u, v, plan)
+                            : fused ? plain_valid<true>(u, v, plan) && (uv_sets_.empty() || texture_kept(u, v, plan))
+                                    : valid(u, v, plan);
             if (!ok) {
                 pts_[u].constrained = pts_[u].dirty = 1;
                 changed = true;

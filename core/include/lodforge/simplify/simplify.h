@@ -7,7 +7,8 @@
 // onto wedges of the kept point, so UV seams and hard-normal creases move together and stay welded. With
 // half-edge placement (the default of SimplifyParams) the kept vertices are a subset of the input vertices
 // with their attributes unchanged, which makes the collapse sequence replayable (progressive meshes,
-// LODStrips); optimal placement moves them and re-solves their attributes (lower error, see Placement).
+// LODStrips), and no collapse folds a surviving face's UV triangle (in a texcoord set with a weight) over
+// or flat; optimal placement moves them and re-solves their attributes (lower error, see Placement).
 #pragma once
 
 #include "lodforge/mesh.h"
