@@ -276,7 +276,7 @@ function main() {
 		const args = ['compare', ref, test, '--json'];
 		if (renders) args.push('--render');
 		const j = JSON.parse(lf(...args).stdout);
-		const image = j.render ? j.render.mean ?? j.render.mean_abs ?? j.render.overall?.mean ?? null : null;
+		const image = j.image ? j.image.mean_abs : null;
 		return { max: j.hausdorff_relative, mean: j.mean_relative, color: j.color_rms ?? null, uv: j.texcoord_rms ?? null, image, triangles: j.triangles.test };
 	};
 
@@ -341,19 +341,26 @@ function table(cells, renders) {
 		'| asset | ratio | triangles | max: LodForge / gltfpack / meshopt | mean: LodForge / gltfpack / meshopt | colour RMS: LodForge / gltfpack / meshopt | UV RMS: LodForge / gltfpack / meshopt | image: LodForge / gltfpack | time s: LodForge / geometry-only / gltfpack / meshopt |',
 		'|---|---|---|---|---|---|---|---|---|',
 	];
-	let meanWins = 0, maxWins = 0, colorWins = 0, colorCells = 0;
+	let meanWins = 0, maxWins = 0, colorWins = 0, colorCells = 0, imageWins = 0, imageCells = 0, worstImage = 0;
 	for (const c of cells) {
 		const L = c.lodforge, G = c.gltfpack, M = c.meshopt ?? {};
 		meanWins += L.mean <= G.mean;
 		maxWins += L.max <= G.max;
 		if (L.color !== null && M.color !== undefined && M.color !== null) (colorCells += 1), (colorWins += L.color <= M.color);
+		if (L.image !== null && G.image !== null) {
+			imageCells += 1;
+			imageWins += L.image <= G.image;
+			// Both near zero (a level that looks like the original) is not a loss, whatever the ratio.
+			if (G.image > 0.05) worstImage = Math.max(worstImage, L.image / G.image);
+		}
 		rows.push(`| ${c.asset} | ${c.ratio * 100} % | ${c.target} | ${e(L.max)} / ${e(G.max)} / ${e(M.max)} | ${e(L.mean)} / ${e(G.mean)} / ${e(M.mean)} | ` +
 			`${f(L.color)} / ${f(G.color)} / ${f(M.color)} | ${e(L.uv)} / ${e(G.uv)} / ${e(M.uv)} | ${renders ? `${f(L.image, 3)} / ${f(G.image, 3)}` : '—'} | ` +
 			`${f(L.seconds, 3)} / ${f(c.geometry.seconds, 3)} / ${f(G.seconds, 3)} / ${f(M.seconds, 3)} |`);
 	}
 	rows.push('');
 	rows.push(`LodForge mean <= gltfpack in ${meanWins} of ${cells.length} cells, max <= gltfpack in ${maxWins}; ` +
-		`colour RMS <= meshoptimizer in ${colorWins} of ${colorCells} coloured cells.`);
+		`colour RMS <= meshoptimizer in ${colorWins} of ${colorCells} coloured cells.` +
+		(imageCells ? ` Image error <= gltfpack in ${imageWins} of ${imageCells} cells, at most ${worstImage.toFixed(2)}x it.` : ''));
 	return rows.join('\n');
 }
 
