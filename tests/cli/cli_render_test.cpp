@@ -19,11 +19,11 @@ using lodforge::test::run_command;
 
 namespace {
 
-std::string spot() { return lodforge::test::sample("spot/spot_triangulated.obj"); }
+std::string spot_sample() { return lodforge::test::sample("spot/spot_triangulated.obj"); }
 
 // Spot moved by `dx` along X, beside its texture (found by the OBJ reader from the file name).
 std::string shiftedSpot(const lodforge::test::ScratchDir& dir, const std::string& name, double dx) {
-    std::ifstream in(spot());
+    std::ifstream in(spot_sample());
     std::ofstream out(dir.file(name));
     std::string line;
     while (std::getline(in, line)) {
@@ -64,7 +64,7 @@ std::pair<std::uint32_t, std::uint32_t> pngSize(const std::string& path) {
 }  // namespace
 
 TEST(CliRender, IdenticalMeshesGiveZeroInEveryView) {
-    const nlohmann::json image = renderJson(spot(), spot(), "--render-size 96");
+    const nlohmann::json image = renderJson(spot_sample(), spot_sample(), "--render-size 96");
     ASSERT_FALSE(image.is_null());
     EXPECT_EQ(image["size"], 96);
     ASSERT_EQ(image["views"].size(), 14u);
@@ -81,12 +81,12 @@ TEST(CliRender, IdenticalMeshesGiveZeroInEveryView) {
 TEST(CliRender, SimplifiedLevelDiffersAndCoarserDiffersMore) {
     lodforge::test::ScratchDir dir("cli-render-simplified");
     for (const char* ratio : {"0.2", "0.02"}) {
-        const CliRun r = run_cli("simplify " + quoted(spot()) + " -o " + quoted(dir.file(std::string("spot_") + ratio + ".glb")) +
+        const CliRun r = run_cli("simplify " + quoted(spot_sample()) + " -o " + quoted(dir.file(std::string("spot_") + ratio + ".glb")) +
                                  " --ratio " + ratio);
         ASSERT_EQ(r.exit_code, 0) << r.out;
     }
-    const nlohmann::json fine = renderJson(spot(), dir.file("spot_0.2.glb"), "--render-size 128");
-    const nlohmann::json coarse = renderJson(spot(), dir.file("spot_0.02.glb"), "--render-size 128");
+    const nlohmann::json fine = renderJson(spot_sample(), dir.file("spot_0.2.glb"), "--render-size 128");
+    const nlohmann::json coarse = renderJson(spot_sample(), dir.file("spot_0.02.glb"), "--render-size 128");
     ASSERT_FALSE(fine.is_null());
     ASSERT_FALSE(coarse.is_null());
     std::printf("spot 20 %%: mean %.3f over %.4f silhouette %.4f; 2 %%: mean %.3f over %.4f silhouette %.4f\n",
@@ -106,9 +106,9 @@ TEST(CliRender, ShiftedMeshShowsInTheSilhouetteInProportionToTheShift) {
     const std::string a = shiftedSpot(dir, "spot_a.obj", 0.0);  // the same cow through the same reader
     const std::string near = shiftedSpot(dir, "spot_near.obj", 0.02);
     const std::string far = shiftedSpot(dir, "spot_far.obj", 0.08);
-    const nlohmann::json same = renderJson(spot(), a, "--render-size 96");
-    const nlohmann::json n = renderJson(spot(), near, "--render-size 96");
-    const nlohmann::json f = renderJson(spot(), far, "--render-size 96");
+    const nlohmann::json same = renderJson(spot_sample(), a, "--render-size 96");
+    const nlohmann::json n = renderJson(spot_sample(), near, "--render-size 96");
+    const nlohmann::json f = renderJson(spot_sample(), far, "--render-size 96");
     ASSERT_FALSE(same.is_null() || n.is_null() || f.is_null());
     EXPECT_EQ(same["silhouette"].get<double>(), 0.0);
     EXPECT_GT(n["silhouette"].get<double>(), 0.01);
@@ -124,9 +124,9 @@ TEST(CliRender, ShiftedMeshShowsInTheSilhouetteInProportionToTheShift) {
 
 TEST(CliRender, SameInputSameNumbers) {
     lodforge::test::ScratchDir dir("cli-render-determinism");
-    ASSERT_EQ(run_cli("simplify " + quoted(spot()) + " -o " + quoted(dir.file("s.glb")) + " --ratio 0.1").exit_code, 0);
-    const nlohmann::json first = renderJson(spot(), dir.file("s.glb"), "--render-size 64");
-    const nlohmann::json second = renderJson(spot(), dir.file("s.glb"), "--render-size 64");
+    ASSERT_EQ(run_cli("simplify " + quoted(spot_sample()) + " -o " + quoted(dir.file("s.glb")) + " --ratio 0.1").exit_code, 0);
+    const nlohmann::json first = renderJson(spot_sample(), dir.file("s.glb"), "--render-size 64");
+    const nlohmann::json second = renderJson(spot_sample(), dir.file("s.glb"), "--render-size 64");
     ASSERT_FALSE(first.is_null());
     EXPECT_EQ(first.dump(), second.dump());
 }
@@ -135,7 +135,7 @@ TEST(CliRender, WritesSideBySideAndDifferencePngs) {
     lodforge::test::ScratchDir dir("cli-render-out");
     const std::string moved = shiftedSpot(dir, "spot_moved.obj", 0.05);
     const std::string out = dir.file("images");
-    const nlohmann::json image = renderJson(spot(), moved, "--render-size 80 --render-out " + quoted(out));
+    const nlohmann::json image = renderJson(spot_sample(), moved, "--render-size 80 --render-out " + quoted(out));
     ASSERT_FALSE(image.is_null());
     ASSERT_EQ(image["files"].size(), 28u);
     EXPECT_EQ(pngSize(out + "/00_+x_side.png"), std::make_pair(160u, 80u));
@@ -144,7 +144,7 @@ TEST(CliRender, WritesSideBySideAndDifferencePngs) {
     for (const auto& f : image["files"]) EXPECT_TRUE(std::filesystem::is_regular_file(f.get<std::string>())) << f;
     // The text output says where they went.
     const CliRun text = run_cli("compare --samples 20000 --render --render-size 32 --render-out " + quoted(out) + " " +
-                                quoted(spot()) + " " + quoted(moved));
+                                quoted(spot_sample()) + " " + quoted(moved));
     ASSERT_EQ(text.exit_code, 0) << text.out;
     EXPECT_NE(text.out.find("silhouette mismatch"), std::string::npos) << text.out;
     EXPECT_NE(text.out.find("28 PNGs"), std::string::npos) << text.out;
@@ -153,23 +153,23 @@ TEST(CliRender, WritesSideBySideAndDifferencePngs) {
 TEST(CliRender, HeadlessStartsItsOwnXvfbAndABadDisplayIsAClearError) {
     const CliRun headless = run_command("env -u DISPLAY " + std::string(LODFORGE_BIN_DIR) +
                                         "/lodforge --quiet compare --json --samples 20000 --render --render-size 48 " +
-                                        quoted(spot()) + " " + quoted(spot()) + " 2>&1");
+                                        quoted(spot_sample()) + " " + quoted(spot_sample()) + " 2>&1");
     ASSERT_EQ(headless.exit_code, 0) << headless.out;
     EXPECT_EQ(nlohmann::json::parse(headless.out)["image"]["mean_abs"].get<double>(), 0.0);
     const CliRun bad = run_command("DISPLAY=:4711 " + std::string(LODFORGE_BIN_DIR) +
-                                   "/lodforge --quiet compare --render " + quoted(spot()) + " " + quoted(spot()) + " 2>&1");
+                                   "/lodforge --quiet compare --render " + quoted(spot_sample()) + " " + quoted(spot_sample()) + " 2>&1");
     EXPECT_EQ(bad.exit_code, 1) << bad.out;
     EXPECT_NE(bad.out.find("cannot open DISPLAY=:4711"), std::string::npos) << bad.out;
 }
 
 TEST(CliRender, RenderOptionsAreChecked) {
-    CliRun r = run_cli("compare --render-size 64 " + quoted(spot()) + " " + quoted(spot()));
+    CliRun r = run_cli("compare --render-size 64 " + quoted(spot_sample()) + " " + quoted(spot_sample()));
     EXPECT_EQ(r.exit_code, 2) << r.out;  // a usage error
     EXPECT_NE(r.out.find("need --render"), std::string::npos) << r.out;
-    r = run_cli("compare --render --render-size 8 " + quoted(spot()) + " " + quoted(spot()));
+    r = run_cli("compare --render --render-size 8 " + quoted(spot_sample()) + " " + quoted(spot_sample()));
     EXPECT_EQ(r.exit_code, 2) << r.out;  // a usage error
     EXPECT_NE(r.out.find("16..4096"), std::string::npos) << r.out;
-    r = run_cli("compare --render --render-threshold 300 " + quoted(spot()) + " " + quoted(spot()));
+    r = run_cli("compare --render --render-threshold 300 " + quoted(spot_sample()) + " " + quoted(spot_sample()));
     EXPECT_EQ(r.exit_code, 2) << r.out;  // a usage error
     EXPECT_NE(r.out.find("0..255"), std::string::npos) << r.out;
 }
@@ -181,7 +181,7 @@ TEST(CliRender, PackWritesEachLevelsImageErrorIntoPackJson) {
         preset << R"({"version": 1, "name": "two", "levels": [{"ratio": 0.3}, {"ratio": 0.05}],
                      "export": {"glb": false}})";
     }
-    const CliRun r = run_cli("pack " + quoted(spot()) + " --preset " + quoted(dir.file("p.json")) + " -o " +
+    const CliRun r = run_cli("pack " + quoted(spot_sample()) + " --preset " + quoted(dir.file("p.json")) + " -o " +
                              quoted(dir.file("pack")) + " --image-error");
     ASSERT_EQ(r.exit_code, 0) << r.out;
     EXPECT_NE(r.out.find("image error"), std::string::npos) << r.out;
@@ -198,7 +198,7 @@ TEST(CliRender, PackWritesEachLevelsImageErrorIntoPackJson) {
     EXPECT_GT(b["mean_abs"].get<double>(), a["mean_abs"].get<double>());
     EXPECT_TRUE(j["preset"]["export"]["image_error"].get<bool>());
     // Without the flag nothing is rendered and nothing is written.
-    const CliRun plain = run_cli("pack " + quoted(spot()) + " --preset " + quoted(dir.file("p.json")) + " -o " +
+    const CliRun plain = run_cli("pack " + quoted(spot_sample()) + " --preset " + quoted(dir.file("p.json")) + " -o " +
                                  quoted(dir.file("plain")));
     ASSERT_EQ(plain.exit_code, 0) << plain.out;
     std::ifstream in2(dir.file("plain/pack.json"));

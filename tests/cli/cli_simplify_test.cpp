@@ -19,6 +19,7 @@
 namespace {
 
 using lodforge::test::CliRun;
+using lodforge::test::contains;
 using lodforge::test::quoted;
 using lodforge::test::run_cli;
 
@@ -26,8 +27,6 @@ CliRun run(const std::string& args, bool merge_stderr = true) { return run_cli(a
 std::string q(const std::string& s) { return quoted(s); }
 
 std::string bunny() { return lodforge::test::shared_data("scan-bunny/bun_zipper.ply"); }
-
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 }  // namespace
 

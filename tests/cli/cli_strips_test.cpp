@@ -13,10 +13,9 @@
 namespace {
 
 using lodforge::test::CliRun;
+using lodforge::test::contains;
 using lodforge::test::quoted;
 using lodforge::test::run_cli;
-
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 TEST(CliStrips, BuildInfoExtractInBothJoinModes) {
     lodforge::test::ScratchDir dir("cli-strips");

@@ -14,7 +14,7 @@ using lodforge::test::quoted;
 using lodforge::test::run_cli;
 
 namespace {
-bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+using lodforge::test::contains;
 }  // namespace
 
 TEST(CliMcOctree, BuildInfoExtractRoundTrip) {

@@ -18,7 +18,7 @@ namespace {
 using lodforge::test::quoted;
 using lodforge::test::run_cli;
 
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+using lodforge::test::contains;
 
 std::string horse() { return lodforge::test::shared_data("seq-horse-gallop"); }
 std::string sphere() { return lodforge::test::shared_data("morph-animated-morph-sphere/AnimatedMorphSphere.gltf"); }

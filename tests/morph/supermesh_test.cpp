@@ -57,7 +57,7 @@ Error::Kind kind_of(const std::function<void()>& f, std::string* message = nullp
     return Error::Kind::cancelled;
 }
 
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+using lodforge::test::contains;
 
 // Landmarks on Spot and on a sphere around it: the sphere vertex nearest to the ray from Spot's centre
 // through each of a few Spot vertices (nose, tail, feet, top); an honest, reproducible pairing.

@@ -75,4 +75,7 @@ inline Waited wait_cli(pid_t pid) {
 // Single-quoted for the shell (the test paths contain no quotes).
 inline std::string quoted(const std::string& s) { return "'" + s + "'"; }
 
+// Whether a command's output mentions `part`.
+inline bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
 }  // namespace lodforge::test
