@@ -205,3 +205,26 @@ TEST(CliRender, PackWritesEachLevelsImageErrorIntoPackJson) {
     const nlohmann::json k = nlohmann::json::parse(in2);
     EXPECT_FALSE(k["levels"][1].contains("image_error"));
 }
+
+// Vertex colours with alpha below 1 are drawn opaque (glTF's default), so their pixels are measured: two
+// quads that differ only in colour must differ in the image, not read 0 because nothing was covered.
+TEST(CliRender, TranslucentVertexColoursAreMeasured) {
+    lodforge::test::ScratchDir dir("cli-render-rgba");
+    auto quad = [&](const std::string& name, int red) {
+        std::ofstream out(dir.file(name));
+        out << "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+               "property uchar red\nproperty uchar green\nproperty uchar blue\nproperty uchar alpha\n"
+               "element face 2\nproperty list uchar int vertex_indices\nend_header\n";
+        for (const char* xyz : {"0 0 0", "1 0 0", "1 1 0", "0 1 0"}) out << xyz << ' ' << red << " 40 40 100\n";
+        out << "3 0 1 2\n3 0 2 3\n";
+        return dir.file(name);
+    };
+    const std::string dark = quad("dark.ply", 40), bright = quad("bright.ply", 240);
+    const nlohmann::json same = renderJson(dark, dark, "--render-size 64");
+    const nlohmann::json differ = renderJson(dark, bright, "--render-size 64");
+    ASSERT_FALSE(same.is_null());
+    ASSERT_FALSE(differ.is_null());
+    EXPECT_EQ(same["mean_abs"].get<double>(), 0.0);
+    EXPECT_GT(differ["mean_abs"].get<double>(), 10.0);
+    EXPECT_GT(differ["over_threshold"].get<double>(), 0.5);
+}

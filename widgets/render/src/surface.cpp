@@ -145,15 +145,17 @@ vtkSmartPointer<vtkPolyData> meshToPolyData(const Mesh& mesh, const std::vector<
     if (mesh.colors.size() == vertexCount) {
         vtkNew<vtkUnsignedCharArray> c;
         c->SetName("Colors");
-        c->SetNumberOfComponents(4);
+        // RGB only: the mesh model has no blend mode, and glTF's default (OPAQUE) ignores a colour's alpha.
+        // With RGBA scalars VTK draws the surface in its translucent pass, which writes no depth: the
+        // image compare's coverage mask came out empty and RGBA-coloured levels measured 0.
+        c->SetNumberOfComponents(3);
         c->SetNumberOfTuples(static_cast<vtkIdType>(outCount));
         unsigned char* out = c->GetPointer(0);
         for (std::size_t i = 0; i < outCount; ++i) {
             const Vec4f& v = mesh.colors[source(i)];
-            out[4 * i] = toByte(v.x);
-            out[4 * i + 1] = toByte(v.y);
-            out[4 * i + 2] = toByte(v.z);
-            out[4 * i + 3] = toByte(v.w);
+            out[3 * i] = toByte(v.x);
+            out[3 * i + 1] = toByte(v.y);
+            out[3 * i + 2] = toByte(v.z);
         }
         polyData->GetPointData()->SetScalars(c);
     }
