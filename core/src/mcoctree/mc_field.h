@@ -19,7 +19,7 @@
 
 namespace lodforge::mc {
 
-unsigned thread_count(unsigned requested) {
+inline unsigned thread_count(unsigned requested) {
     const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
     return requested ? requested : std::min(hw, 16u);
 }
