@@ -16,6 +16,7 @@
 #include "lodforge/error.h"
 #include "lodforge/metrics/metrics.h"
 #include "lodforge/octree/octree_store.h"
+#include "lodforge/io/temp_directory.h"
 #include "lodforge/octree/ooc_soup.h"
 #include "lodforge/io/ply.h"
 

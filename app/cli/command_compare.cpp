@@ -3,6 +3,7 @@
 #include "terminal_progress.h"
 
 #include "lodforge/error.h"
+#include "lodforge/metrics/distance_json.h"
 #include "lodforge/metrics/heatmap.h"
 #include "lodforge/io/mesh_io.h"
 #include "lodforge/metrics/image_error.h"
@@ -18,13 +19,6 @@
 #include <cstdio>
 
 namespace lodforge::cli {
-namespace {
-
-nlohmann::ordered_json one_sided(const OneSidedDistance& d) {
-    return {{"max", d.max}, {"mean", d.mean}, {"rms", d.rms}, {"samples", d.samples}};
-}
-
-}  // namespace
 
 void add_compare_command(CLI::App& app, const GlobalOptions& global) {
     struct Options {
@@ -108,17 +102,7 @@ void add_compare_command(CLI::App& app, const GlobalOptions& global) {
             nlohmann::ordered_json j;
             j["reference"] = o.reference;
             j["test"] = o.test;
-            j["hausdorff"] = d.hausdorff;
-            j["hausdorff_relative"] = d.hausdorff_relative;
-            j["mean"] = d.mean;
-            j["mean_relative"] = d.mean_relative;
-            j["rms"] = d.rms;
-            j["rms_relative"] = d.rms_relative;
-            j["diagonal"] = d.diagonal;
-            j["test_to_reference"] = one_sided(d.test_to_reference);
-            j["reference_to_test"] = one_sided(d.reference_to_test);
-            if (d.has_color_error) j["color_rms"] = d.color_rms;
-            if (d.has_texcoord_error) j["texcoord_rms"] = d.texcoord_rms;
+            j.update(nlohmann::ordered_json::parse(distance_json(d, true)));
             j["triangles"] = {{"reference", reference.triangle_count()}, {"test", test.triangle_count()}};
             if (!o.heatmap.empty()) j["heatmap"] = {{"file", o.heatmap}, {"mesh", o.heatmap_on}, {"max", heat_max}};
             if (o.render) j["image"] = nlohmann::ordered_json::parse(image_error_json(image, true));

@@ -11,6 +11,7 @@
 #include "lodforge/octree/octree_store.h"
 #include "lodforge/octree/ooc_cluster.h"
 #include "lodforge/io/ply.h"
+#include "lodforge/io/temp_directory.h"
 
 #include <nlohmann/json.hpp>
 

@@ -126,4 +126,36 @@ TEST(CliSignal, ConvertLeavesNoTemporaryFile) {
     }
 }
 
+// The single-output commands spend their time computing, before any file exists: a signal then must
+// still end them promptly with 128 + the signal and no output. Each input keeps its command busy for
+// seconds, so a signal sent 300 ms after the start lands while it works.
+TEST(CliSignal, ComputingCommandsStopAndWriteNothing) {
+    struct Case {
+        std::vector<std::string> args;  // the output is appended as "-o DIR/out.EXT"
+        std::string extension;
+    };
+    const std::string dragon = shared_data("scan-dragon/dragon_vrip.ply");
+    const std::vector<Case> cases = {
+        {{"simplify", dragon, "--ratio", "0.1"}, ".ply"},
+        {{"strips", dragon}, ".lodstrips"},
+        {{"mcoctree", "build", dragon, "--resolution", "256"}, ".mco"},
+        {{"morph", "build", shared_data("seq-horse-gallop")}, ".lfmorph"},
+    };
+    for (const Case& c : cases) {
+        for (const int signal_number : {SIGINT, SIGTERM}) {
+            SCOPED_TRACE(c.args.front() + " " + std::to_string(signal_number));
+            ScratchDir dir("cli-signal-compute");
+            std::vector<std::string> args = c.args;
+            args.insert(args.end(), {"-o", dir.file("out" + c.extension)});
+            const pid_t pid = spawn_cli(args);
+            std::this_thread::sleep_for(std::chrono::milliseconds(300));
+            int status = 0;
+            ASSERT_EQ(::waitpid(pid, &status, WNOHANG), 0) << "the command ended within 300 ms";
+            ASSERT_EQ(::kill(pid, signal_number), 0);
+            EXPECT_EQ(wait_cli(pid).exit_code, 128 + signal_number);
+            EXPECT_TRUE(names_in(dir.path()).empty()) << names_in(dir.path()).front();
+        }
+    }
+}
+
 }  // namespace

@@ -17,6 +17,7 @@
 #include "lodforge/io/atomic_file.h"
 #include "lodforge/error.h"
 #include "lodforge/io/mesh_validate.h"
+#include "lodforge/io/temp_directory.h"
 
 #include "octree/octree_format.h"
 #include "octree/ooc_internal.h"

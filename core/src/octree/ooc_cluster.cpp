@@ -10,6 +10,7 @@
 
 #include "lodforge/error.h"
 #include "lodforge/io/mesh_validate.h"
+#include "lodforge/io/temp_directory.h"
 #include "lodforge/octree/octree_simplify.h"
 #include "lodforge/simplify/quadric.h"
 

@@ -16,6 +16,7 @@
 #include "lodforge/mcoctree/mc_octree.h"
 #include "lodforge/octree/octree_build.h"
 #include "lodforge/octree/octree_store.h"
+#include "lodforge/io/temp_directory.h"
 #include "lodforge/octree/ooc_soup.h"
 #include "lodforge/progress_range.h"
 #include "lodforge/runtime/lodstrips_runtime.h"

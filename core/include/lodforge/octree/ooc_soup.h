@@ -1,7 +1,7 @@
 // Streaming conversion of an indexed PLY of any size into a triangle soup on disk, within a memory
 // budget: the first step of the out-of-core octree pipeline (docs/octree.md, "Triangle soup").
 //
-//     TempDirectory scratch(TempDirectory::beside("out.lfo"));
+//     TempDirectory scratch(TempDirectory::beside("out.lfo"));   // lodforge/io/temp_directory.h
 //     SoupResult s = convert_to_soup("scan.ply", scratch.file("soup"), {.memory_bytes = 16 << 20});
 //     SoupReader r(s.path);  while (std::size_t n = r.read(65536, buffer)) ...
 //
@@ -45,30 +45,6 @@ struct VertexLayout {
 // One soup corner on disk: uint32 input vertex index, then layout.floats() float32 (little endian).
 inline std::size_t soup_corner_bytes(const VertexLayout& layout) { return 4 + 4 * layout.floats(); }
 inline std::size_t soup_triangle_bytes(const VertexLayout& layout) { return 3 * soup_corner_bytes(layout); }
-
-// A directory for temporary files, removed with everything in it when the object dies (success,
-// exception or cancel alike).
-class TempDirectory {
-public:
-    // Creates a fresh uniquely named directory inside `parent` (which must exist).
-    explicit TempDirectory(const std::string& parent);
-    ~TempDirectory();
-    TempDirectory(const TempDirectory&) = delete;
-    TempDirectory& operator=(const TempDirectory&) = delete;
-
-    const std::string& path() const { return path_; }
-    std::string file(const std::string& name) const;
-    // The directory an output file lives in ("." for a bare file name).
-    static std::string beside(const std::string& output_path);
-
-private:
-    std::string path_;
-};
-
-// `e` reworded when its message names a file inside a TempDirectory (".lodforge-tmp-PID-N/..."): the
-// user never named those files, so the message names `owner` (the user's output or input) and the
-// directory that held the temporaries, then the problem. Other errors come back unchanged.
-Error without_temporary_names(const Error& e, const std::string& owner);
 
 // A run of `count` triangle records in a temporary file, from byte `offset` on.
 struct SoupRegion {
