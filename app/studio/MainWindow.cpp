@@ -1,4 +1,5 @@
 #include "MainWindow.h"
+#include "OutputFolderDialog.h"
 
 #include "lodforge/error.h"
 #include "lodforge/pack/lod_pack.h"
@@ -26,6 +27,7 @@
 #include <QDesktopServices>
 #include <QDialog>
 #include <QDialogButtonBox>
+#include <QDir>
 #include <QDockWidget>
 #include <QDoubleSpinBox>
 #include <QDragEnterEvent>
@@ -49,6 +51,7 @@
 #include <QScrollArea>
 #include <QSettings>
 #include <QSlider>
+#include <QStandardPaths>
 #include <QStatusBar>
 #include <QTableWidget>
 #include <QTextEdit>
@@ -71,6 +74,15 @@ const QString stateKey = QStringLiteral("window/state");
 const QString lastPresetKey = QStringLiteral("preset/last");
 const QString viewKey = QStringLiteral("view/");
 const QString autoRebuildKey = QStringLiteral("lod/autoRebuild");
+const QString packDirKey = QStringLiteral("export/packDir");
+const QString reportDirKey = QStringLiteral("export/reportDir");
+
+// Where exports start when none was made yet: the user's documents, not the data folder or the working
+// directory.
+QString defaultExportFolder() {
+    const QString documents = QStandardPaths::writableLocation(QStandardPaths::DocumentsLocation);
+    return documents.isEmpty() ? QDir::homePath() : documents;
+}
 
 // What the levels depend on: everything but the preset's name and the pack's contents.
 lodforge::Preset levelParameters(lodforge::Preset preset) {
@@ -669,6 +681,7 @@ void MainWindow::onLoadFinished(widgets::LoadJob* job, const widgets::LoadResult
             compareAction_->setChecked(false);
         }
         levels_->setCompareVisible(false);
+        rangeBox_->setValue(0.0);  // a range is a distance of one mesh: the next starts automatic
         levels_->setLevels({original});
         builtPreset_.reset();
         mcoPanel_->setModel(model_);
@@ -846,7 +859,6 @@ void MainWindow::exportPack(const QString& directory) {
             *result = lodforge::write_lod_pack(mesh, params, p);
         },
         this);
-    packDir_ = directory;
     startTask(job, [this, result, directory] {
         lastPackFiles_.clear();
         for (const std::string& f : result->files) lastPackFiles_ << QString::fromStdString(f);
@@ -863,12 +875,14 @@ void MainWindow::exportPack(const QString& directory) {
 }
 
 void MainWindow::showExportPackDialog() {
-    QString start = packDir_;
-    if (start.isEmpty() && !currentFile().isEmpty())
-        start = QFileInfo(currentFile()).absolutePath() + QLatin1Char('/') + QFileInfo(currentFile()).completeBaseName() +
-                QStringLiteral("_pack");
-    const QString dir = QFileDialog::getExistingDirectory(this, tr("Export LOD pack into"), start);
-    if (!dir.isEmpty()) exportPack(dir);
+    // Beside the last pack (its parent folder), named after this mesh: one folder per mesh.
+    const QString last = QSettings().value(packDirKey).toString();
+    const QString parent = last.isEmpty() ? defaultExportFolder() : QFileInfo(last).absolutePath();
+    const QString name = QFileInfo(currentFile()).completeBaseName() + QStringLiteral("_pack");
+    auto* dialog = new OutputFolderDialog(tr("Export LOD pack into"), packDirKey, parent + QLatin1Char('/') + name, this);
+    dialog->setAttribute(Qt::WA_DeleteOnClose);
+    connect(dialog, &QDialog::accepted, this, [this, dialog] { exportPack(dialog->folder()); });
+    dialog->open();
 }
 
 void MainWindow::setSideBySide(bool sideBySide) {
@@ -961,6 +975,7 @@ void MainWindow::showLoadPresetDialog() {
 }
 
 bool MainWindow::exportReport(const QString& path, QString* error) {
+    QDir().mkpath(QFileInfo(path).absolutePath());  // a new folder typed with the name
     QList<QImage> thumbnails;
     for (int i = 0; i < levels_->levelCount() && !report_->isEmpty(); ++i)
         thumbnails << levels_->levelImage(i, QSize(240, 180));
@@ -976,10 +991,21 @@ bool MainWindow::exportReport(const QString& path, QString* error) {
 }
 
 void MainWindow::showExportReportDialog() {
-    const QString base = currentFile().isEmpty() ? QString() : QFileInfo(currentFile()).completeBaseName() + "_report.html";
-    const QString path = QFileDialog::getSaveFileName(this, tr("Export report"), base,
-                                                      tr("HTML (*.html);;PDF (*.pdf)"));
-    if (!path.isEmpty()) exportReport(path);
+    // Qt's own dialog (the same on every desktop, and driven by the GUI tests; New Folder included), in
+    // the folder of the last report.
+    auto* dialog = new QFileDialog(this, tr("Export report"),
+                                   QSettings().value(reportDirKey, defaultExportFolder()).toString(),
+                                   tr("HTML (*.html);;PDF (*.pdf)"));
+    dialog->setObjectName(QStringLiteral("reportDialog"));
+    dialog->setOption(QFileDialog::DontUseNativeDialog);
+    dialog->setAcceptMode(QFileDialog::AcceptSave);
+    dialog->setDefaultSuffix(QStringLiteral("html"));
+    dialog->setAttribute(Qt::WA_DeleteOnClose);
+    if (!currentFile().isEmpty()) dialog->selectFile(QFileInfo(currentFile()).completeBaseName() + QStringLiteral("_report.html"));
+    connect(dialog, &QFileDialog::fileSelected, this, [this](const QString& path) {
+        if (exportReport(path)) QSettings().setValue(reportDirKey, QFileInfo(path).absolutePath());
+    });
+    dialog->open();
 }
 
 QStringList MainWindow::recentFiles() const {

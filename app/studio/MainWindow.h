@@ -97,7 +97,8 @@ public:
     // Files of the last pack written (relative to its directory), empty before.
     QStringList lastPackFiles() const { return lastPackFiles_; }
 
-    // The report of the last LOD chain with a thumbnail per level: HTML, or PDF for a .pdf path.
+    // The report of the last LOD chain with a thumbnail per level: HTML, or PDF for a .pdf path. A
+    // missing folder in `path` is created.
     bool exportReport(const QString& path, QString* error = nullptr);
 
     // Side by side (all levels in synchronised views) or one level with the slider.
@@ -251,7 +252,6 @@ private:
     widgets::Job* task_ = nullptr;     // the LOD chain or heat map job running, if any
     std::shared_ptr<const widgets::LoadedModel> model_;
     QString presetPath_;
-    QString packDir_;
     QStringList lastPackFiles_;
     bool interactive_ = true;
 };

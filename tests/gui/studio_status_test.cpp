@@ -3,7 +3,9 @@
 // levels identical to an earlier one; a parameter edit marks the built levels stale (amber bar and
 // labels) with one click to rebuild, or a rebuild by itself with the preference on; single-letter
 // shortcuts work from a spin box but type into a text field (with the status bar's hint); Help lists the
-// keys and links the documentation.
+// keys and links the documentation; the export dialogs create folders, ask before writing into a
+// non-empty one and remember where the last export went.
+#include "OutputFolderDialog.h"
 #include "PixelStats.h"
 #include "StudioSession.h"
 
@@ -11,19 +13,25 @@
 #include "lodforge/widgets/ParametersPanel.h"
 #include "lodforge/widgets/ReportPanel.h"
 
+#include <QAbstractItemView>
 #include <QAction>
 #include <QApplication>
+#include <QCompleter>
 #include <QDesktopServices>
 #include <QDialog>
+#include <QDir>
 #include <QDoubleSpinBox>
 #include <QFile>
+#include <QFileDialog>
 #include <QLabel>
 #include <QLineEdit>
 #include <QLocale>
+#include <QMessageBox>
 #include <QPushButton>
 #include <QSettings>
 #include <QSignalSpy>
 #include <QTableWidget>
+#include <QTemporaryDir>
 #include <QTest>
 #include <QUrl>
 
@@ -86,6 +94,8 @@ private slots:
     void parameterEditMarksLevelsStaleAndRebuilds();
     void singleKeysWorkFromSpinBoxesButTypeInTextFields();
     void helpListsTheKeysAndLinksTheDocs();
+    void exportDialogsCreateFoldersAskAndRemember();
+    void heatmapRangeIsPerMesh();
 
 private:
     // Ctrl+B, as a user starts a build; waits for the job.
@@ -322,6 +332,111 @@ void StudioStatusTest::helpListsTheKeysAndLinksTheDocs() {
     QFile doc(catcher.last.toLocalFile());
     QVERIFY(doc.open(QIODevice::ReadOnly));
     QVERIFY(doc.readAll().contains("# The studio"));
+}
+
+void StudioStatusTest::exportDialogsCreateFoldersAskAndRemember() {
+    QTemporaryDir root;
+    QVERIFY(root.isValid());
+    using lodforge::studio::OutputFolderDialog;
+    auto openPackDialog = [this]() -> OutputFolderDialog* {
+        QTest::keyClick(window_.get(), Qt::Key_E, Qt::ControlModifier | Qt::ShiftModifier);
+        OutputFolderDialog* dialog = nullptr;
+        if (!QTest::qWaitFor([&] { return (dialog = window_->findChild<OutputFolderDialog*>()) && dialog->isVisible(); }))
+            return nullptr;
+        return dialog;
+    };
+    auto typePath = [](QLineEdit* edit, const QString& path) {
+        edit->setFocus();
+        edit->selectAll();
+        QTest::keyClick(edit, Qt::Key_Delete);
+        QTest::keyClicks(edit, path);
+    };
+
+    // A new folder typed by name is created and the pack written into it; the first proposal is named
+    // after the mesh, outside the data folder.
+    OutputFolderDialog* dialog = openPackDialog();
+    QVERIFY(dialog);
+    QVERIFY2(dialog->pathEdit()->text().endsWith(QStringLiteral("spot_triangulated_pack")), qPrintable(dialog->pathEdit()->text()));
+    QVERIFY(!dialog->pathEdit()->text().startsWith(QFileInfo(spotPath).absolutePath()));
+    const QString first = root.filePath(QStringLiteral("packs/first"));
+    typePath(dialog->pathEdit(), first);
+    {
+        QSignalSpy finished(window_.get(), &MainWindow::jobFinished);
+        QTest::keyClick(dialog->pathEdit(), Qt::Key_Return);
+        QVERIFY(finished.wait(60000));
+        QVERIFY2(finished.at(0).at(1).toBool(), qPrintable(finished.at(0).at(2).toString()));
+    }
+    QVERIFY(QFile::exists(first + QStringLiteral("/pack.json")));
+
+    // The next proposal sits beside the last pack.
+    dialog = openPackDialog();
+    QVERIFY(dialog);
+    QCOMPARE(QDir::fromNativeSeparators(dialog->pathEdit()->text()), root.filePath(QStringLiteral("packs/spot_triangulated_pack")));
+    // Into the non-empty folder: a question first; No keeps the dialog and writes nothing.
+    typePath(dialog->pathEdit(), first);
+    QVERIFY2(dialog->findChild<QLabel*>(QStringLiteral("folderNote"))->text().contains(QStringLiteral("already holds")),
+             qPrintable(dialog->findChild<QLabel*>(QStringLiteral("folderNote"))->text()));
+    QSignalSpy finished(window_.get(), &MainWindow::jobFinished);
+    QTest::keyClick(dialog->pathEdit(), Qt::Key_Return);
+    QMessageBox* box = nullptr;
+    QTRY_VERIFY((box = dialog->findChild<QMessageBox*>(QStringLiteral("nonEmptyFolderBox"))) && box->isVisible());
+    QTest::mouseClick(box->button(QMessageBox::No), Qt::LeftButton);
+    QTRY_VERIFY(!dialog->findChild<QMessageBox*>(QStringLiteral("nonEmptyFolderBox")));
+    QVERIFY(dialog->isVisible());
+    QTest::qWait(200);
+    QCOMPARE(finished.count(), 0);
+    // Write into it: the pack is written.
+    QTest::keyClick(dialog->pathEdit(), Qt::Key_Return);
+    QTRY_VERIFY((box = dialog->findChild<QMessageBox*>(QStringLiteral("nonEmptyFolderBox"))) && box->isVisible());
+    QTest::mouseClick(box->button(QMessageBox::Yes), Qt::LeftButton);
+    QVERIFY(finished.wait(60000));
+    QVERIFY2(finished.at(0).at(1).toBool(), qPrintable(finished.at(0).at(2).toString()));
+
+    // The report dialog starts in the folder of the last report and writes there.
+    QTRY_VERIFY(!window_->findChild<OutputFolderDialog*>());
+    window_->activateWindow();
+    QVERIFY(QTest::qWaitForWindowActive(window_.get()));
+    QString message;
+    QVERIFY2(buildByKey(&message), qPrintable(message));
+    auto openReportDialog = [this]() -> QFileDialog* {
+        QTest::keyClick(window_.get(), Qt::Key_E, Qt::ControlModifier);
+        QFileDialog* d = nullptr;
+        if (!QTest::qWaitFor([&] { return (d = window_->findChild<QFileDialog*>(QStringLiteral("reportDialog"))) && d->isVisible(); }))
+            return nullptr;
+        // No window manager under Xvfb: activate the dialog as one would on opening it.
+        d->activateWindow();
+        if (!QTest::qWaitForWindowActive(d)) return nullptr;
+        return d;
+    };
+    const QString reviews = root.filePath(QStringLiteral("reviews"));
+    QVERIFY(QDir().mkpath(reviews));
+    QSettings().setValue(QStringLiteral("export/reportDir"), reviews);  // as a report exported there before
+    QFileDialog* reportDialog = openReportDialog();
+    QVERIFY(reportDialog);
+    QCOMPARE(reportDialog->directory().absolutePath(), reviews);
+    auto* name = reportDialog->findChild<QLineEdit*>(QStringLiteral("fileNameEdit"));
+    QVERIFY(name);
+    typePath(name, QStringLiteral("spot.html"));
+    if (QCompleter* completer = name->completer(); completer && completer->popup()->isVisible())
+        QTest::keyClick(completer->popup(), Qt::Key_Escape);
+    QTest::keyClick(name, Qt::Key_Return);
+    QTRY_VERIFY(QFile::exists(reviews + QStringLiteral("/spot.html")));
+}
+
+void StudioStatusTest::heatmapRangeIsPerMesh() {
+    // A range typed for one mesh (model units) would flatten the next mesh's colours: it goes back to auto.
+    auto* range = window_->findChild<QDoubleSpinBox*>(QStringLiteral("heatmapRange"));
+    QVERIFY(range);
+    range->setFocus();
+    range->selectAll();
+    QTest::keyClicks(range, QStringLiteral("0.05"));
+    QTest::keyClick(range, Qt::Key_Return);
+    QCOMPARE(range->value(), 0.05);
+    QCOMPARE(window_->levelViews()->heatmapRange(), 0.05);
+    QVERIFY(lodforge::testing::loadInStudio(*window_, spotPath));
+    QCOMPARE(range->value(), 0.0);
+    QCOMPARE(range->text(), QStringLiteral("auto"));
+    QVERIFY(window_->levelViews()->heatmapRange() != 0.05);
 }
 
 int main(int argc, char* argv[]) {
