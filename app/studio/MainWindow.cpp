@@ -53,6 +53,7 @@
 #include <QSlider>
 #include <QStandardPaths>
 #include <QStatusBar>
+#include <QTabBar>
 #include <QTableWidget>
 #include <QTextEdit>
 #include <QTimer>
@@ -183,6 +184,16 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
     });
 
     restoreSettings();
+    // Six docks share the right column: their tab titles scroll rather than shrink to "Stati…".
+    const auto unelide = [this] {
+        for (QTabBar* bar : findChildren<QTabBar*>(Qt::FindDirectChildrenOnly)) {
+            bar->setElideMode(Qt::ElideNone);
+            bar->setUsesScrollButtons(true);
+        }
+    };
+    unelide();
+    for (QDockWidget* d : findChildren<QDockWidget*>())
+        connect(d, &QDockWidget::dockLocationChanged, this, [unelide] { QTimer::singleShot(0, unelide); });
     updateRecentMenu();
     updateActions();
     statusBar()->showMessage(tr("Open a mesh (PLY, OBJ, glTF) with File > Open or drop it here"));

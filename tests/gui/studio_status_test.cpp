@@ -20,6 +20,7 @@
 #include <QDesktopServices>
 #include <QDialog>
 #include <QDir>
+#include <QDockWidget>
 #include <QDoubleSpinBox>
 #include <QFile>
 #include <QFileDialog>
@@ -30,6 +31,8 @@
 #include <QPushButton>
 #include <QSettings>
 #include <QSignalSpy>
+#include <QMainWindow>
+#include <QTabBar>
 #include <QTableWidget>
 #include <QTemporaryDir>
 #include <QTest>
@@ -96,6 +99,7 @@ private slots:
     void helpListsTheKeysAndLinksTheDocs();
     void exportDialogsCreateFoldersAskAndRemember();
     void heatmapRangeIsPerMesh();
+    void dockTabsReadableAt1280x800();
 
 private:
     // Ctrl+B, as a user starts a build; waits for the job.
@@ -437,6 +441,26 @@ void StudioStatusTest::heatmapRangeIsPerMesh() {
     QCOMPARE(range->value(), 0.0);
     QCOMPARE(range->text(), QStringLiteral("auto"));
     QVERIFY(window_->levelViews()->heatmapRange() != 0.05);
+}
+
+void StudioStatusTest::dockTabsReadableAt1280x800() {
+    window_->resize(1280, 800);
+    // The right column as narrow as a user may drag it: six tabs in 260 pixels.
+    auto* params = window_->findChild<QDockWidget*>(QStringLiteral("parametersDock"));
+    QVERIFY(params);
+    window_->resizeDocks({params}, {260}, Qt::Horizontal);
+    QTest::qWait(200);
+    int tabs = 0;
+    for (QTabBar* bar : window_->findChildren<QTabBar*>()) {
+        if (!bar->isVisible() || !qobject_cast<QMainWindow*>(bar->parentWidget())) continue;
+        for (int i = 0; i < bar->count(); ++i) {
+            ++tabs;
+            const QString text = bar->tabText(i);
+            const int needed = bar->fontMetrics().horizontalAdvance(text);
+            QVERIFY2(bar->tabRect(i).width() > needed, qPrintable(QStringLiteral("%1: %2 < %3").arg(text).arg(bar->tabRect(i).width()).arg(needed)));
+        }
+    }
+    QVERIFY2(tabs >= 6, qPrintable(QString::number(tabs)));
 }
 
 int main(int argc, char* argv[]) {
