@@ -1,4 +1,5 @@
 #include "MainWindow.h"
+#include "OutputFolderDialog.h"
 
 #include "lodforge/error.h"
 #include "lodforge/pack/lod_pack.h"
@@ -18,10 +19,15 @@
 #include "lodforge/widgets/StatsPanel.h"
 #include "lodforge/widgets/VtkView.h"
 
+#include <QAbstractSpinBox>
 #include <QAction>
 #include <QApplication>
 #include <QCloseEvent>
 #include <QDateTime>
+#include <QDesktopServices>
+#include <QDialog>
+#include <QDialogButtonBox>
+#include <QDir>
 #include <QDockWidget>
 #include <QDoubleSpinBox>
 #include <QDragEnterEvent>
@@ -29,8 +35,12 @@
 #include <QFile>
 #include <QFileDialog>
 #include <QFileInfo>
+#include <QHeaderView>
+#include <QKeyEvent>
 #include <QKeySequence>
+#include <QKeySequenceEdit>
 #include <QLabel>
+#include <QLineEdit>
 #include <QMenuBar>
 #include <QMessageBox>
 #include <QMimeData>
@@ -41,11 +51,17 @@
 #include <QScrollArea>
 #include <QSettings>
 #include <QSlider>
+#include <QStandardPaths>
 #include <QStatusBar>
+#include <QTabBar>
+#include <QTableWidget>
+#include <QTextEdit>
+#include <QTimer>
 #include <QToolBar>
 #include <QUndoCommand>
 #include <QUndoStack>
 #include <QUrl>
+#include <QVBoxLayout>
 
 #include <tuple>
 
@@ -58,6 +74,34 @@ const QString geometryKey = QStringLiteral("window/geometry");
 const QString stateKey = QStringLiteral("window/state");
 const QString lastPresetKey = QStringLiteral("preset/last");
 const QString viewKey = QStringLiteral("view/");
+const QString autoRebuildKey = QStringLiteral("lod/autoRebuild");
+const QString packDirKey = QStringLiteral("export/packDir");
+const QString reportDirKey = QStringLiteral("export/reportDir");
+
+// Where exports start when none was made yet: the user's documents, not the data folder or the working
+// directory.
+QString defaultExportFolder() {
+    const QString documents = QStandardPaths::writableLocation(QStandardPaths::DocumentsLocation);
+    return documents.isEmpty() ? QDir::homePath() : documents;
+}
+
+// What the levels depend on: everything but the preset's name and the pack's contents.
+lodforge::Preset levelParameters(lodforge::Preset preset) {
+    preset.name.clear();
+    preset.exports = {};
+    return preset;
+}
+
+// A field where letters are text: single-key shortcuts must type there. Spin boxes are not (their line
+// edit takes numbers), nor read-only text.
+bool takesText(const QWidget* w) {
+    if (!w) return false;
+    if (auto* line = qobject_cast<const QLineEdit*>(w))
+        return !line->isReadOnly() && !qobject_cast<const QAbstractSpinBox*>(line->parentWidget());
+    if (auto* text = qobject_cast<const QTextEdit*>(w)) return !text->isReadOnly();
+    if (auto* text = qobject_cast<const QPlainTextEdit*>(w)) return !text->isReadOnly();
+    return qobject_cast<const QKeySequenceEdit*>(w) != nullptr;
+}
 
 // The local file a drag carries, or an empty string.
 QString droppedFile(const QMimeData* mime) {
@@ -123,8 +167,33 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
                 undo_->push(new PresetCommand(params_, before, after, true, tr("Change parameters")));
             });
     connect(undo_, &QUndoStack::cleanChanged, this, [this](bool clean) { setWindowModified(!clean); });
+    connect(undo_, &QUndoStack::indexChanged, this, &MainWindow::updateStale);
+    rebuildTimer_ = new QTimer(this);
+    rebuildTimer_->setSingleShot(true);
+    rebuildTimer_->setInterval(500);
+    connect(rebuildTimer_, &QTimer::timeout, this, [this] {
+        if (!levelsStale() || !autoRebuild()) return;
+        if (isBusy()) return rebuildTimer_->start();  // after the running job
+        appendLog(tr("Parameters changed: rebuilding the levels"));
+        buildLodChain();
+    });
+    connect(levels_, &widgets::LevelViews::rebuildRequested, this, &MainWindow::buildLodChain);
+    qApp->installEventFilter(this);
+    connect(qApp, &QApplication::focusChanged, this, [this](QWidget*, QWidget* now) {
+        typingHint_->setVisible(takesText(now) && now->window() == this);
+    });
 
     restoreSettings();
+    // Six docks share the right column: their tab titles scroll rather than shrink to "Stati…".
+    const auto unelide = [this] {
+        for (QTabBar* bar : findChildren<QTabBar*>(Qt::FindDirectChildrenOnly)) {
+            bar->setElideMode(Qt::ElideNone);
+            bar->setUsesScrollButtons(true);
+        }
+    };
+    unelide();
+    for (QDockWidget* d : findChildren<QDockWidget*>())
+        connect(d, &QDockWidget::dockLocationChanged, this, [unelide] { QTimer::singleShot(0, unelide); });
     updateRecentMenu();
     updateActions();
     statusBar()->showMessage(tr("Open a mesh (PLY, OBJ, glTF) with File > Open or drop it here"));
@@ -341,6 +410,25 @@ void MainWindow::createActions() {
                     {cellsAction_, &ViewOptions::cells, QStringLiteral("cells")},
                     {cellsByTrianglesAction_, &ViewOptions::cellsByTriangles, QStringLiteral("cellsByTriangles")}};
 
+    autoRebuildAction_ = action(tr("Rebuild &automatically"), QStringLiteral("actionAutoRebuild"), QKeySequence(),
+                                tr("Build the levels again whenever a parameter they depend on changes"));
+    autoRebuildAction_->setCheckable(true);
+    connect(autoRebuildAction_, &QAction::toggled, this, [this](bool on) {
+        QSettings().setValue(autoRebuildKey, on);
+        if (on) updateStale();
+    });
+    shortcutsAction_ = action(tr("&Keyboard shortcuts"), QStringLiteral("actionShortcuts"),
+                              QKeySequence(QKeySequence::HelpContents), tr("Every key of the studio on one sheet"));
+    connect(shortcutsAction_, &QAction::triggered, this, &MainWindow::showShortcutsSheet);
+    docsAction_ = action(tr("&Documentation"), QStringLiteral("actionDocumentation"), QKeySequence(),
+                         tr("Open the studio's documentation (docs/studio.md)"));
+    connect(docsAction_, &QAction::triggered, this, [this] {
+        const QString path = documentationPath();
+        if (path.isEmpty() || !QDesktopServices::openUrl(QUrl::fromLocalFile(path)))
+            showError(tr("No documentation"), tr("The documentation could not be opened."),
+                      path.isEmpty() ? tr("docs/studio.md is neither installed nor in the source tree") : path);
+    });
+
     resetViewAction_ = action(tr("&Reset view"), QStringLiteral("actionResetView"), QKeySequence(Qt::Key_R),
                               tr("Frame the mesh from the default viewpoint"));
     connect(resetViewAction_, &QAction::triggered, levels_, &widgets::LevelViews::resetView);
@@ -370,6 +458,7 @@ void MainWindow::createMenus() {
     lod->setObjectName(QStringLiteral("menuLod"));
     lod->addAction(buildAction_);
     lod->addAction(cancelAction_);
+    lod->addAction(autoRebuildAction_);
     lod->addSeparator();
     lod->addAction(previousLevelAction_);
     lod->addAction(nextLevelAction_);
@@ -392,6 +481,10 @@ void MainWindow::createMenus() {
     for (QDockWidget* d : {statsDock_, paramsDock_, reportDock_, logDock_}) viewMenu->addAction(d->toggleViewAction());
 
     QMenu* help = menuBar()->addMenu(tr("&Help"));
+    help->setObjectName(QStringLiteral("menuHelp"));
+    help->addAction(shortcutsAction_);
+    help->addAction(docsAction_);
+    help->addSeparator();
     QAction* about = help->addAction(tr("&About LodForge Studio"));
     about->setMenuRole(QAction::AboutRole);
     connect(about, &QAction::triggered, this, [this] {
@@ -443,6 +536,12 @@ void MainWindow::createStatusBar() {
     cancelButton_ = new QPushButton(tr("Cancel"), this);
     cancelButton_->setObjectName(QStringLiteral("cancelLoad"));
     connect(cancelButton_, &QPushButton::clicked, this, &MainWindow::cancelLoading);
+    typingHint_ = new QLabel(tr("Typing in a field: single-key shortcuts paused"), this);
+    typingHint_->setObjectName(QStringLiteral("typingHint"));
+    typingHint_->setToolTip(tr("Letters go to the field being typed in; click a view or press Tab to use "
+                               "the single-key shortcuts again"));
+    typingHint_->hide();
+    statusBar()->addPermanentWidget(typingHint_);
     statusBar()->addPermanentWidget(progressBar_);
     statusBar()->addPermanentWidget(cancelButton_);
     setBusyUi(false);
@@ -464,6 +563,7 @@ void MainWindow::restoreSettings() {
     for (const ViewToggle& t : viewToggles_) options.*t.option = settings.value(viewKey + t.key, defaults.*t.option).toBool();
     setViewOptions(options);
     sideBySideAction_->setChecked(settings.value(viewKey + QStringLiteral("sideBySide"), false).toBool());
+    autoRebuildAction_->setChecked(settings.value(autoRebuildKey, false).toBool());
     const QString last = settings.value(lastPresetKey).toString();
     if (!last.isEmpty() && QFile::exists(last)) {
         try {
@@ -592,7 +692,9 @@ void MainWindow::onLoadFinished(widgets::LoadJob* job, const widgets::LoadResult
             compareAction_->setChecked(false);
         }
         levels_->setCompareVisible(false);
+        rangeBox_->setValue(0.0);  // a range is a distance of one mesh: the next starts automatic
         levels_->setLevels({original});
+        builtPreset_.reset();
         mcoPanel_->setModel(model_);
         octreePanel_->setModel(model_);
         report_->clear();
@@ -709,6 +811,8 @@ void MainWindow::buildLodChain() {
             heatmapAction_->setChecked(false);
         }
         levels_->setLevels(out->levels, false);
+        builtPreset_ = preset;
+        updateStale();  // the parameters may have moved on while it built
         report_->setReport(meshName, QString::fromStdString(preset.name), widgets::methodDisplayName(preset.method),
                            out->levels);
         for (const widgets::LevelData& l : out->levels) {
@@ -720,7 +824,9 @@ void MainWindow::buildLodChain() {
                           .arg(l.error, 0, 'g', 4)
                           .arg(100.0 * l.errorRelative, 0, 'f', 4)
                           .arg(l.buildMs, 0, 'f', 1)
-                          .arg(l.stopReason));
+                          .arg(l.stopReason)
+                      + (l.missedTarget ? tr(", target %1 missed").arg(l.targetTriangles) : QString())
+                      + (l.sameAs > 0 ? tr(", same as LOD %1").arg(l.sameAs) : QString()));
         }
         if (!out->levels.empty() && !out->levels.front().structureSummary.isEmpty())
             appendLog(QStringLiteral("  ") + out->levels.front().structureSummary);
@@ -764,7 +870,6 @@ void MainWindow::exportPack(const QString& directory) {
             *result = lodforge::write_lod_pack(mesh, params, p);
         },
         this);
-    packDir_ = directory;
     startTask(job, [this, result, directory] {
         lastPackFiles_.clear();
         for (const std::string& f : result->files) lastPackFiles_ << QString::fromStdString(f);
@@ -781,12 +886,14 @@ void MainWindow::exportPack(const QString& directory) {
 }
 
 void MainWindow::showExportPackDialog() {
-    QString start = packDir_;
-    if (start.isEmpty() && !currentFile().isEmpty())
-        start = QFileInfo(currentFile()).absolutePath() + QLatin1Char('/') + QFileInfo(currentFile()).completeBaseName() +
-                QStringLiteral("_pack");
-    const QString dir = QFileDialog::getExistingDirectory(this, tr("Export LOD pack into"), start);
-    if (!dir.isEmpty()) exportPack(dir);
+    // Beside the last pack (its parent folder), named after this mesh: one folder per mesh.
+    const QString last = QSettings().value(packDirKey).toString();
+    const QString parent = last.isEmpty() ? defaultExportFolder() : QFileInfo(last).absolutePath();
+    const QString name = QFileInfo(currentFile()).completeBaseName() + QStringLiteral("_pack");
+    auto* dialog = new OutputFolderDialog(tr("Export LOD pack into"), packDirKey, parent + QLatin1Char('/') + name, this);
+    dialog->setAttribute(Qt::WA_DeleteOnClose);
+    connect(dialog, &QDialog::accepted, this, [this, dialog] { exportPack(dialog->folder()); });
+    dialog->open();
 }
 
 void MainWindow::setSideBySide(bool sideBySide) {
@@ -879,6 +986,7 @@ void MainWindow::showLoadPresetDialog() {
 }
 
 bool MainWindow::exportReport(const QString& path, QString* error) {
+    QDir().mkpath(QFileInfo(path).absolutePath());  // a new folder typed with the name
     QList<QImage> thumbnails;
     for (int i = 0; i < levels_->levelCount() && !report_->isEmpty(); ++i)
         thumbnails << levels_->levelImage(i, QSize(240, 180));
@@ -894,10 +1002,21 @@ bool MainWindow::exportReport(const QString& path, QString* error) {
 }
 
 void MainWindow::showExportReportDialog() {
-    const QString base = currentFile().isEmpty() ? QString() : QFileInfo(currentFile()).completeBaseName() + "_report.html";
-    const QString path = QFileDialog::getSaveFileName(this, tr("Export report"), base,
-                                                      tr("HTML (*.html);;PDF (*.pdf)"));
-    if (!path.isEmpty()) exportReport(path);
+    // Qt's own dialog (the same on every desktop, and driven by the GUI tests; New Folder included), in
+    // the folder of the last report.
+    auto* dialog = new QFileDialog(this, tr("Export report"),
+                                   QSettings().value(reportDirKey, defaultExportFolder()).toString(),
+                                   tr("HTML (*.html);;PDF (*.pdf)"));
+    dialog->setObjectName(QStringLiteral("reportDialog"));
+    dialog->setOption(QFileDialog::DontUseNativeDialog);
+    dialog->setAcceptMode(QFileDialog::AcceptSave);
+    dialog->setDefaultSuffix(QStringLiteral("html"));
+    dialog->setAttribute(Qt::WA_DeleteOnClose);
+    if (!currentFile().isEmpty()) dialog->selectFile(QFileInfo(currentFile()).completeBaseName() + QStringLiteral("_report.html"));
+    connect(dialog, &QFileDialog::fileSelected, this, [this](const QString& path) {
+        if (exportReport(path)) QSettings().setValue(reportDirKey, QFileInfo(path).absolutePath());
+    });
+    dialog->open();
 }
 
 QStringList MainWindow::recentFiles() const {
@@ -958,6 +1077,112 @@ void MainWindow::explainMissingCells() {
     statusBar()->showMessage(tr("Octree cells: these levels were not cut from an octree; build with the "
                                 "Out-of-core octree or Marching-cube octree method to see its cells"),
                              10000);
+}
+
+bool MainWindow::levelsStale() const { return levels_->isStale(); }
+
+void MainWindow::setAutoRebuild(bool on) { autoRebuildAction_->setChecked(on); }
+
+bool MainWindow::autoRebuild() const { return autoRebuildAction_->isChecked(); }
+
+void MainWindow::updateStale() {
+    const bool stale = builtPreset_ && levels_->levelCount() > 1 &&
+                       levelParameters(*builtPreset_) != levelParameters(params_->preset());
+    levels_->setStale(stale);
+    if (stale && autoRebuild()) rebuildTimer_->start();
+}
+
+QAction* MainWindow::singleKeyAction(const QKeyEvent* key) const {
+    if (key->key() < Qt::Key_A || key->key() > Qt::Key_Z) return nullptr;
+    if (key->modifiers() & ~(Qt::ShiftModifier | Qt::KeypadModifier)) return nullptr;
+    const QKeySequence sequence(QKeyCombination(key->modifiers() & Qt::ShiftModifier, Qt::Key(key->key())));
+    for (QAction* a : findChildren<QAction*>()) {
+        if (a->shortcut() == sequence) return a;
+    }
+    return nullptr;
+}
+
+bool MainWindow::eventFilter(QObject* watched, QEvent* event) {
+    if (event->type() != QEvent::ShortcutOverride && event->type() != QEvent::KeyPress)
+        return QMainWindow::eventFilter(watched, event);
+    auto* widget = qobject_cast<QWidget*>(watched);
+    // Only keys bound for this window's widgets (docked or floating), never a dialog's.
+    if (!widget || widget != QApplication::focusWidget() || takesText(widget) ||
+        (widget->window() != this && !qobject_cast<QDockWidget*>(widget->window())))
+        return QMainWindow::eventFilter(watched, event);
+    auto* key = static_cast<QKeyEvent*>(event);
+    QAction* action = singleKeyAction(key);
+    if (!action) return QMainWindow::eventFilter(watched, event);
+    // Claim the key from the shortcut map (a spin box would swallow it as text otherwise) and trigger
+    // the action on the key press itself: one path whatever the focus widget does with letters.
+    if (event->type() == QEvent::ShortcutOverride) {
+        event->accept();
+        return true;
+    }
+    if (action->isEnabled()) action->trigger();
+    return true;
+}
+
+QString MainWindow::documentationPath() {
+    const QString installed = QCoreApplication::applicationDirPath() + QStringLiteral("/../share/doc/lodforge/studio.md");
+    if (QFileInfo::exists(installed)) return QFileInfo(installed).canonicalFilePath();
+#ifdef LODFORGE_DOCS_DIR
+    const QString source = QStringLiteral(LODFORGE_DOCS_DIR "/studio.md");
+    if (QFileInfo::exists(source)) return QFileInfo(source).canonicalFilePath();
+#endif
+    return {};
+}
+
+void MainWindow::showShortcutsSheet() {
+    if (auto* open = findChild<QDialog*>(QStringLiteral("shortcutsSheet"))) {
+        open->raise();
+        open->activateWindow();
+        return;
+    }
+    auto* sheet = new QDialog(this);
+    sheet->setObjectName(QStringLiteral("shortcutsSheet"));
+    sheet->setWindowTitle(tr("Keyboard shortcuts"));
+    sheet->setAttribute(Qt::WA_DeleteOnClose);
+    auto* layout = new QVBoxLayout(sheet);
+    auto* table = new QTableWidget(0, 3, sheet);
+    table->setObjectName(QStringLiteral("shortcutsTable"));
+    table->setHorizontalHeaderLabels({tr("Keys"), tr("Action"), tr("Menu")});
+    table->verticalHeader()->hide();
+    table->setEditTriggers(QAbstractItemView::NoEditTriggers);
+    table->horizontalHeader()->setSectionResizeMode(QHeaderView::ResizeToContents);
+    table->horizontalHeader()->setStretchLastSection(true);
+    auto addRow = [table](const QString& keys, const QString& what, const QString& where) {
+        const int row = table->rowCount();
+        table->insertRow(row);
+        table->setItem(row, 0, new QTableWidgetItem(keys));
+        table->setItem(row, 1, new QTableWidgetItem(what));
+        table->setItem(row, 2, new QTableWidgetItem(where));
+    };
+    // From the menus, so the sheet cannot drift from the keys that work.
+    for (QAction* menuAction : menuBar()->actions()) {
+        QMenu* menu = menuAction->menu();
+        if (!menu) continue;
+        const QString where = menu->title().remove(QLatin1Char('&'));
+        for (QAction* a : menu->actions()) {
+            if (a->shortcuts().isEmpty()) continue;
+            QStringList keys;
+            for (const QKeySequence& k : a->shortcuts()) keys << k.toString(QKeySequence::NativeText);
+            addRow(keys.join(QStringLiteral(", ")), a->text().remove(QLatin1Char('&')).remove(QStringLiteral("…")),
+                   where);
+        }
+    }
+    addRow(tr("Left drag"), tr("Rotate the view"), tr("View"));
+    addRow(tr("Middle drag, Shift+left drag"), tr("Pan"), tr("View"));
+    addRow(tr("Right drag, wheel"), tr("Zoom"), tr("View"));
+    layout->addWidget(new QLabel(tr("Single-letter keys work wherever the focus is, except while typing in a "
+                                    "text field (the status bar then says so)."),
+                                 sheet));
+    layout->addWidget(table);
+    auto* buttons = new QDialogButtonBox(QDialogButtonBox::Close, sheet);
+    connect(buttons, &QDialogButtonBox::rejected, sheet, &QDialog::close);
+    layout->addWidget(buttons);
+    sheet->resize(560, 640);
+    sheet->show();
 }
 
 QImage MainWindow::grabWindowImage() {

@@ -14,16 +14,19 @@
 
 #include <functional>
 #include <memory>
+#include <optional>
 
 class QAction;
 class QDockWidget;
 class QDoubleSpinBox;
 class QLabel;
+class QKeyEvent;
 class QMenu;
 class QPlainTextEdit;
 class QProgressBar;
 class QPushButton;
 class QSlider;
+class QTimer;
 class QUndoStack;
 
 namespace lodforge::widgets {
@@ -94,7 +97,8 @@ public:
     // Files of the last pack written (relative to its directory), empty before.
     QStringList lastPackFiles() const { return lastPackFiles_; }
 
-    // The report of the last LOD chain with a thumbnail per level: HTML, or PDF for a .pdf path.
+    // The report of the last LOD chain with a thumbnail per level: HTML, or PDF for a .pdf path. A
+    // missing folder in `path` is created.
     bool exportReport(const QString& path, QString* error = nullptr);
 
     // Side by side (all levels in synchronised views) or one level with the slider.
@@ -121,6 +125,17 @@ public:
     // The whole window as shown, with the 3D views' current frames in place.
     QImage grabWindowImage();
 
+    // The levels shown were built with other parameters than the current ones (LevelViews::isStale).
+    bool levelsStale() const;
+    // LOD > Rebuild automatically (persisted): a parameter change that makes the levels stale rebuilds
+    // them 500 ms after the last change, once no job runs.
+    void setAutoRebuild(bool on);
+    bool autoRebuild() const;
+    // Help > Keyboard shortcuts: every action with its keys, generated from the actions themselves.
+    void showShortcutsSheet();
+    // Help > Documentation: docs/studio.md as installed (share/doc/lodforge) or in the source tree.
+    static QString documentationPath();
+
 signals:
     // After every load: ok, or the error (empty message when cancelled). Emitted after the view shows the
     // new mesh, or after the error dialog opened.
@@ -129,6 +144,9 @@ signals:
     void jobFinished(const QString& name, bool ok, const QString& message);
 
 protected:
+    // Single-letter shortcuts work whatever has focus in this window (spin boxes, sliders, lists),
+    // except in a field that takes text, where they type (the status bar says so while it has focus).
+    bool eventFilter(QObject* watched, QEvent* event) override;
     void dragEnterEvent(QDragEnterEvent* event) override;
     void dropEvent(QDropEvent* event) override;
     void closeEvent(QCloseEvent* event) override;
@@ -156,6 +174,10 @@ private:
     // The cells overlay is on but the levels shown carry no cells: say why in the status bar.
     void explainMissingCells();
     void setBusyUi(bool busy, const QString& format = {});
+    // After a parameter change: marks the levels stale (or fresh again, after undo) and schedules the
+    // automatic rebuild.
+    void updateStale();
+    QAction* singleKeyAction(const QKeyEvent* key) const;
     void updateActions();
     void appendLog(const QString& text);
     void showError(const QString& title, const QString& text, const QString& details);
@@ -210,6 +232,13 @@ private:
     QAction* cellsAction_ = nullptr;
     QAction* cellsByTrianglesAction_ = nullptr;
     QAction* resetViewAction_ = nullptr;
+    QAction* autoRebuildAction_ = nullptr;
+    QAction* shortcutsAction_ = nullptr;
+    QAction* docsAction_ = nullptr;
+    QLabel* typingHint_ = nullptr;
+    QTimer* rebuildTimer_ = nullptr;
+    // The parameters the levels shown were built with; none before the first chain of the mesh.
+    std::optional<lodforge::Preset> builtPreset_;
     QMenu* recentMenu_ = nullptr;
     // Each View toggle with the option it sets and its settings key.
     struct ViewToggle {
@@ -223,7 +252,6 @@ private:
     widgets::Job* task_ = nullptr;     // the LOD chain or heat map job running, if any
     std::shared_ptr<const widgets::LoadedModel> model_;
     QString presetPath_;
-    QString packDir_;
     QStringList lastPackFiles_;
     bool interactive_ = true;
 };

@@ -11,6 +11,7 @@
 #include <QHBoxLayout>
 #include <QLabel>
 #include <QLocale>
+#include <QPushButton>
 #include <QSlider>
 #include <QStackedWidget>
 #include <QVBoxLayout>
@@ -31,6 +32,8 @@ QLabel* makeLabel(QWidget* parent, const QString& name) {
     label->setObjectName(name);
     label->setAlignment(Qt::AlignCenter);
     label->setTextFormat(Qt::PlainText);
+    // Small side-by-side tiles: the whole truth on two lines rather than clipped.
+    label->setWordWrap(true);
     QFont font = label->font();
     font.setBold(true);
     label->setFont(font);
@@ -89,6 +92,24 @@ QColor stripColor(std::size_t strip) {
 LevelViews::LevelViews(QWidget* parent) : QWidget(parent) {
     auto* outer = new QVBoxLayout(this);
     outer->setContentsMargins(0, 0, 0, 0);
+    outer->setSpacing(0);
+    staleBar_ = new QWidget(this);
+    staleBar_->setObjectName(QStringLiteral("staleBar"));
+    // Amber, as a warning: the levels below no longer follow the parameters.
+    staleBar_->setStyleSheet(QStringLiteral("#staleBar { background: #f0a020; } #staleBar QLabel { color: black; }"));
+    staleBar_->setAttribute(Qt::WA_StyledBackground);
+    auto* staleRow = new QHBoxLayout(staleBar_);
+    staleRow->setContentsMargins(8, 3, 8, 3);
+    auto* staleText = new QLabel(tr("Stale: the parameters changed since these levels were built."), staleBar_);
+    staleText->setObjectName(QStringLiteral("staleText"));
+    auto* rebuild = new QPushButton(tr("Rebuild"), staleBar_);
+    rebuild->setObjectName(QStringLiteral("rebuildButton"));
+    rebuild->setToolTip(tr("Build the levels again with the current parameters (Ctrl+B)"));
+    connect(rebuild, &QPushButton::clicked, this, &LevelViews::rebuildRequested);
+    staleRow->addWidget(staleText, 1);
+    staleRow->addWidget(rebuild);
+    staleBar_->hide();
+    outer->addWidget(staleBar_);
     stack_ = new QStackedWidget(this);
     outer->addWidget(stack_);
 
@@ -257,11 +278,30 @@ QString LevelViews::levelLabelText(int level) const {
     const LevelData& l = levels_[std::size_t(level)];
     const QLocale locale;
     if (level == 0) return tr("Original · %1 triangles").arg(locale.toString(qulonglong(l.triangles)));
-    return tr("LOD %1 · %2 triangles · error %3 % (%4)")
-        .arg(level)
-        .arg(locale.toString(qulonglong(l.triangles)))
-        .arg(100.0 * l.errorRelative, 0, 'f', 3)
-        .arg(formatDistance(l.error));
+    QString count = locale.toString(qulonglong(l.triangles));
+    if (l.targetTriangles > 0) count += QStringLiteral(" / ") + locale.toString(qulonglong(l.targetTriangles));
+    QString text = tr("LOD %1 · %2 triangles").arg(level).arg(count);
+    if (l.missedTarget) {
+        text += tr(" · target missed: %1").arg(l.stopReason);
+    } else if (l.stopReason == QStringLiteral("topology limit")) {
+        text += tr(" · %1").arg(l.stopReason);  // an error target the simplifier could not reach
+    }
+    if (l.sameAs > 0) text += tr(" · same as LOD %1").arg(l.sameAs);
+    text += tr(" · error %1 % (%2)").arg(100.0 * l.errorRelative, 0, 'f', 3).arg(formatDistance(l.error));
+    return stale_ ? tr("Stale · %1").arg(text) : text;
+}
+
+void LevelViews::setStale(bool stale) {
+    stale = stale && levelCount() > 1;  // the original alone is never stale
+    if (stale == stale_) return;
+    stale_ = stale;
+    staleBar_->setVisible(stale);
+    // The labels carry the mark too, in amber, so a screenshot of any view still tells.
+    const QString style = stale ? QStringLiteral("color: #c07000;") : QString();
+    singleLabel_->setStyleSheet(style);
+    for (const Tile& t : tiles_) t.label->setStyleSheet(style);
+    refreshSingle();
+    refreshTiles();
 }
 
 std::shared_ptr<const MeshScene> LevelViews::sceneOf(int level) const {
@@ -310,6 +350,9 @@ void LevelViews::setLevels(std::vector<LevelData> levels, bool resetCamera) {
     const bool sameCount = levels.size() == levels_.size();
     endInspection();
     levels_ = std::move(levels);
+    stale_ = false;  // new levels follow the parameters they were built with
+    staleBar_->hide();
+    singleLabel_->setStyleSheet(QString());
     heatmaps_ = {};
     heatmapVisible_ = false;
     continuousActive_ = false;

@@ -47,6 +47,15 @@ LevelData makeLevel(int index, Mesh&& mesh, const DistanceResult* distance,
     return level;
 }
 
+bool sameMesh(const Mesh& a, const Mesh& b) {
+    return a.indices == b.indices && a.positions == b.positions && a.texcoords == b.texcoords &&
+           a.colors == b.colors && a.face_materials == b.face_materials;
+}
+
+// Beyond this relative distance a triangle target counts as missed: clustering and structure cuts land
+// near, not on, their targets, and "near" should not be reported as a miss.
+constexpr double missTolerance = 0.1;
+
 }  // namespace
 
 QString octreeSummary(const OctreeStats& stats) {
@@ -104,6 +113,16 @@ std::vector<LevelData> buildLodLevels(const LevelData& original, const Preset& p
         LevelData level = makeLevel(int(k + 1), std::move(built.levels[k]), &built.distance[k], images);
         level.buildMs = stats.level_seconds[k] * 1e3;
         level.stopReason = stopText(built.stops[k]);
+        level.targetTriangles = k < built.target_triangles.size() ? built.target_triangles[k] : 0;
+        level.missedTarget = level.targetTriangles > 0 &&
+                             std::abs(double(level.triangles) - double(level.targetTriangles)) >
+                                 missTolerance * double(level.targetTriangles);
+        // The octree reports a cut at or under its budget as "target reached", however far under:
+        // far from the target it is the structure's closest level, and the label must not say otherwise.
+        if (level.missedTarget && built.stops[k] == LevelStop::target_reached) level.stopReason = stopText(LevelStop::closest);
+        for (std::size_t j = 1; j < levels.size() && level.sameAs < 0; ++j) {
+            if (sameMesh(*levels[j].mesh, *level.mesh)) level.sameAs = int(j);
+        }
         level.verticesOnOriginal = built.vertices_on_input;
         level.cells = levels.front().cells;
         level.structureSummary = levels.front().structureSummary;

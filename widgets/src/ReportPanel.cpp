@@ -27,20 +27,30 @@ namespace lodforge::widgets {
 
 namespace {
 
-const QStringList columnTitles = {QStringLiteral("Level"), QStringLiteral("Triangles"), QStringLiteral("Vertices"),
+const QStringList columnTitles = {QStringLiteral("Level"), QStringLiteral("Triangles"), QStringLiteral("Target"),
+                                  QStringLiteral("Vertices"),
                                   QStringLiteral("Error (% diagonal)"), QStringLiteral("Error (model units)"),
                                   QStringLiteral("Time (ms)"), QStringLiteral("Stopped"),
                                   QStringLiteral("Image error (0-255, silhouette %)")};
+
+// The stop reason with what the reader must not miss: a target not met, a level that repeats another.
+QString stoppedText(const ReportRow& r) {
+    QString text = r.stopReason;
+    if (r.missedTarget) text += QStringLiteral(" — target missed");
+    if (r.sameAs > 0) text += QStringLiteral(" — same as LOD %1").arg(r.sameAs);
+    return text;
+}
 
 QStringList cellsOf(const ReportRow& r) {
     const QLocale locale;
     return {r.level == 0 ? QStringLiteral("original") : QString::number(r.level),
             locale.toString(qulonglong(r.triangles)),
+            r.targetTriangles > 0 ? locale.toString(qulonglong(r.targetTriangles)) : QStringLiteral("—"),
             locale.toString(qulonglong(r.vertices)),
             QString::number(100.0 * r.errorRelative, 'f', 4),
             QString::number(r.error, 'g', 4),
             r.level == 0 ? QStringLiteral("—") : QString::number(r.buildMs, 'f', 1),
-            r.stopReason,
+            stoppedText(r),
             r.level == 0 ? QStringLiteral("—")
             : r.imageError ? QStringLiteral("%1 (%2 %)")
                                  .arg(*r.imageError, 0, 'f', 2)
@@ -48,7 +58,8 @@ QStringList cellsOf(const ReportRow& r) {
                            : QStringLiteral("…")};
 }
 
-bool isNumberColumn(int c) { return (c >= 1 && c <= 5) || c == 7; }
+bool isNumberColumn(int c) { return (c >= 1 && c <= 6) || c == 8; }
+constexpr int stoppedColumn = 7;
 
 QByteArray pngBytes(const QImage& image) {
     QByteArray bytes;
@@ -102,7 +113,8 @@ void ReportPanel::setReport(const QString& meshName, const QString& presetName, 
     method_ = method;
     rows_.clear();
     for (const LevelData& l : levels)
-        rows_.push_back({l.index, l.triangles, l.vertices, l.error, l.errorRelative, l.buildMs, l.stopReason, {}, {}});
+        rows_.push_back({l.index, l.triangles, l.vertices, l.error, l.errorRelative, l.buildMs, l.stopReason,
+                         l.targetTriangles, l.missedTarget, l.sameAs, {}, {}});
     fillTable();
     title_->setText(tr("%1 — preset “%2”, %3, %n level(s) besides the original", "", int(rows_.size()) - 1)
                         .arg(meshName_, presetName_, method_));
@@ -119,6 +131,8 @@ void ReportPanel::fillTable() {
         for (int c = 0; c < int(cells.size()); ++c) {
             auto* item = new QTableWidgetItem(cells[c]);
             if (isNumberColumn(c)) item->setTextAlignment(Qt::AlignRight | Qt::AlignVCenter);
+            const ReportRow& row = rows_[std::size_t(r)];
+            if (c == stoppedColumn && (row.missedTarget || row.sameAs > 0)) item->setForeground(QColor(190, 90, 0));
             table_->setItem(r, c, item);
         }
     }

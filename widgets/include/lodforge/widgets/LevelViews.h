@@ -104,8 +104,16 @@ public:
     void clearInspection(const QObject* owner);
     const QObject* inspectionOwner() const { return inspection_.owner; }
 
-    // "LOD 2 · 1,464 triangles · error 0.42 % (0.0061)"; "Original · 5,856 triangles".
+    // "LOD 2 · 1,464 / 1,464 triangles · error 0.420 % (0.0061)" (reached / target); a missed target
+    // adds "target missed: <stop reason>", an identical earlier level "same as LOD 1", stale levels
+    // start with "Stale ·"; "Original · 5,856 triangles".
     QString levelLabelText(int level) const;
+
+    // The levels no longer match the parameters (they changed since the build): every label says so
+    // and a bar above the views offers Rebuild (rebuildRequested). New levels (setLevels) are fresh.
+    void setStale(bool stale);
+    bool isStale() const { return stale_; }
+    QWidget* staleBar() const { return staleBar_; }
 
     // Level `level` as the views draw it now (heat map or not), `size` at most; for report thumbnails.
     QImage levelImage(int level, QSize size);
@@ -116,6 +124,7 @@ signals:
     void hoverText(const QString& text);
     void inspectionEnded(const QObject* owner);
     void viewOptionsChanged(const lodforge::widgets::ViewOptions& options);
+    void rebuildRequested();  // the stale bar's Rebuild button
 
 private:
     struct Tile {
@@ -143,6 +152,8 @@ private:
     Inspection inspection_;
 
     QStackedWidget* stack_ = nullptr;
+    QWidget* staleBar_ = nullptr;
+    bool stale_ = false;
     QWidget* singlePage_ = nullptr;
     QWidget* tilesPage_ = nullptr;
     QGridLayout* grid_ = nullptr;

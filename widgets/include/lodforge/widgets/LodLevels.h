@@ -38,6 +38,13 @@ struct LevelData {
     double errorRelative = 0;   // the same relative to the original's bounding-box diagonal
     double buildMs = 0;         // time to build and measure this level (0 for the original)
     QString stopReason;         // why the engine stopped ("target reached", ...), empty for the original
+    std::size_t targetTriangles = 0;  // the preset's triangle target (ratios resolved); 0 for error targets
+    // The target was a triangle count and the level is more than 10 % away from it (a structure's
+    // nearest level, a topology limit): labels and the report then say so with the stop reason.
+    bool missedTarget = false;
+    // An earlier level (1..index-1) with the very same mesh, or -1: labels and the report flag it, as
+    // the level adds nothing to the chain.
+    int sameAs = -1;
     // Every vertex is a vertex of the original at its place (half-edge collapse): the distance to the
     // original is zero at the level's own vertices, so its heat map is drawn on the original instead.
     bool verticesOnOriginal = true;

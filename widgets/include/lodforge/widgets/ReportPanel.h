@@ -1,4 +1,5 @@
-// The report of a LOD chain: a table per level (triangles, vertices, error, time) and a plot of error
+// The report of a LOD chain: a table per level (triangles against the target, vertices, error, time,
+// why it stopped, flagged when the target was missed or the level repeats an earlier one) and a plot of error
 // against triangle count (Qt Charts); exported as one self-contained HTML file or a PDF, with a
 // thumbnail of every level.
 #pragma once
@@ -28,6 +29,9 @@ struct ReportRow {
     double errorRelative = 0;  // of the bounding-box diagonal
     double buildMs = 0;
     QString stopReason;
+    std::size_t targetTriangles = 0;  // 0: an error target (LevelData::targetTriangles)
+    bool missedTarget = false;
+    int sameAs = -1;                  // an earlier identical level, or -1
     // Image-space error against the original (docs/image-compare.md), filled in by setImageErrors once
     // the background render is done: mean absolute colour difference (0-255) and silhouette mismatch.
     std::optional<double> imageError;
