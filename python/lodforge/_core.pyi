@@ -16,6 +16,8 @@ Progress = Optional[Callable[[float, str], Optional[bool]]]
 PresetArg = Union[None, str, "os.PathLike[str]", Dict[str, Any]]
 # {"normal": 0.02, "color": 0.1, "uv": 0.1, "uv1": 0.4} or the CLI's "normal=0.02,uv1=0.4".
 WeightsArg = Union[None, str, Dict[str, float]]
+# A file or directory: str or any os.PathLike (pathlib.Path).
+PathArg = Union[str, "os.PathLike[str]"]
 F32 = npt.NDArray[np.float32]
 U32 = npt.NDArray[np.uint32]
 
@@ -60,9 +62,9 @@ class Mesh:
     def __init__(self, positions: npt.ArrayLike = ..., indices: npt.ArrayLike = ...) -> None: ...
     def copy(self) -> Mesh: ...
 
-def read_mesh(path: str, *, validate: bool = True, place_every_instance: bool = False,
+def read_mesh(path: PathArg, *, validate: bool = True, place_every_instance: bool = False,
               progress: Progress = None) -> Mesh: ...
-def write_mesh(mesh: Mesh, path: str, *, ply_encoding: str = "binary", normals: bool = True, colors: bool = True,
+def write_mesh(mesh: Mesh, path: PathArg, *, ply_encoding: str = "binary", normals: bool = True, colors: bool = True,
                texcoords: bool = True, ply_colors_as_uchar: bool = True, progress: Progress = None) -> List[str]: ...
 def _mesh_info_json(mesh: Mesh, path: str = "") -> str: ...
 def shipped_presets() -> List[str]: ...
@@ -123,7 +125,7 @@ class ImageError:
     files: List[str]
 
 def render_compare(reference: Mesh, test: Mesh, *, size: int = 256, threshold: int = 32,
-                   output_dir: str = "") -> ImageError: ...  # only when HAVE_RENDER
+                   output_dir: PathArg = "") -> ImageError: ...  # only when HAVE_RENDER
 
 class LodLevel:
     mesh: Mesh
@@ -147,22 +149,22 @@ def build_lod_chain(mesh: Mesh, *, levels: Optional[Sequence[float]] = None,
                     preset: PresetArg = None, weights: WeightsArg = None, lock_border: bool = False,
                     measure: bool = True, samples: int = 0, progress: Progress = None) -> LodChain: ...
 
-def write_lod_pack(mesh: Union[Mesh, str, "os.PathLike[str]"], output_dir: str, *, preset: PresetArg = None,
-                   source_path: Optional[str] = None, method: Optional[str] = None,
+def write_lod_pack(mesh: Union[Mesh, PathArg], output_dir: PathArg, *, preset: PresetArg = None,
+                   source_path: Optional[PathArg] = None, method: Optional[str] = None,
                    levels: Optional[Sequence[float]] = None, level_triangles: Optional[Sequence[float]] = None,
                    level_errors: Optional[Sequence[float]] = None, weights: WeightsArg = None,
                    lock_border: bool = False, image_error: bool = False, progress: Progress = None) -> Dict[str, Any]: ...
 
-def build_octree(input_ply: str, asset_path: str, *, preset: PresetArg = None, max_triangles: Optional[int] = None,
-                 max_depth: Optional[int] = None, memory_mb: Optional[int] = None, temp_dir: str = "",
+def build_octree(input_ply: PathArg, asset_path: PathArg, *, preset: PresetArg = None, max_triangles: Optional[int] = None,
+                 max_depth: Optional[int] = None, memory_mb: Optional[int] = None, temp_dir: PathArg = "",
                  weights: WeightsArg = None, threads: int = 2, progress: Progress = None) -> Dict[str, Any]: ...
-def octree_info(asset_path: str) -> Dict[str, Any]: ...
-def extract_octree(asset_path: str, *, level: Optional[int] = None, camera: Optional[Sequence[float]] = None,
+def octree_info(asset_path: PathArg) -> Dict[str, Any]: ...
+def extract_octree(asset_path: PathArg, *, level: Optional[int] = None, camera: Optional[Sequence[float]] = None,
                    screen_error: Optional[float] = None, viewport: Tuple[int, int] = (1920, 1080),
                    culling: bool = True, progress: Progress = None) -> Mesh: ...
 
-def build_lodstrips(mesh: Mesh, path: str, *, preset: PresetArg = None, coarsest: Optional[float] = None,
+def build_lodstrips(mesh: Mesh, path: PathArg, *, preset: PresetArg = None, coarsest: Optional[float] = None,
                     degenerate: bool = False, weights: WeightsArg = None, lock_border: bool = False,
                     max_strip_length: int = 256, strip_order: str = "run-off",
                     progress: Progress = None) -> Dict[str, Any]: ...
-def extract_lodstrips(path: str, *, lod: float = 1.0, triangles: Optional[int] = None) -> Mesh: ...
+def extract_lodstrips(path: PathArg, *, lod: float = 1.0, triangles: Optional[int] = None) -> Mesh: ...

@@ -24,6 +24,7 @@
 
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
 
 #include <cmath>
 #include <filesystem>
@@ -31,6 +32,7 @@
 #include <string>
 
 namespace py = pybind11;
+namespace fs = std::filesystem;
 
 namespace lodforge::python {
 namespace {
@@ -281,11 +283,12 @@ py::dict pack_level_dict(const PackLevel& l) {
 }
 
 // The `lodforge pack` command: flags as keyword arguments over the preset (the studio's default without one).
-py::dict pack_py(const py::object& mesh_arg, const std::string& output_dir, const py::object& preset_arg,
-                 std::optional<std::string> source_path, std::optional<std::string> method,
+py::dict pack_py(const py::object& mesh_arg, const fs::path& output_path, const py::object& preset_arg,
+                 std::optional<fs::path> source_path, std::optional<std::string> method,
                  std::optional<std::vector<double>> ratios, std::optional<std::vector<double>> triangles,
                  std::optional<std::vector<double>> errors, const py::object& weights_arg, bool lock_border,
                  bool image_error, const py::object& callback) {
+    const std::string output_dir = output_path.string();
     PackParams params;
     params.preset = preset_from(preset_arg).value_or(Preset{});
     if (method) params.preset.method = lod_method_from_string(*method);
@@ -307,7 +310,7 @@ py::dict pack_py(const py::object& mesh_arg, const std::string& output_dir, cons
     if (py::isinstance<MeshHandle>(mesh_arg)) {
         if (!source_path) throw Error(Error::Kind::argument, "write_lod_pack: give source_path, the file the mesh came from (hashed into pack.json)");
         handle = mesh_arg.cast<MeshPtr>();
-        params.source_path = *source_path;
+        params.source_path = source_path->string();
     } else {
         params.source_path = py::str(py::module_::import("os").attr("fspath")(mesh_arg)).cast<std::string>();
     }
@@ -351,10 +354,11 @@ py::dict octree_stats_dict(const OctreeStats& s) {
 
 // `lodforge octree build` (octree mode): flags as keyword arguments; None takes the preset's value,
 // else the CLI's default.
-py::dict octree_build_py(const std::string& input, const std::string& asset, const py::object& preset_arg,
+py::dict octree_build_py(const fs::path& input_path, const fs::path& asset_path, const py::object& preset_arg,
                          std::optional<long long> max_triangles, std::optional<long long> max_depth,
-                         std::optional<long long> memory_mb, const std::string& temp_dir, const py::object& weights_arg,
+                         std::optional<long long> memory_mb, const fs::path& temp_dir, const py::object& weights_arg,
                          int threads, const py::object& callback) {
+    const std::string input = input_path.string(), asset = asset_path.string();
     OctreeBuildParams p;
     long long tri = 10000, depth = 12, memory = 256;
     if (const std::optional<Preset> preset = preset_from(preset_arg)) {
@@ -375,7 +379,7 @@ py::dict octree_build_py(const std::string& input, const std::string& asset, con
     p.max_triangles = static_cast<std::size_t>(tri);
     p.max_depth = static_cast<int>(depth);
     p.memory_bytes = static_cast<std::size_t>(memory) << 20;
-    p.temp_dir = temp_dir;
+    p.temp_dir = temp_dir.string();
     p.threads = threads;
     p.weights = weights_from(weights_arg, p.weights);
     const OctreeBuildResult r = run_with_progress(callback, [&](Progress* pr) { return build_octree(input, asset, p, pr); });
@@ -384,7 +388,7 @@ py::dict octree_build_py(const std::string& input, const std::string& asset, con
     return d;
 }
 
-MeshPtr octree_extract_py(const std::string& asset, std::optional<int> level, std::optional<std::vector<double>> camera,
+MeshPtr octree_extract_py(const fs::path& asset, std::optional<int> level, std::optional<std::vector<double>> camera,
                           std::optional<double> screen_error, std::pair<int, int> viewport, bool culling,
                           const py::object& callback) {
     if (level.has_value() == screen_error.has_value())
@@ -392,7 +396,7 @@ MeshPtr octree_extract_py(const std::string& asset, std::optional<int> level, st
     if (screen_error && (!camera || camera->size() != 7))
         throw Error(Error::Kind::argument, "extract_octree: screen_error needs camera=(eye x, y, z, target x, y, z, fov in degrees)");
     Mesh m = run_with_progress(callback, [&](Progress* p) {
-        OctreeStore store(asset);
+        OctreeStore store(asset.string());
         Cut cut;
         if (level) {
             cut = level_cut(store, *level);
@@ -417,7 +421,7 @@ MeshPtr octree_extract_py(const std::string& asset, std::optional<int> level, st
 }
 
 // `lodforge strips`: a .lodstrips file from a mesh.
-py::dict strips_build_py(const MeshHandle& handle, const std::string& path, const py::object& preset_arg,
+py::dict strips_build_py(const MeshHandle& handle, const fs::path& path, const py::object& preset_arg,
                          std::optional<double> coarsest, bool degenerate, const py::object& weights_arg, bool lock_border,
                          std::size_t max_strip_length, const std::string& strip_order, const py::object& callback) {
     LodStripsParams params;
@@ -446,7 +450,7 @@ py::dict strips_build_py(const MeshHandle& handle, const std::string& path, cons
     const Mesh& mesh = checked(handle);
     const LodStripsBuild b = run_with_progress(callback, [&](Progress* p) {
         LodStripsBuild built = build_lodstrips(mesh, params, p);
-        write_lodstrips(built.data, path);
+        write_lodstrips(built.data, path.string());
         return built;
     });
     const LodStripsStorage st = lodstrips_storage(b.data);
@@ -460,9 +464,10 @@ py::dict strips_build_py(const MeshHandle& handle, const std::string& path, cons
     return d;
 }
 
-MeshPtr strips_extract_py(const std::string& path, double lod, std::optional<long long> triangles) {
+MeshPtr strips_extract_py(const fs::path& file, double lod, std::optional<long long> triangles) {
     if (!(lod >= 0 && lod <= 1)) throw Error(Error::Kind::argument, "extract_lodstrips: lod must be in [0, 1]");
     if (triangles && *triangles < 0) throw Error(Error::Kind::argument, "extract_lodstrips: triangles must be >= 0");
+    const std::string path = file.string();
     py::gil_scoped_release release;
     lodstrips::LodStrips rt;
     std::string why;
@@ -583,11 +588,11 @@ level_errors, increasing fractions of the diagonal), or a preset with the collap
     m.attr("HAVE_RENDER") = true;
     m.def(
         "render_compare",
-        [](const MeshHandle& reference, const MeshHandle& test, int size, int threshold, const std::string& output_dir) {
+        [](const MeshHandle& reference, const MeshHandle& test, int size, int threshold, const fs::path& output_dir) {
             ImageErrorParams p;
             p.size = size;
             p.threshold = threshold;
-            p.output_dir = output_dir;
+            p.output_dir = output_dir.string();
             const Mesh& r = checked(reference, "reference");
             const Mesh& t = checked(test, "test");
             py::gil_scoped_release release;
@@ -617,7 +622,7 @@ override its keys like the CLI's flags. Returns {'levels', 'files', 'glb', 'note
           "Builds an out-of-core octree asset (.lfo) from a PLY as `lodforge octree build` does "
           "(defaults: the preset's, else max_triangles 10000, max_depth 12, memory_mb 256). Returns its statistics.");
     m.def(
-        "octree_info", [](const std::string& asset) { return octree_stats_dict(OctreeStore(asset).stats()); },
+        "octree_info", [](const fs::path& asset) { return octree_stats_dict(OctreeStore(asset.string()).stats()); },
         py::arg("asset_path"), "Statistics of an octree asset, as `lodforge octree info`.");
     m.def("extract_octree", &octree_extract_py, py::arg("asset_path"), py::kw_only(), py::arg("level") = py::none(),
           py::arg("camera") = py::none(), py::arg("screen_error") = py::none(),

@@ -8,8 +8,10 @@
 
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
 
 #include <cstring>
+#include <filesystem>
 #include <string>
 
 namespace py = pybind11;
@@ -163,18 +165,18 @@ keeps the old values.)");
 
     m.def(
         "read_mesh",
-        [](const std::string& path, bool validate, bool place_every_instance, py::object progress) {
+        [](const std::filesystem::path& path, bool validate, bool place_every_instance, py::object progress) {
             ReadOptions options;
             options.validate = validate;
             options.place_every_instance = place_every_instance;
-            return wrap(run_with_progress(progress, [&](Progress* p) { return read_mesh(path, options, p); }));
+            return wrap(run_with_progress(progress, [&](Progress* p) { return read_mesh(path.string(), options, p); }));
         },
         py::arg("path"), py::kw_only(), py::arg("validate") = true, py::arg("place_every_instance") = false,
         py::arg("progress") = py::none(),
         "Reads a .ply, .obj, .gltf or .glb file. Raises lodforge.Error naming the file on any problem.");
     m.def(
         "write_mesh",
-        [](const MeshHandle& h, const std::string& path, const std::string& ply_encoding, bool normals, bool colors,
+        [](const MeshHandle& h, const std::filesystem::path& path, const std::string& ply_encoding, bool normals, bool colors,
            bool texcoords, bool ply_colors_as_uchar, py::object progress) {
             WriteOptions options;
             if (ply_encoding == "binary") options.ply_encoding = PlyEncoding::binary_little_endian;
@@ -188,7 +190,7 @@ keeps the old values.)");
             std::vector<std::string> warnings;
             options.warnings = &warnings;
             run_with_progress(progress, [&](Progress* p) {
-                write_mesh(checked(h), path, options, p);
+                write_mesh(checked(h), path.string(), options, p);
                 return 0;
             });
             return warnings;

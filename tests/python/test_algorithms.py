@@ -109,6 +109,10 @@ def test_pack_with_a_preset_dict_and_a_mesh(bunny, tmp_path):
     cli = cli_json("pack", bunny, "--preset", preset_file, "-o", tmp_path / "cli", "--json")
     assert [l["triangles"] for l in r["levels"]] == [l["triangles"] for l in cli["levels"]]
     assert len(r["levels"]) == 3
+    # The same preset as a file (a pathlib.Path), with the mesh read from its path.
+    from_file = lodforge.write_lod_pack(bunny, tmp_path / "py2", preset=preset_file)
+    assert [l["triangles"] for l in from_file["levels"]] == [l["triangles"] for l in r["levels"]]
+    assert (tmp_path / "py2" / "pack.json").read_bytes() == (tmp_path / "cli" / "pack.json").read_bytes()
     with pytest.raises(lodforge.Error, match="source_path"):
         lodforge.write_lod_pack(mesh, str(tmp_path / "x"), preset=preset)
     with pytest.raises(lodforge.Error, match="preset"):

@@ -117,7 +117,7 @@ def test_a_bad_file_raises_an_error_naming_it(tmp_path):
 
 
 def test_materials_and_textures(spot):
-    mesh = lodforge.read_mesh(str(spot))
+    mesh = lodforge.read_mesh(spot)  # any os.PathLike
     assert len(mesh.materials) >= 1
     assert mesh.materials[0].base_color_texture["path"].endswith(".png")
     assert len(mesh.texcoords) == 1
