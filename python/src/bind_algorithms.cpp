@@ -310,6 +310,7 @@ py::dict pack_py(const py::object& mesh_arg, const fs::path& output_path, const 
     if (py::isinstance<MeshHandle>(mesh_arg)) {
         if (!source_path) throw Error(Error::Kind::argument, "write_lod_pack: give source_path, the file the mesh came from (hashed into pack.json)");
         handle = mesh_arg.cast<MeshPtr>();
+        checked(*handle);
         params.source_path = source_path->string();
     } else {
         params.source_path = py::str(py::module_::import("os").attr("fspath")(mesh_arg)).cast<std::string>();
@@ -570,7 +571,7 @@ level_errors, increasing fractions of the diagonal), or a preset with the collap
         py::arg("vertex_errors") = false, py::arg("region_errors") = false, py::arg("progress") = py::none(),
         "Metro distance between two meshes, as `lodforge compare` measures it (samples 0 = automatic).");
 
-    py::class_<ViewImageError>(m, "ViewImageError")
+    py::class_<ViewImageError>(m, "ViewImageError", "The image-space error of one of the 14 views.")
         .def_readonly("name", &ViewImageError::name)
         .def_readonly("mean_abs", &ViewImageError::mean_abs)
         .def_readonly("over_threshold", &ViewImageError::over_threshold)

@@ -88,17 +88,21 @@ def test_mesh_from_arrays_simplifies_and_writes(tmp_path):
     assert lodforge.info(out)["triangles"] == r.triangles
 
 
-def test_bad_arrays_raise_lodforge_error():
+def test_bad_arrays_raise_lodforge_error(tmp_path):
     with pytest.raises(lodforge.Error, match="shape"):
         lodforge.Mesh(np.zeros((4, 2)), np.zeros((1, 3)))
     mesh = lodforge.Mesh(np.zeros((3, 3)), np.array([[0, 1, 7]]))
     with pytest.raises(lodforge.Error) as e:
         lodforge.simplify(mesh, ratio=0.5)
     assert e.value.kind == "invalid" and "does not exist" in str(e.value)
+    with pytest.raises(lodforge.Error, match="does not exist"):
+        lodforge.write_lod_pack(mesh, tmp_path / "pack", source_path=SHARED / "scan-bunny/bun_zipper.ply")
     mesh = lodforge.Mesh(np.eye(3), np.array([[0, 1, 2]]))
     mesh.normals = np.zeros((2, 3))  # a length the positions do not have
-    with pytest.raises(lodforge.Error):
-        lodforge.write_mesh(mesh, "/nonexistent/never.ply")
+    with pytest.raises(lodforge.Error) as e:
+        lodforge.write_mesh(mesh, tmp_path / "never.ply")
+    assert e.value.kind == "invalid"
+    assert list(tmp_path.iterdir()) == []
 
 
 def test_a_bad_file_raises_an_error_naming_it(tmp_path):
