@@ -23,8 +23,16 @@ set(CPACK_GENERATOR DEB)
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
 set(CPACK_DEBIAN_PACKAGE_SECTION graphics)
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
+# The Python module (lib/python3/dist-packages/lodforge) is built for the interpreter found at configure
+# time and creates NumPy arrays; dpkg-shlibdeps cannot see either (an extension does not link libpython).
+if(LODFORGE_PYTHON)
+  math(EXPR _python_next_minor "${Python_VERSION_MINOR} + 1")
+  set(CPACK_DEBIAN_PACKAGE_DEPENDS
+      "python3 (>= ${Python_VERSION_MAJOR}.${Python_VERSION_MINOR}), python3 (<< ${Python_VERSION_MAJOR}.${_python_next_minor}), python3-numpy")
+endif()
 # `compare --render` starts a private Xvfb on a machine without a display (docs/image-compare.md).
-set(CPACK_DEBIAN_PACKAGE_RECOMMENDS "xvfb")
+# lodforge.dask_batch runs on Dask (python3-distributed).
+set(CPACK_DEBIAN_PACKAGE_RECOMMENDS "xvfb, python3-distributed")
 set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
 set(CPACK_STRIP_FILES ON)
 include(CPack)

@@ -15,6 +15,8 @@ packages=(
   libgl1-mesa-dri libglx-mesa0 libegl-mesa0
   # offscreen renderer (widgets/render/): Xlib to check the display (Xvfb, below, is started when DISPLAY is unset)
   libx11-dev
+  # the Python module (python/, docs/python.md), its tests and the Dask runner
+  pybind11-dev python3-dev python3-numpy python3-distributed python3-pytest
   # tests, benchmarks, packaging
   libgtest-dev libgmock-dev libbenchmark-dev xvfb xauth dpkg-dev file
   # glTF validation in the tests (Khronos gltf-validator from npm)

@@ -1,6 +1,7 @@
 # Builds the .deb with CPack into OUT_DIR and checks what a user installs: both executables, the
 # desktop entry (pointing at the studio and its icon), the icons, the shipped presets, the library with
-# its headers and CMake package (docs/library.md), and dependencies from dpkg-shlibdeps.
+# its headers and CMake package (docs/library.md), the Python module (docs/python.md), and dependencies
+# from dpkg-shlibdeps.
 file(REMOVE_RECURSE "${OUT_DIR}")
 execute_process(COMMAND "${CPACK}" -G DEB -B "${OUT_DIR}" --config "${BUILD_DIR}/CPackConfig.cmake"
                 RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
@@ -46,5 +47,31 @@ foreach(line "Exec=lodforge-studio" "Icon=lodforge-studio" "Type=Application")
     message(FATAL_ERROR "desktop entry lacks '${line}':\n${desktop}")
   endif()
 endforeach()
+# The Python module: in Debian's dist-packages, importable from the unpacked package, its presets found.
+if(PYTHON)
+  foreach(path ./usr/lib/python3/dist-packages/lodforge/__init__.py ./usr/lib/python3/dist-packages/lodforge/_core.pyi
+               ./usr/lib/python3/dist-packages/lodforge/py.typed)
+    string(FIND "${listing}" " ${path}\n" at)
+    if(at EQUAL -1)
+      message(FATAL_ERROR "${path} is missing from the package:\n${listing}")
+    endif()
+  endforeach()
+  foreach(dep python3-numpy "python3 (>= 3")
+    string(FIND "${depends}" "${dep}" at)
+    if(at EQUAL -1)
+      message(FATAL_ERROR "Depends lacks ${dep}: ${depends}")
+    endif()
+  endforeach()
+  execute_process(COMMAND dpkg-deb -x "${debs}" "${OUT_DIR}/root" RESULT_VARIABLE rc)
+  execute_process(COMMAND ${CMAKE_COMMAND} -E env "PYTHONPATH=${OUT_DIR}/root/usr/lib/python3/dist-packages"
+                          "LODFORGE_PRESETS_DIR=${OUT_DIR}/root/usr/share/lodforge/presets"
+                          "${PYTHON}" -c "import lodforge; print(lodforge.__file__, lodforge.shipped_presets())"
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  string(FIND "${out}" "${OUT_DIR}/root/usr/lib/python3/dist-packages/lodforge/__init__.py" at)
+  string(FIND "${out}" "'mobile'" mobile)
+  if(NOT rc EQUAL 0 OR at EQUAL -1 OR mobile EQUAL -1)
+    message(FATAL_ERROR "the packaged Python module does not import (${rc}):\n${out}\n${err}")
+  endif()
+endif()
 file(REMOVE_RECURSE "${OUT_DIR}")
 message(STATUS "package ok: ${debs}")
