@@ -51,6 +51,13 @@ std::string this_executable() {
     return self.string();
 }
 
+void print_failure(const BatchRecord& r) {
+    if (r.status != BatchRecord::Status::failed) return;
+    // Most messages name the input already (the pack's own errors); crashes and timeouts do not.
+    const std::string where = r.message.find(r.input) == std::string::npos ? r.input + ": " : "";
+    std::fprintf(stderr, "lodforge: failed: %s%s\n", where.c_str(), r.message.c_str());
+}
+
 // Prints the summary line and turns failures and a cancel into the exit code (1, 128 + signal).
 void conclude(const BatchReport& report, const std::string& report_path, bool quiet_stdout) {
     std::size_t ok = 0, failed = 0, skipped = 0, cancelled = 0;
@@ -158,7 +165,10 @@ void add_batch_command(CLI::App& app, const GlobalOptions& global) {
         }
         if (!o->merge.empty()) {
             BatchReport merged = parse_batch_report(read_input_text(o->merge, "a batch report"), o->merge);
-            for (const BatchRecord& r : merged.assets) record_outcome(state, r);
+            for (const BatchRecord& r : merged.assets) {
+                print_failure(r);
+                record_outcome(state, r);
+            }
             if (!state_path.empty()) save_state(state_path, state);
             write_text(report_path, batch_report_json(merged));
             conclude(merged, report_path, report_path == "-");
@@ -177,11 +187,7 @@ void add_batch_command(CLI::App& app, const GlobalOptions& global) {
         BatchState next = state;
         auto last_save = std::chrono::steady_clock::now();
         params.on_record = [&](const BatchRecord& r) {
-            // Most messages name the input already (the pack's own errors); crashes and timeouts do not.
-            if (r.status == BatchRecord::Status::failed)
-                std::fprintf(stderr, "lodforge: failed: %s%s\n",
-                             r.message.find(r.input) == std::string::npos ? (r.input + ": ").c_str() : "",
-                             r.message.c_str());
+            print_failure(r);
             record_outcome(next, r);
             if (!state_path.empty() && std::chrono::steady_clock::now() - last_save > std::chrono::seconds(2)) {
                 save_state(state_path, next);

@@ -19,20 +19,24 @@ LODFORGE = os.environ["LODFORGE_BIN"]
 SHARED = os.environ["LODFORGE_SHARED_DATA"]
 RUNNER = os.path.join(os.environ["LODFORGE_PYTHON_SOURCE"], "lodforge", "dask_batch.py")
 
-MESHES = {
+FILES = {
     "scans/dragon.ply": "scan-dragon/dragon_vrip_res4.ply",
-    "scans/laurana.ply": "tex-ply-wedge-uv/laurana500.ply",
+    "scans/laurana500.ply": "tex-ply-wedge-uv/laurana500.ply",
+    "scans/laurana500.png": None,  # the PLY's TextureFile, beside it
     "color.ply": "color-open3d-small/color.ply",
     "duck/Duck.gltf": "tex-duck/glTF/Duck.gltf",
 }
 
 
+MESHES = [name for name, source in FILES.items() if source]
+
+
 @pytest.fixture
 def tree(tmp_path):
-    for name, source in MESHES.items():
+    for name, source in FILES.items():
         target = tmp_path / "in" / name
         target.parent.mkdir(parents=True, exist_ok=True)
-        shutil.copyfile(os.path.join(SHARED, source), target)
+        shutil.copyfile(os.path.join(SHARED, source or "tex-ply-wedge-uv/" + os.path.basename(name)), target)
     # The Duck's buffer and texture sit beside it.
     for extra in ("Duck0.bin", "DuckCM.png"):
         shutil.copyfile(os.path.join(SHARED, "tex-duck/glTF", extra), tmp_path / "in" / "duck" / extra)
@@ -58,7 +62,7 @@ def pack_files(root):
     return files
 
 
-def test_dask_packs_are_byte_identical_to_lodforge_batch(tree):
+def test_dask_packs_are_byte_identical_to_lodforge_batch_and_share_its_state(tree):
     batch = subprocess.run([LODFORGE, "--quiet", "batch", str(tree / "in"), "-o", str(tree / "batch"), "--jobs", "2"],
                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, check=False)
     assert batch.returncode == 0, batch.stdout
@@ -84,30 +88,23 @@ def test_dask_packs_are_byte_identical_to_lodforge_batch(tree):
         assert mine["bytes"] == theirs["bytes"] > 0
         assert mine["input_sha256"] == theirs["input_sha256"]
 
-
-def test_dask_rerun_skips_through_the_same_state_file(tree):
-    first = run_dask(tree / "in", tree / "out")
-    assert first.returncode == 0, first.stderr
-    with open(tree / "out" / "batch-state.json") as f:
+    # The Dask run's state file is the one `lodforge batch` reads: nothing left to do, for either.
+    with open(tree / "dask" / "batch-state.json") as f:
         state = json.load(f)
     assert state["format"] == "lodforge-batch-state"
     assert len(state["assets"]) == len(MESHES)
-    glb = next((tree / "out" / "color").glob("*.glb"))
+    glb = next((tree / "dask" / "color").glob("*.glb"))
     stamp = glb.stat().st_mtime_ns
-
-    # `lodforge batch` reads the state the Dask run wrote: nothing to do.
-    batch = subprocess.run([LODFORGE, "--quiet", "batch", str(tree / "in"), "-o", str(tree / "out")],
+    batch = subprocess.run([LODFORGE, "--quiet", "batch", str(tree / "in"), "-o", str(tree / "dask")],
                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, check=False)
     assert batch.returncode == 0, batch.stdout
     assert "0 ok, 0 failed, %d skipped" % len(MESHES) in batch.stdout
-
-    again = run_dask(tree / "in", tree / "out")
+    again = run_dask(tree / "in", tree / "dask")
     assert again.returncode == 0, again.stderr
-    with open(tree / "out" / "batch-report.json") as f:
+    with open(tree / "dask" / "batch-report.json") as f:
         report = json.load(f)
     assert report["summary"]["skipped"] == len(MESHES)
-    # A skipped asset keeps its levels in the report.
-    assert all(len(a["levels"]) >= 2 for a in report["assets"])
+    assert all(len(a["levels"]) >= 2 for a in report["assets"])  # a skipped asset keeps its levels
     assert glb.stat().st_mtime_ns == stamp
 
 
@@ -125,7 +122,7 @@ def test_dask_bad_asset_is_reported_and_retried(tree):
     assert not (tree / "out" / "broken").exists()
 
     # Fixed, only the failed asset runs again.
-    (tree / "in" / "broken.obj").write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 3 4\nf 1 4 2\nf 2 4 3\n")
+    shutil.copyfile(os.path.join(SHARED, "seq-horse-gallop/0001.obj"), tree / "in" / "broken.obj")
     again = run_dask(tree / "in", tree / "out")
     assert again.returncode == 0, again.stderr
     with open(tree / "out" / "batch-report.json") as f:
