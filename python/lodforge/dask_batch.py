@@ -21,7 +21,8 @@ import sys
 import tempfile
 import time
 
-# Dask's "Task ... was cancelled" and the like go to the log; the report is what a user reads.
+# The options of `lodforge batch` that choose the assets, their outputs and the state: every call
+# (plan, tasks, merge) passes the same ones, so all three see the same assets.
 _SELECTION_FLAGS = ("--preset", "--output", "--state")
 
 
@@ -119,6 +120,7 @@ def main(argv=None):
         cluster = LocalCluster(n_workers=args.workers, threads_per_worker=1, dashboard_address=None)
         client = Client(cluster)
     interrupted = False
+    jobs = 0
     try:
         jobs = sum(w.get("nthreads", 1) for w in client.scheduler_info()["workers"].values())
         # pure=False: a re-run must pack again even when the arguments are the same.

@@ -43,6 +43,14 @@ const nlohmann::json& asset_named(const nlohmann::json& report, const std::strin
     return none;
 }
 
+// A successful batch run whose summary line says `summary`; its report.
+nlohmann::json run_expecting(const std::string& cmd, const std::string& summary, const fs::path& root) {
+    const auto r = run_cli(cmd);
+    EXPECT_EQ(r.exit_code, 0) << r.out;
+    EXPECT_TRUE(contains(r.out, summary)) << r.out;
+    return read_json_file(root / "batch-report.json");
+}
+
 fs::file_time_type pack_time(const fs::path& pack) { return fs::last_write_time(pack / "pack.json"); }
 
 TEST(CliBatch, DirectoryPacksEveryMeshThenSkipsUnchangedAndRebuildsChanged) {
@@ -71,27 +79,19 @@ TEST(CliBatch, DirectoryPacksEveryMeshThenSkipsUnchangedAndRebuildsChanged) {
     const auto color_time = pack_time(dir.path() / "packs/color");
 
     // Nothing changed: nothing runs, and the report still lists every asset's levels.
-    const auto second = run_cli(cmd);
-    ASSERT_EQ(second.exit_code, 0) << second.out;
-    EXPECT_TRUE(contains(second.out, "3 assets: 0 ok, 0 failed, 3 skipped")) << second.out;
-    const nlohmann::json again = read_json_file(dir.path() / "packs/batch-report.json");
+    const nlohmann::json again = run_expecting(cmd, "3 assets: 0 ok, 0 failed, 3 skipped", dir.path() / "packs");
     EXPECT_EQ(asset_named(again, "/packs/scans/dragon")["levels"][0]["triangles"], 11102);
     EXPECT_EQ(pack_time(dir.path() / "packs/scans/dragon"), dragon_time);
 
     // New content for one input: that asset alone is packed again.
     fs::copy_file(shared_data("scan-dragon/dragon_vrip_res3.ply"), dir.path() / "in/scans/dragon.ply",
                   fs::copy_options::overwrite_existing);
-    const auto third = run_cli(cmd);
-    ASSERT_EQ(third.exit_code, 0) << third.out;
-    EXPECT_TRUE(contains(third.out, "3 assets: 1 ok, 0 failed, 2 skipped")) << third.out;
-    const nlohmann::json rebuilt = read_json_file(dir.path() / "packs/batch-report.json");
+    const nlohmann::json rebuilt = run_expecting(cmd, "3 assets: 1 ok, 0 failed, 2 skipped", dir.path() / "packs");
     EXPECT_EQ(asset_named(rebuilt, "/packs/scans/dragon")["levels"][0]["triangles"], 47794);
     EXPECT_EQ(pack_time(dir.path() / "packs/color"), color_time);
 
     // Another preset: every asset is packed again.
-    const auto fourth = run_cli(cmd + " --preset mobile");
-    ASSERT_EQ(fourth.exit_code, 0) << fourth.out;
-    EXPECT_TRUE(contains(fourth.out, "3 assets: 3 ok, 0 failed, 0 skipped")) << fourth.out;
+    run_expecting(cmd + " --preset mobile", "3 assets: 3 ok, 0 failed, 0 skipped", dir.path() / "packs");
 }
 
 TEST(CliBatch, BadAssetIsReportedTheOthersFinishAndARerunRetriesIt) {
