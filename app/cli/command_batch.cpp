@@ -117,7 +117,7 @@ void add_batch_command(CLI::App& app, const GlobalOptions& global) {
         "manifest (JSON or CSV: input, preset, output), in parallel child processes. A state file makes a\n"
         "re-run skip unchanged assets and retry failures; a JSON report lists every asset (docs/batch.md).");
     cmd->footer("Examples:\n"
-                "  lodforge batch scans/ --preset mobile -o packs/        every mesh below scans/, 8 at a time\n"
+                "  lodforge batch scans/ --preset mobile -o packs/      every mesh below scans/, one per core at a time\n"
                 "  lodforge batch assets.csv --jobs 4 --timeout 600     a manifest; an asset over 10 min fails\n"
                 "  lodforge batch assets.json --report - --no-state     rebuild all, report on stdout\n"
                 "  python3 -m lodforge.dask_batch assets.json --scheduler tcp://host:8786   the same on Dask");

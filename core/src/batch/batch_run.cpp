@@ -217,6 +217,9 @@ BatchReport run_batch(const BatchRunParams& params, Progress* progress) {
                 ++k;
                 continue;
             }
+            // Ctrl+C reaches the children too (one process group): one that stopped on it before the
+            // batch noticed was stopped, not failed.
+            if (r.child->exit_code() != 0 && cancelled()) r.stopped = true;
             // A killed pack had no chance to remove its staging directory: do it now.
             if (r.killed) remove_stale_temporaries(fs::path(params.assets[r.index].output).parent_path().string());
             finish(report.assets[r.index], r);
