@@ -23,6 +23,8 @@ packages=(
   nodejs
   # engine tests: Babylon.js and three.js in headless Chromium (tests/engines)
   chromium
+  # batches on Dask (python/lodforge/dask_batch.py) and its tests
+  python3-distributed python3-numpy python3-pytest
 )
 
 missing=()

@@ -20,5 +20,6 @@ void add_morph_command(CLI::App& app, const GlobalOptions& global);
 void add_mcoctree_command(CLI::App& app, const GlobalOptions& global);
 void add_strips_command(CLI::App& app, const GlobalOptions& global);
 void add_octree_command(CLI::App& app, const GlobalOptions& global);
+void add_batch_command(CLI::App& app, const GlobalOptions& global);
 
 }  // namespace lodforge::cli

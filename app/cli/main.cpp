@@ -28,6 +28,7 @@ int main(int argc, char** argv) {
     add_mcoctree_command(app, global);
     add_strips_command(app, global);
     add_octree_command(app, global);
+    add_batch_command(app, global);
 
     install_interrupt_handler();
     try {

@@ -269,13 +269,7 @@ std::string preset_to_json(const Preset& p) {
 }
 
 Preset load_preset(const std::string& path) {
-    check_input_file(path, "a preset file");
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw_error(Error::Kind::io, path, "cannot open preset for reading");
-    std::ostringstream text;
-    text << in.rdbuf();
-    if (in.bad()) throw_error(Error::Kind::io, path, "read error");
-    return parse_preset(text.str(), path);
+    return parse_preset(read_input_text(path, "a preset file"), path);
 }
 
 void save_preset(const std::string& path, const Preset& preset) {

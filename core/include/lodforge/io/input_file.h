@@ -11,4 +11,8 @@ namespace lodforge {
 // completes "is a directory, not ___", e.g. "a mesh file". Runs before the file is opened.
 void check_input_file(const std::string& path, std::string_view kind);
 
+// The whole of a small text input (a preset, a manifest, a state file) after check_input_file; throws
+// Error(io) naming `path` when it cannot be read.
+std::string read_input_text(const std::string& path, std::string_view kind);
+
 }  // namespace lodforge
