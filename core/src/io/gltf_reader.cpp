@@ -27,6 +27,7 @@
 #include <iterator>
 #include <limits>
 #include <map>
+#include <set>
 #include <memory>
 #include <string>
 #include <unordered_map>
@@ -762,17 +763,19 @@ private:
     }
 
     // A mesh is imported skinned when every placed mesh instance is skinned and has JOINTS_0/WEIGHTS_0
-    // (a static part would need its own node, which the one-mesh model cannot say). The skins the
-    // instances use are concatenated into one (skin_base_).
+    // and no mesh is placed twice (a static part or a second copy would need its own node, which the
+    // one-mesh model cannot say). The skins the instances use are concatenated into one (skin_base_).
     void decide_skin() {
         if (joint_sets_ == 0) return;
         const bool all_skinned = std::all_of(instances_.begin(), instances_.end(), [&](const Instance& i) {
             return model_.nodes[static_cast<std::size_t>(i.node)].skin >= 0;
         });
-        if (!all_skinned || options_.place_every_instance) {
-            mesh_.warnings.push_back("skin dropped: " + std::string(options_.place_every_instance
-                                                                    ? "instances are placed as copies"
-                                                                    : "the scene mixes skinned and static meshes") +
+        std::set<int> meshes;
+        for (const Instance& i : instances_) meshes.insert(i.mesh);
+        const bool copies = meshes.size() < instances_.size();  // place_every_instance placed one mesh twice
+        if (!all_skinned || copies) {
+            mesh_.warnings.push_back("skin dropped: " + std::string(copies ? "a skinned mesh is placed more than once"
+                                                                           : "the scene mixes skinned and static meshes") +
                                      "; imported as a static mesh in the bind pose");
             joint_sets_ = 0;
             return;
