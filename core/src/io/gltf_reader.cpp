@@ -799,16 +799,12 @@ private:
     void read_skeleton() {
         auto sk = std::make_shared<Skeleton>();
         const std::size_t node_count = model_.nodes.size();
-        for (std::size_t i = 0; i < node_count; ++i) {
-            const tinygltf::Node& g = model_.nodes[i];
-            SkeletonNode n;
-            n.name = g.name;
-            n.children = g.children;
-            n.translation = g.translation;
-            n.rotation = g.rotation;
-            n.scale = g.scale;
-            n.matrix = g.matrix;
-            sk->nodes.push_back(std::move(n));
+        for (const tinygltf::Node& g : model_.nodes) {
+            for (int c : g.children)
+                if (c < 0 || static_cast<std::size_t>(c) >= node_count)
+                    fail(Error::Kind::format, "node " + std::to_string(sk->nodes.size()) + " has child " +
+                                                  std::to_string(c) + " of " + std::to_string(node_count));
+            sk->nodes.push_back({g.name, g.children, g.translation, g.rotation, g.scale, g.matrix});
         }
         sk->roots = scene_roots();
         std::vector<std::pair<std::size_t, int>> skins;  // base, skin
