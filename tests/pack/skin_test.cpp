@@ -174,7 +174,12 @@ TEST(Skin, LodChainSharedBufferCarriesInfluences) {
         EXPECT_EQ(v.joints[0][i], man.joints[0][chain.shared.input_vertex[i]]);
         EXPECT_EQ(v.weights[0][i], man.weights[0][chain.shared.input_vertex[i]]);
     }
-    for (std::size_t k = 1; k < chain.levels.size(); ++k) EXPECT_TRUE(chain.levels[k].mesh.has_skin() || chain.levels[k].mesh.vertex_count() == 0);
+    for (std::size_t k = 1; k < chain.levels.size(); ++k) {
+        const Mesh& level = chain.levels[k].mesh;
+        ASSERT_TRUE(level.has_skin()) << k;
+        for (std::size_t i = 0; i < level.vertex_count(); ++i)
+            EXPECT_EQ(level.joints[0][i], man.joints[0][chain.levels[k].input_vertex[i]]);
+    }
 }
 
 // Two triangles repeated as a soup; the copies of one corner differ only in their joints. Welding joins
