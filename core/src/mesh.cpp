@@ -46,6 +46,8 @@ std::uint32_t duplicate_vertex(Mesh& mesh, std::uint32_t from) {
     if (!mesh.normals.empty()) { const Vec3f n = mesh.normals[from]; mesh.normals.push_back(n); }
     if (!mesh.colors.empty()) { const Vec4f c = mesh.colors[from]; mesh.colors.push_back(c); }
     for (auto& set : mesh.texcoords) { const Vec2f t = set[from]; set.push_back(t); }
+    for (auto& set : mesh.joints) { const Joints4 j = set[from]; set.push_back(j); }
+    for (auto& set : mesh.weights) { const Vec4f w = set[from]; set.push_back(w); }
     const std::uint32_t id = mesh.position_ids[from];
     mesh.position_ids.push_back(id);
     return index;
@@ -70,6 +72,31 @@ PointsFirstLayout points_first_layout(const std::vector<std::uint8_t>& used,
     }
     layout.order.insert(layout.order.end(), extras.begin(), extras.end());
     return layout;
+}
+
+void allocate_vertex_attributes(Mesh& to, const Mesh& from, std::size_t count) {
+    if (from.has_normals()) to.normals.assign(count, Vec3f{});
+    if (from.has_colors()) to.colors.assign(count, Vec4f{});
+    to.texcoords.assign(from.texcoords.size(), std::vector<Vec2f>(count));
+    to.joints.assign(from.joints.size(), std::vector<Joints4>(count));
+    to.weights.assign(from.weights.size(), std::vector<Vec4f>(count));
+    to.skeleton = from.skeleton;
+}
+
+void copy_vertex_attributes(Mesh& to, std::size_t dst, const Mesh& from, std::size_t src) {
+    if (from.has_normals()) to.normals[dst] = from.normals[src];
+    if (from.has_colors()) to.colors[dst] = from.colors[src];
+    for (std::size_t s = 0; s < from.texcoords.size(); ++s) to.texcoords[s][dst] = from.texcoords[s][src];
+    for (std::size_t s = 0; s < from.joints.size(); ++s) to.joints[s][dst] = from.joints[s][src];
+    for (std::size_t s = 0; s < from.weights.size(); ++s) to.weights[s][dst] = from.weights[s][src];
+}
+
+bool same_influences(const Mesh& mesh, std::size_t a, std::size_t b) {
+    for (const auto& set : mesh.joints)
+        if (set[a] != set[b]) return false;
+    for (const auto& set : mesh.weights)
+        if (!(set[a] == set[b])) return false;
+    return true;
 }
 
 void ensure_position_ids(Mesh& mesh) {

@@ -8,9 +8,12 @@
 // itself, both sides move together).
 #pragma once
 
+#include "lodforge/skeleton.h"
 #include "lodforge/types.h"
 
+#include <array>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -41,6 +44,9 @@ struct Material {
     bool double_sided = false;
 };
 
+// Four joint indices of one JOINTS_n set: indices into Skeleton::joints.
+using Joints4 = std::array<std::uint16_t, 4>;
+
 struct Mesh {
     // Per vertex (wedge). `positions` defines the vertex count; every other per-vertex array is either
     // empty (attribute absent) or exactly that long.
@@ -48,6 +54,13 @@ struct Mesh {
     std::vector<Vec3f> normals;
     std::vector<Vec4f> colors;                    // RGBA in [0, 1]
     std::vector<std::vector<Vec2f>> texcoords;    // texcoords[set][vertex]; each set full length
+    // Skinning influences (glTF JOINTS_n / WEIGHTS_n): joints[set][vertex] with weights[set][vertex], the
+    // same number of sets, each full length; empty when the mesh is not skinned. Positions and normals
+    // are then in the bind pose. Influences are vertex data like a UV: a kept vertex keeps them
+    // unchanged, they are never averaged (joint indices are labels), and vertices with different
+    // influences are different vertices.
+    std::vector<std::vector<Joints4>> joints;
+    std::vector<std::vector<Vec4f>> weights;
     // Identity of the surface point each vertex sits on: vertices with equal ids are wedges of one point.
     // Ids are dense, 0 .. point_count()-1, and point i is the i-th vertex as stored in the source file
     // (so a stored vertex that no face uses still counts). Empty means every vertex is its own point.
@@ -58,6 +71,9 @@ struct Mesh {
     std::vector<std::uint32_t> face_materials;    // empty, or one index into `materials` per triangle
 
     std::vector<Material> materials;
+    // The skeleton and animations `joints` refer to; null when the mesh is not skinned. Levels built
+    // from a mesh share its skeleton.
+    std::shared_ptr<const Skeleton> skeleton;
     std::string source_dir;  // directory relative texture paths are resolved against
     // Notes from the importer a user should see but that did not stop the import (missing material
     // library, skipped line primitives, ...). Shown by `lodforge info` and the studio.
@@ -71,6 +87,7 @@ struct Mesh {
     bool has_normals() const { return !normals.empty(); }
     bool has_colors() const { return !colors.empty(); }
     bool has_texcoords() const { return !texcoords.empty(); }
+    bool has_skin() const { return !joints.empty() && skeleton != nullptr; }
 
     Bounds bounds() const;
     // Resolve a texture's path against source_dir; empty when the texture is embedded or absent.
@@ -94,6 +111,17 @@ struct PointsFirstLayout {
 };
 PointsFirstLayout points_first_layout(const std::vector<std::uint8_t>& used,
                                       const std::vector<std::uint32_t>& group_of, std::size_t group_count);
+
+// Makes `to` carry the per-vertex attributes `from` has (normals, colors, texcoord sets, joints and
+// weights), each `count` long and default-filled, for builders that then copy kept vertices with
+// copy_vertex_attributes. Positions and position_ids are the caller's. Also shares the skeleton.
+void allocate_vertex_attributes(Mesh& to, const Mesh& from, std::size_t count);
+// Copies every per-vertex attribute (not position, not position_id) of vertex `src` of `from` to
+// vertex `dst` of `to`, which allocate_vertex_attributes shaped.
+void copy_vertex_attributes(Mesh& to, std::size_t dst, const Mesh& from, std::size_t src);
+// True when vertices a and b of `mesh` have the same joints and weights in every set (true when the
+// mesh is not skinned): welding must not merge vertices that follow different joints.
+bool same_influences(const Mesh& mesh, std::size_t a, std::size_t b);
 
 // Fills position_ids (when empty) with the identity, so code can index it unconditionally.
 void ensure_position_ids(Mesh& mesh);

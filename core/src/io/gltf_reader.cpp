@@ -27,6 +27,8 @@
 #include <iterator>
 #include <limits>
 #include <map>
+#include <set>
+#include <memory>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -247,6 +249,8 @@ struct PrimitiveData {
     std::vector<Vec3f> normals;
     std::vector<Vec4f> colors;
     std::vector<std::vector<Vec2f>> texcoords;  // [set], empty set = absent
+    std::vector<std::vector<Joints4>> joints;   // [set], empty set = absent (indices into the merged skin)
+    std::vector<std::vector<Vec4f>> weights;    // [set], empty set = absent
     std::vector<std::vector<Vec3f>> target_positions, target_normals;  // [target][vertex], morph only
 };
 
@@ -285,8 +289,10 @@ public:
                                                      " POINTS/LINES primitives skipped; point and line data is not imported)"
                                                : "no triangle geometry: the scene instances no mesh primitive");
         }
+        decide_skin();
         convert_materials();
         build();
+        if (skinned_) read_skeleton();
         if (options_.morph_targets) read_weights_animation();
         return std::move(mesh_);
     }
@@ -320,6 +326,20 @@ private:
 
     // Depth-first over the scene; the first node that instances a mesh places it.
     void collect_instances() {
+        const std::vector<int> roots = scene_roots();
+        std::vector<char> on_path(model_.nodes.size(), 0);
+        std::vector<char> mesh_seen(model_.meshes.size(), 0);
+        for (int root : roots) visit(root, kIdentity, on_path, mesh_seen);
+        for (std::size_t m = 0; m < mesh_seen.size(); ++m) {
+            if (mesh_seen[m] < 2 || options_.place_every_instance) continue;
+            const std::string& name = model_.meshes[m].name;
+            mesh_.warnings.push_back("mesh " + std::to_string(m) + (name.empty() ? "" : " '" + name + "'") +
+                                     " is instanced by " + std::to_string(int(mesh_seen[m])) +
+                                     " nodes; imported once, at its first placement");
+        }
+    }
+
+    std::vector<int> scene_roots() const {
         std::vector<int> roots;
         const auto& scenes = model_.scenes;
         if (model_.defaultScene >= 0 && static_cast<std::size_t>(model_.defaultScene) < scenes.size()) {
@@ -334,16 +354,7 @@ private:
             for (std::size_t i = 0; i < model_.nodes.size(); ++i)
                 if (!is_child[i]) roots.push_back(static_cast<int>(i));
         }
-        std::vector<char> on_path(model_.nodes.size(), 0);
-        std::vector<char> mesh_seen(model_.meshes.size(), 0);
-        for (int root : roots) visit(root, kIdentity, on_path, mesh_seen);
-        for (std::size_t m = 0; m < mesh_seen.size(); ++m) {
-            if (mesh_seen[m] < 2 || options_.place_every_instance) continue;
-            const std::string& name = model_.meshes[m].name;
-            mesh_.warnings.push_back("mesh " + std::to_string(m) + (name.empty() ? "" : " '" + name + "'") +
-                                     " is instanced by " + std::to_string(int(mesh_seen[m])) +
-                                     " nodes; imported once, at its first placement");
-        }
+        return roots;
     }
 
     // Iterative, so that a hierarchy thousands of nodes deep cannot exhaust the stack.
@@ -452,7 +463,8 @@ private:
                     job.owns_points = false;
                     job.base = owner.base;
                     job.same_attributes = true;
-                    for (const char* name : {"NORMAL", "COLOR_0", "TEXCOORD_0", "TEXCOORD_1"})
+                    for (const char* name : {"NORMAL", "COLOR_0", "TEXCOORD_0", "TEXCOORD_1", "JOINTS_0", "WEIGHTS_0",
+                                             "JOINTS_1", "WEIGHTS_1"})
                         job.same_attributes = job.same_attributes && attribute(prim, name) == attribute(owner_prim, name);
                 } else {
                     job.base = points;
@@ -464,6 +476,11 @@ private:
                 has_colors_ = has_colors_ || attribute(prim, "COLOR_0") >= 0;
                 if (attribute(prim, "TEXCOORD_1") >= 0) texcoord_sets_ = 2;
                 else if (attribute(prim, "TEXCOORD_0") >= 0) texcoord_sets_ = std::max<std::size_t>(texcoord_sets_, 1);
+                for (std::size_t set = 0;; ++set) {
+                    const std::string n = std::to_string(set);
+                    if (attribute(prim, ("JOINTS_" + n).c_str()) < 0 || attribute(prim, ("WEIGHTS_" + n).c_str()) < 0) break;
+                    joint_sets_ = std::max(joint_sets_, set + 1);
+                }
                 if (prim.material >= 0 && static_cast<std::size_t>(prim.material) >= model_.materials.size())
                     fail(Error::Kind::format, where(job) + " refers to material " + std::to_string(prim.material) +
                                                   " of " + std::to_string(model_.materials.size()));
@@ -700,8 +717,165 @@ private:
                 }
             }
         }
+        if (skinned_) load_influences(prim, job, at, d);
         if (options_.morph_targets) load_targets(prim, job, at, d);
         return d;
+    }
+
+    // JOINTS_n / WEIGHTS_n, joint indices moved into the merged skin (skin_base_).
+    void load_influences(const tinygltf::Primitive& prim, const PrimitiveJob& job, const std::string& at,
+                         PrimitiveData& d) const {
+        const int skin = model_.nodes[static_cast<std::size_t>(job.instance->node)].skin;
+        const std::size_t base = skin_base_.at(skin);
+        const std::size_t joint_count = model_.skins[static_cast<std::size_t>(skin)].joints.size();
+        d.joints.resize(joint_sets_);
+        d.weights.resize(joint_sets_);
+        std::size_t comps = 0;
+        for (std::size_t set = 0; set < joint_sets_; ++set) {
+            const std::string jn = "JOINTS_" + std::to_string(set), wn = "WEIGHTS_" + std::to_string(set);
+            const int ja = attribute(prim, jn.c_str()), wa = attribute(prim, wn.c_str());
+            if (ja < 0 || wa < 0) continue;
+            const tinygltf::Accessor& a = accessor(ja, at + " " + jn);
+            if (a.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE &&
+                a.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT)
+                fail(Error::Kind::format, at + " " + jn + " must be unsigned byte or unsigned short");
+            const std::vector<float> j = read_floats(ja, {4}, comps, at + " " + jn);
+            const std::vector<float> w = read_floats(wa, {4}, comps, at + " " + wn);
+            if (j.size() != 4 * job.count || w.size() != 4 * job.count)
+                fail(Error::Kind::format, at + " " + jn + "/" + wn + " element count differs from POSITION's " +
+                                              std::to_string(job.count));
+            d.joints[set].resize(job.count);
+            d.weights[set].resize(job.count);
+            for (std::size_t i = 0; i < job.count; ++i) {
+                for (std::size_t c = 0; c < 4; ++c) {
+                    const auto joint = static_cast<std::size_t>(j[4 * i + c]);
+                    const float weight = w[4 * i + c];
+                    if (!std::isfinite(weight) || weight < 0)
+                        fail(Error::Kind::invalid, at + " " + wn + ": vertex " + std::to_string(i) + " has a negative or non-finite weight");
+                    if (joint >= joint_count && weight > 0)
+                        fail(Error::Kind::format, at + " " + jn + ": vertex " + std::to_string(i) + " uses joint " +
+                                                      std::to_string(joint) + " of " + std::to_string(joint_count));
+                    d.joints[set][i][c] = static_cast<std::uint16_t>(joint < joint_count ? base + joint : 0);
+                }
+                d.weights[set][i] = {w[4 * i], w[4 * i + 1], w[4 * i + 2], w[4 * i + 3]};
+            }
+        }
+    }
+
+    // A mesh is imported skinned when every placed mesh instance is skinned and has JOINTS_0/WEIGHTS_0
+    // and no mesh is placed twice (a static part or a second copy would need its own node, which the
+    // one-mesh model cannot say). The skins the instances use are concatenated into one (skin_base_).
+    void decide_skin() {
+        if (joint_sets_ == 0) return;
+        const bool all_skinned = std::all_of(instances_.begin(), instances_.end(), [&](const Instance& i) {
+            return model_.nodes[static_cast<std::size_t>(i.node)].skin >= 0;
+        });
+        std::set<int> meshes;
+        for (const Instance& i : instances_) meshes.insert(i.mesh);
+        const bool copies = meshes.size() < instances_.size();  // place_every_instance placed one mesh twice
+        if (!all_skinned || copies) {
+            mesh_.warnings.push_back("skin dropped: " + std::string(copies ? "a skinned mesh is placed more than once"
+                                                                           : "the scene mixes skinned and static meshes") +
+                                     "; imported as a static mesh in the bind pose");
+            joint_sets_ = 0;
+            return;
+        }
+        std::size_t joints = 0;
+        for (const Instance& i : instances_) {
+            const int skin = model_.nodes[static_cast<std::size_t>(i.node)].skin;
+            if (static_cast<std::size_t>(skin) >= model_.skins.size())
+                fail(Error::Kind::format, "node " + std::to_string(i.node) + " refers to skin " + std::to_string(skin) +
+                                              " of " + std::to_string(model_.skins.size()));
+            if (skin_base_.count(skin)) continue;
+            skin_base_[skin] = joints;
+            joints += model_.skins[static_cast<std::size_t>(skin)].joints.size();
+        }
+        if (joints == 0 || joints > 65535) fail(Error::Kind::unsupported, std::to_string(joints) + " joints (1 to 65535 supported)");
+        skinned_ = true;
+    }
+
+    // The node hierarchy (every node, same indices, meshes and cameras dropped), the merged skin and
+    // every animation channel that moves a node (morph weight channels are not carried).
+    void read_skeleton() {
+        auto sk = std::make_shared<Skeleton>();
+        const std::size_t node_count = model_.nodes.size();
+        for (const tinygltf::Node& g : model_.nodes) {
+            for (int c : g.children)
+                if (c < 0 || static_cast<std::size_t>(c) >= node_count)
+                    fail(Error::Kind::format, "node " + std::to_string(sk->nodes.size()) + " has child " +
+                                                  std::to_string(c) + " of " + std::to_string(node_count));
+            sk->nodes.push_back({g.name, g.children, g.translation, g.rotation, g.scale, g.matrix});
+        }
+        sk->roots = scene_roots();
+        std::vector<std::pair<std::size_t, int>> skins;  // base, skin
+        for (const auto& [skin, base] : skin_base_) skins.emplace_back(base, skin);
+        std::sort(skins.begin(), skins.end());
+        for (const auto& [base, skin] : skins) {
+            const tinygltf::Skin& g = model_.skins[static_cast<std::size_t>(skin)];
+            const std::string what = "skin " + std::to_string(skin);
+            if (sk->skin_name.empty()) sk->skin_name = g.name;
+            if (sk->skeleton_root < 0 && g.skeleton >= 0 && static_cast<std::size_t>(g.skeleton) < node_count)
+                sk->skeleton_root = g.skeleton;
+            for (int j : g.joints) {
+                if (j < 0 || static_cast<std::size_t>(j) >= node_count)
+                    fail(Error::Kind::format, what + " refers to node " + std::to_string(j) + " of " + std::to_string(node_count));
+                sk->joints.push_back(j);
+            }
+            std::vector<std::array<float, 16>> ibm(g.joints.size());
+            for (auto& m : ibm) m = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+            if (g.inverseBindMatrices >= 0) {
+                const tinygltf::Accessor& a = accessor(g.inverseBindMatrices, what + " inverseBindMatrices");
+                if (a.type != TINYGLTF_TYPE_MAT4 || a.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT ||
+                    a.count != g.joints.size() || a.bufferView < 0)
+                    fail(Error::Kind::format, what + ": inverseBindMatrices must be one float MAT4 per joint");
+                std::size_t stride = 0;
+                const std::uint8_t* p = view_data(a.bufferView, a.byteOffset, 64, a.count, stride, what + " inverseBindMatrices");
+                for (std::size_t k = 0; k < a.count; ++k, p += stride) std::memcpy(ibm[k].data(), p, 64);
+            }
+            sk->inverse_bind_matrices.insert(sk->inverse_bind_matrices.end(), ibm.begin(), ibm.end());
+        }
+        for (std::size_t a = 0; a < model_.animations.size(); ++a) {
+            const tinygltf::Animation& g = model_.animations[a];
+            Animation anim;
+            anim.name = g.name;
+            std::map<int, int> sampler_of;  // glTF sampler -> kept sampler
+            for (const tinygltf::AnimationChannel& ch : g.channels) {
+                if (ch.target_path != "translation" && ch.target_path != "rotation" && ch.target_path != "scale") continue;
+                const std::string what = "animation " + std::to_string(a) + " channel to node " + std::to_string(ch.target_node);
+                if (ch.target_node < 0 || static_cast<std::size_t>(ch.target_node) >= node_count)
+                    fail(Error::Kind::format, what + ": no such node");
+                if (ch.sampler < 0 || static_cast<std::size_t>(ch.sampler) >= g.samplers.size())
+                    fail(Error::Kind::format, what + " refers to sampler " + std::to_string(ch.sampler) + " of " +
+                                                  std::to_string(g.samplers.size()));
+                auto [it, inserted] = sampler_of.try_emplace(ch.sampler, static_cast<int>(anim.samplers.size()));
+                if (inserted) anim.samplers.push_back(read_sampler(g.samplers[static_cast<std::size_t>(ch.sampler)],
+                                                                   ch.target_path == "rotation" ? 4 : 3, what));
+                anim.channels.push_back({it->second, ch.target_node, ch.target_path});
+            }
+            if (!anim.channels.empty()) sk->animations.push_back(std::move(anim));
+        }
+        mesh_.skeleton = std::move(sk);
+    }
+
+    AnimationSampler read_sampler(const tinygltf::AnimationSampler& g, int components, const std::string& what) const {
+        AnimationSampler s;
+        s.components = components;
+        s.interpolation = g.interpolation.empty() ? "LINEAR" : g.interpolation;
+        if (s.interpolation != "LINEAR" && s.interpolation != "STEP" && s.interpolation != "CUBICSPLINE")
+            fail(Error::Kind::format, what + ": unknown interpolation '" + s.interpolation + "'");
+        std::size_t comps = 0;
+        s.input = read_floats(g.input, {1}, comps, what + " input");
+        s.output = read_floats(g.output, {static_cast<std::size_t>(components)}, comps, what + " output");
+        const std::size_t per_key = (s.interpolation == "CUBICSPLINE" ? 3u : 1u) * static_cast<std::size_t>(components);
+        if (s.input.empty() || s.output.size() != s.input.size() * per_key)
+            fail(Error::Kind::format, what + ": " + std::to_string(s.output.size() / static_cast<std::size_t>(components)) +
+                                          " values for " + std::to_string(s.input.size()) + " keys");
+        for (std::size_t k = 0; k < s.input.size(); ++k)
+            if (!std::isfinite(s.input[k]) || (k > 0 && !(s.input[k] > s.input[k - 1])))
+                fail(Error::Kind::format, what + ": key times must increase (key " + std::to_string(k) + ")");
+        for (float v : s.output)
+            if (!std::isfinite(v)) fail(Error::Kind::format, what + ": a value is not finite");
+        return s;
     }
 
     // Target deltas are directions: the linear part of the world transform, no translation. A normal
@@ -803,6 +977,10 @@ private:
         if (has_colors_) mesh_.colors[target] = d.colors.empty() ? Vec4f{1, 1, 1, 1} : d.colors[i];
         for (std::size_t set = 0; set < texcoord_sets_; ++set)
             mesh_.texcoords[set][target] = d.texcoords[set].empty() ? Vec2f{} : d.texcoords[set][i];
+        for (std::size_t set = 0; set < mesh_.joints.size(); ++set) {
+            mesh_.joints[set][target] = d.joints[set].empty() ? Joints4{0, 0, 0, 0} : d.joints[set][i];
+            mesh_.weights[set][target] = d.weights[set].empty() ? Vec4f{} : d.weights[set][i];
+        }
     }
 
     std::size_t append_vertex(std::uint32_t point) {
@@ -813,6 +991,8 @@ private:
         if (has_normals_) mesh_.normals.emplace_back();
         if (has_colors_) mesh_.colors.emplace_back();
         for (auto& set : mesh_.texcoords) set.emplace_back();
+        for (auto& set : mesh_.joints) set.emplace_back();
+        for (auto& set : mesh_.weights) set.emplace_back();
         if (GltfMorphTargets* mt = options_.morph_targets) {
             for (auto& t : mt->position_deltas) t.emplace_back();
             for (auto& t : mt->normal_deltas) t.emplace_back();
@@ -981,6 +1161,10 @@ private:
         if (has_normals_) mesh_.normals.assign(point_total_, Vec3f{});
         if (has_colors_) mesh_.colors.assign(point_total_, Vec4f{1, 1, 1, 1});
         mesh_.texcoords.assign(texcoord_sets_, std::vector<Vec2f>(point_total_));
+        if (skinned_) {
+            mesh_.joints.assign(joint_sets_, std::vector<Joints4>(point_total_, Joints4{0, 0, 0, 0}));
+            mesh_.weights.assign(joint_sets_, std::vector<Vec4f>(point_total_));
+        }
         if (GltfMorphTargets* mt = options_.morph_targets) {
             mt->position_deltas.assign(morph_count_, std::vector<Vec3f>(point_total_));
             if (morph_normals_ && has_normals_) mt->normal_deltas.assign(morph_count_, std::vector<Vec3f>(point_total_));
@@ -1055,6 +1239,9 @@ private:
     bool has_normals_ = false;
     bool has_colors_ = false;
     std::size_t texcoord_sets_ = 0;
+    std::size_t joint_sets_ = 0;           // JOINTS_n/WEIGHTS_n pairs (the most any primitive has)
+    bool skinned_ = false;                 // decide_skin
+    std::map<int, std::size_t> skin_base_;  // glTF skin -> its first joint in the merged skin
     std::vector<std::array<UvTransform, 2>> material_uv_;  // [material][set], baked into the UVs
     std::size_t morph_count_ = 0;
     bool morph_normals_ = false;

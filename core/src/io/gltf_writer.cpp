@@ -37,6 +37,7 @@ struct VertexSource {
     // bufferViews of the converted arrays (-1 = absent)
     int position_view = -1, normal_view = -1, color_view = -1;
     std::vector<int> texcoord_views;
+    std::vector<int> joint_views, weight_views;  // per JOINTS_n / WEIGHTS_n set
     // accessors already made, by vertex count (levels of a shared buffer use prefixes)
     std::map<std::uint32_t, ordered_json> attributes_by_count;
 };
@@ -83,6 +84,7 @@ public:
                         "screen_coverage has " + std::to_string(options_.screen_coverage.size()) +
                             " values for " + std::to_string(levels.size()) + " levels");
         for (const VertexSource& s : sources_) check_source(*s.mesh);
+        check_skin();
         if (morph_) check_morph();
         if (quantized()) prepare_quantization();
 
@@ -93,7 +95,11 @@ public:
             doc_["extensionsRequired"] = ordered_json::array({"KHR_mesh_quantization"});
         }
         doc_["scene"] = 0;
-        doc_["scenes"] = ordered_json::array({{{"nodes", ordered_json::array({0})}}});
+        ordered_json scene_nodes = ordered_json::array({0});
+        // The skeleton's nodes follow the levels' (node k is level k, as without a skin).
+        if (skeleton_)
+            for (int root : skeleton_->roots) scene_nodes.push_back(levels.size() + static_cast<std::size_t>(root));
+        doc_["scenes"] = ordered_json::array({{{"nodes", scene_nodes}}});
 
         ordered_json nodes = ordered_json::array();
         ordered_json meshes = ordered_json::array();
@@ -104,6 +110,7 @@ public:
             if (morph_) add_mesh_weights(mesh);
             meshes.push_back(std::move(mesh));
             ordered_json node = {{"name", name}, {"mesh", k}};
+            if (skeleton_) node["skin"] = 0;
             if (quantized()) {
                 // The dequantisation of the targets (and so of the base they are added to): uniform,
                 // so normals keep their directions (KHR_mesh_quantization).
@@ -119,9 +126,14 @@ public:
             }
             nodes.push_back(node);
         }
+        if (skeleton_) add_skeleton(nodes, levels.size());
         doc_["nodes"] = nodes;
         doc_["meshes"] = meshes;
         if (morph_ && !morph_->key_times.empty()) doc_["animations"] = animation(levels.size());
+        if (skeleton_ && !skeleton_->animations.empty()) {
+            if (!doc_.contains("animations")) doc_["animations"] = ordered_json::array();
+            for (const Animation& a : skeleton_->animations) doc_["animations"].push_back(skeleton_animation(a, levels.size()));
+        }
         if (!materials_.empty()) doc_["materials"] = materials_;
         if (!textures_.empty()) {
             doc_["textures"] = textures_;
@@ -155,6 +167,11 @@ private:
             throw_error(Error::Kind::invalid, where_, "attribute array size differs from the vertex count");
         for (const auto& set : m.texcoords)
             if (set.size() != n) throw_error(Error::Kind::invalid, where_, "texcoord set size differs from the vertex count");
+        if (m.joints.size() != m.weights.size())
+            throw_error(Error::Kind::invalid, where_, "joint and weight set counts differ");
+        for (std::size_t s = 0; s < m.joints.size(); ++s)
+            if (m.joints[s].size() != n || m.weights[s].size() != n)
+                throw_error(Error::Kind::invalid, where_, "joint or weight set size differs from the vertex count");
         for (std::size_t i = 0; i < n; ++i)
             if (!is_finite(m.positions[i]))
                 throw_error(Error::Kind::invalid, where_, "vertex " + std::to_string(i) + " has a non-finite position");
@@ -213,6 +230,9 @@ private:
             for (std::size_t i = 0; i < uv.size(); ++i) uv[i] = {set[i].x, 1.f - set[i].y};
             s.texcoord_views.push_back(add_vertex_view(uv));
         }
+        if (!skeleton_) return;
+        for (const auto& set : m.joints) s.joint_views.push_back(add_vertex_view(set));
+        for (const auto& set : m.weights) s.weight_views.push_back(add_vertex_view(set));
     }
 
     const ordered_json& attributes(std::size_t source_index, std::uint32_t count) {
@@ -233,6 +253,13 @@ private:
         for (std::size_t t = 0; t < s.texcoord_views.size(); ++t)
             attrs["TEXCOORD_" + std::to_string(t)] = add_accessor(
                 {{"bufferView", s.texcoord_views[t]}, {"componentType", kFloat}, {"count", count}, {"type", "VEC2"}});
+        for (std::size_t t = 0; t < s.joint_views.size(); ++t) {
+            attrs["JOINTS_" + std::to_string(t)] = add_accessor({{"bufferView", s.joint_views[t]},
+                                                                 {"componentType", kUnsignedShort},
+                                                                 {"count", count}, {"type", "VEC4"}});
+            attrs["WEIGHTS_" + std::to_string(t)] = add_accessor(
+                {{"bufferView", s.weight_views[t]}, {"componentType", kFloat}, {"count", count}, {"type", "VEC4"}});
+        }
         if (s.color_view >= 0)
             attrs["COLOR_0"] = add_accessor({{"bufferView", s.color_view}, {"componentType", kFloat}, {"count", count},
                                              {"type", "VEC4"}});
@@ -290,6 +317,84 @@ private:
             ++primitives_;
         }
         return primitives;
+    }
+
+    // ---- skin and skeleton animations -------------------------------------------------------------
+
+    // Every level is bound to the skeleton of the first source; all sources must share it (levels
+    // change vertices, never joints).
+    void check_skin() {
+        const Mesh& first = *sources_.front().mesh;
+        if (!first.has_skin()) return;
+        skeleton_ = first.skeleton.get();
+        const std::size_t joints = skeleton_->joints.size(), nodes = skeleton_->nodes.size();
+        if (joints == 0 || skeleton_->inverse_bind_matrices.size() != joints)
+            throw_error(Error::Kind::invalid, where_, "the skin needs one inverse bind matrix per joint");
+        for (int j : skeleton_->joints)
+            if (j < 0 || static_cast<std::size_t>(j) >= nodes) throw_error(Error::Kind::invalid, where_, "a joint is not a node");
+        for (const VertexSource& s : sources_) {
+            const Mesh& m = *s.mesh;
+            if (m.skeleton.get() != skeleton_ || m.joints.empty())
+                throw_error(Error::Kind::invalid, where_, "levels of one file must share one skeleton");
+            for (const auto& set : m.joints)
+                for (const Joints4& j : set)
+                    for (std::uint16_t i : j)
+                        if (i >= joints)
+                            throw_error(Error::Kind::invalid, where_, "a vertex uses joint " + std::to_string(i) + " of " +
+                                                                          std::to_string(joints));
+        }
+    }
+
+    // The hierarchy after the level nodes (index + offset) and the one skin over it.
+    void add_skeleton(ordered_json& nodes, std::size_t offset) {
+        for (const SkeletonNode& n : skeleton_->nodes) {
+            ordered_json j;
+            if (!n.name.empty()) j["name"] = n.name;
+            if (!n.children.empty()) {
+                ordered_json children = ordered_json::array();
+                for (int c : n.children) children.push_back(offset + static_cast<std::size_t>(c));
+                j["children"] = children;
+            }
+            if (n.matrix.size() == 16) j["matrix"] = n.matrix;
+            if (n.translation.size() == 3) j["translation"] = n.translation;
+            if (n.rotation.size() == 4) j["rotation"] = n.rotation;
+            if (n.scale.size() == 3) j["scale"] = n.scale;
+            nodes.push_back(std::move(j));
+        }
+        const auto& ibm = skeleton_->inverse_bind_matrices;
+        const int view = add_view(ibm.data(), ibm.size() * sizeof(ibm[0]), 0, 0);
+        ordered_json skin = {{"inverseBindMatrices", add_accessor({{"bufferView", view}, {"componentType", kFloat},
+                                                                    {"count", ibm.size()}, {"type", "MAT4"}})}};
+        if (skeleton_->skeleton_root >= 0) skin["skeleton"] = offset + static_cast<std::size_t>(skeleton_->skeleton_root);
+        ordered_json joints = ordered_json::array();
+        for (int j : skeleton_->joints) joints.push_back(offset + static_cast<std::size_t>(j));
+        skin["joints"] = joints;
+        if (!skeleton_->skin_name.empty()) skin["name"] = skeleton_->skin_name;
+        doc_["skins"] = ordered_json::array({skin});
+    }
+
+    ordered_json skeleton_animation(const Animation& a, std::size_t offset) {
+        ordered_json samplers = ordered_json::array();
+        for (const AnimationSampler& s : a.samplers) {
+            const int input_view = add_view(s.input.data(), s.input.size() * sizeof(float), 0, 0);
+            const int input = add_accessor({{"bufferView", input_view}, {"componentType", kFloat},
+                                            {"count", s.input.size()}, {"type", "SCALAR"},
+                                            {"min", {s.input.front()}}, {"max", {s.input.back()}}});
+            const int output_view = add_view(s.output.data(), s.output.size() * sizeof(float), 0, 0);
+            const int output = add_accessor({{"bufferView", output_view}, {"componentType", kFloat},
+                                             {"count", s.output.size() / static_cast<std::size_t>(s.components)},
+                                             {"type", s.components == 4 ? "VEC4" : "VEC3"}});
+            samplers.push_back({{"input", input}, {"interpolation", s.interpolation}, {"output", output}});
+        }
+        ordered_json channels = ordered_json::array();
+        for (const AnimationChannel& c : a.channels)
+            channels.push_back({{"sampler", c.sampler},
+                                {"target", {{"node", offset + static_cast<std::size_t>(c.node)}, {"path", c.path}}}});
+        ordered_json j;
+        if (!a.name.empty()) j["name"] = a.name;
+        j["samplers"] = samplers;
+        j["channels"] = channels;
+        return j;
     }
 
     // ---- materials and images -------------------------------------------------------------------
@@ -426,6 +531,7 @@ private:
     // ---- morph targets (only with set_morph; one vertex source) ----------------------------------
 
     const GlbMorphTargets* morph_ = nullptr;
+    const Skeleton* skeleton_ = nullptr;  // check_skin: the skin every level is bound to, or none
     std::vector<int> target_position_views_, target_normal_views_;
     std::map<std::uint32_t, ordered_json> targets_by_count_;
     // KHR_mesh_quantization (GlbMorphTargets::quantize): p = translation + scale * stored
@@ -621,7 +727,7 @@ std::vector<std::uint8_t> encode_levels(const std::vector<Mesh>& levels, const G
             throw_error(Error::Kind::invalid, where, "level " + std::to_string(k) +
                                                          ": face_materials size differs from the triangle count");
         sources.push_back({.mesh = &m, .position_view = -1, .normal_view = -1, .color_view = -1,
-                           .texcoord_views = {}, .attributes_by_count = {}});
+                           .texcoord_views = {}, .joint_views = {}, .weight_views = {}, .attributes_by_count = {}});
         specs.push_back({.source = k, .vertex_count = static_cast<std::uint32_t>(m.vertex_count()),
                          .indices = m.indices.data(), .index_count = m.indices.size(),
                          .face_materials = m.face_materials.empty() ? nullptr : m.face_materials.data()});

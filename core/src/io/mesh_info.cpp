@@ -19,7 +19,21 @@ MeshInfo mesh_info(const Mesh& mesh, const std::string& path, const std::string&
     if (mesh.has_normals()) info.attributes.push_back("normal");
     if (mesh.has_colors()) info.attributes.push_back("color");
     for (std::size_t s = 0; s < mesh.texcoords.size(); ++s) info.attributes.push_back("texcoord" + std::to_string(s));
+    for (std::size_t s = 0; s < mesh.joints.size(); ++s) {
+        info.attributes.push_back("joints" + std::to_string(s));
+        info.attributes.push_back("weights" + std::to_string(s));
+    }
     if (!mesh.face_materials.empty()) info.attributes.push_back("material");
+    if (mesh.has_skin()) {
+        info.joints = mesh.skeleton->joints.size();
+        info.max_influences = max_influence_count(mesh);
+        for (const Animation& a : mesh.skeleton->animations) {
+            std::ostringstream s;
+            s << (a.name.empty() ? "(unnamed)" : a.name) << " (" << a.duration() << " s, " << a.channels.size()
+              << " channels)";
+            info.animations.push_back(s.str());
+        }
+    }
     info.materials = mesh.materials.size();
 
     std::set<std::string> seen;
@@ -57,6 +71,8 @@ std::string to_json(const MeshInfo& info, int indent) {
     j["triangles"] = info.triangles;
     j["attributes"] = info.attributes;
     j["materials"] = info.materials;
+    if (info.joints > 0)
+        j["skin"] = {{"joints", info.joints}, {"max_influences", info.max_influences}, {"animations", info.animations}};
     j["textures"] = info.textures;
     j["missing_textures"] = info.missing_textures;
     j["warnings"] = info.warnings;
@@ -90,6 +106,9 @@ std::string to_text(const MeshInfo& info) {
     s << "attributes:  ";
     for (std::size_t i = 0; i < info.attributes.size(); ++i) s << (i ? ", " : "") << info.attributes[i];
     s << "\nmaterials:   " << info.materials << '\n';
+    if (info.joints > 0)
+        s << "skin:        " << info.joints << " joints, up to " << info.max_influences << " influences per vertex\n";
+    for (const auto& a : info.animations) s << "animation:   " << a << '\n';
     for (const auto& t : info.textures) s << "texture:     " << t << '\n';
     for (const auto& t : info.missing_textures) s << "MISSING:     " << t << '\n';
     for (const auto& w : info.warnings) s << "note:        " << w << '\n';

@@ -27,6 +27,7 @@
 #include <cmath>
 #include <filesystem>
 #include <numbers>
+#include <optional>
 #include <system_error>
 
 namespace lodforge {
@@ -51,18 +52,62 @@ struct BuiltLevels {
     std::vector<const Mesh*> meshes;        // every level kept, level 0 = the input
     std::vector<DistanceResult> distance;   // per level kept (level 0: zero)
     std::vector<std::size_t> dropped;       // preset levels (1-based) equal to the level before them
+    std::optional<Mesh> input;              // level 0 when it differs from the input (skin renormalised)
+    bool shared_buffer = true;              // false: the GLB takes the levels one by one (skinned levels
+                                            // whose influence counts differ cannot share vertices)
 };
 
 // What an engine draws: equal meshes give equal frames. Normals are compared to 1e-5 because a chain
 // that stopped re-normalises them, which moves them by an ulp.
 bool same_surface(const Mesh& a, const Mesh& b) {
     if (a.indices != b.indices || a.positions != b.positions || a.colors != b.colors ||
-        a.texcoords != b.texcoords || a.face_materials != b.face_materials || a.normals.size() != b.normals.size())
+        a.texcoords != b.texcoords || a.face_materials != b.face_materials || a.normals.size() != b.normals.size() ||
+        a.joints != b.joints || a.weights != b.weights)
         return false;
     for (std::size_t i = 0; i < a.normals.size(); ++i)
         for (int c = 0; c < 3; ++c)
             if (std::abs(a.normals[i][c] - b.normals[i][c]) > 1e-5f) return false;
     return true;
+}
+
+// Every level of a skinned input bound to its skeleton (docs/skinning.md): level 0 keeps all its
+// influences, level k (preset level kept_ranges[k]) at most the preset's count, each renormalised to
+// sum 1. A method that does not keep input vertices (cluster, octree, mcoctree) has no influences to
+// give: the pack is then static, in the bind pose, with a note.
+void bind_skins(const Mesh& mesh, const Preset& preset, const std::vector<std::size_t>& kept_ranges,
+                BuiltLevels& out) {
+    const SkinOptions& options = preset.skin;
+    if (!mesh.has_skin()) return;
+    Mesh& input = out.input.emplace(mesh);
+    out.meshes[0] = &input;
+    const bool carried = std::all_of(out.meshes.begin(), out.meshes.end(), [](const Mesh* m) { return m->has_skin(); });
+    if (!carried) {
+        out.built.notes.push_back("the " + std::string(to_string(preset.method)) +
+                                  " method's levels carry no skin: the pack is static, in the bind pose");
+        for (std::size_t k = 1; k < out.meshes.size(); ++k) {
+            Mesh& level = out.built.levels[kept_ranges[k] - 1];
+            level.joints.clear();
+            level.weights.clear();
+            level.skeleton.reset();
+        }
+        input.joints.clear();
+        input.weights.clear();
+        input.skeleton.reset();
+        return;
+    }
+    const std::size_t most = max_influence_count(mesh);
+    limit_influences(input, most);
+    bool all_kept = true;
+    for (std::size_t k = 1; k < out.meshes.size(); ++k) {
+        const std::size_t preset_level = kept_ranges[k] - 1;
+        const std::size_t limit = options.max_influences.empty()
+                                      ? most
+                                      : options.max_influences[std::min(preset_level, options.max_influences.size() - 1)];
+        all_kept = all_kept && limit >= most;
+        limit_influences(out.built.levels[preset_level], std::min(limit, std::max<std::size_t>(most, 1)));
+    }
+    out.shared_buffer = all_kept;
+    if (out.built.chain && all_kept) limit_influences(out.built.chain->shared.vertices, most);
 }
 
 BuiltLevels make_levels(const Mesh& mesh, const PackParams& params, Progress* progress) {
@@ -93,6 +138,7 @@ BuiltLevels make_levels(const Mesh& mesh, const PackParams& params, Progress* pr
         for (std::size_t k : kept_ranges) ranges.push_back(out.built.chain->shared.levels[k]);
         out.built.chain->shared.levels = std::move(ranges);
     }
+    bind_skins(mesh, params.preset, kept_ranges, out);
     return out;
 }
 
@@ -211,7 +257,7 @@ PackResult write_lod_pack(const Mesh& mesh, const PackParams& params, Progress* 
         for (const PackLevel& level : result.levels) o.screen_coverage.push_back(level.screen_coverage);
         result.glb = stem + ".glb";
         const std::string path = staging.file(result.glb).string();
-        if (built.built.chain) {
+        if (built.built.chain && built.shared_buffer) {
             write_glb(built.built.chain->shared, o, path, progress);
         } else {
             std::vector<Mesh> copies;  // the writer takes the levels by value-list; the input is level 0

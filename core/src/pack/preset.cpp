@@ -223,6 +223,19 @@ Preset parse_preset(std::string_view json_text, const std::string& source) {
         p.strips.primitive_restart = sr.flag("primitive_restart", p.strips.primitive_restart);
         sr.finish();
     }
+    if (const auto* o = r.find("skin")) {
+        ObjectReader kr(*o, "skin", source);
+        if (const auto* m = kr.find("max_influences")) {
+            if (!m->is_array() || m->empty()) kr.fail("skin.max_influences", "must be a non-empty array of counts");
+            p.skin.max_influences.clear();
+            for (const auto& v : *m) {
+                if (!v.is_number_integer() || v.get<std::int64_t>() < 1 || v.get<std::int64_t>() > 8)
+                    kr.fail("skin.max_influences", "must hold whole numbers from 1 to 8");
+                p.skin.max_influences.push_back(v.get<std::uint32_t>());
+            }
+        }
+        kr.finish();
+    }
     if (const auto* o = r.find("export")) {
         ObjectReader er(*o, "export", source);
         p.exports.glb = er.flag("glb", p.exports.glb);
@@ -263,6 +276,7 @@ std::string preset_to_json(const Preset& p) {
                    {"memory_mb", p.octree.memory_mb}};
     j["mcoctree"] = {{"resolution", p.mcoctree.resolution}};
     j["strips"] = {{"primitive_restart", p.strips.primitive_restart}};
+    j["skin"] = {{"max_influences", p.skin.max_influences}};
     j["export"] = {{"glb", p.exports.glb}, {"ply", p.exports.ply}, {"obj", p.exports.obj},
                    {"lodstrips", p.exports.lodstrips}, {"image_error", p.exports.image_error}};
     return j.dump(2) + "\n";

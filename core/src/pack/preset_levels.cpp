@@ -209,6 +209,12 @@ void lodstrips_levels(const Mesh& mesh, const Preset& preset, const PresetLevels
         out.stops.push_back(met ? LevelStop::target_reached : LevelStop::closest);
         Mesh level = lodstrips_mesh(runtime);
         keep_materials(mesh, level);
+        // The .lodstrips file has no skin; a level's vertices are a prefix of the canonical order (removed
+        // vertices come last), which names their input vertices.
+        if (level.vertex_count() <= build.input_vertex.size())
+            carry_influences(mesh, {build.input_vertex.begin(), build.input_vertex.begin() +
+                                                                    static_cast<std::ptrdiff_t>(level.vertex_count())},
+                             level);
         out.levels.push_back(std::move(level));
     }
     out.vertices_on_input = true;

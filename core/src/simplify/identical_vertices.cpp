@@ -7,7 +7,7 @@
 namespace lodforge {
 
 // Binary equality reads padding too: the vector types have none.
-static_assert(sizeof(Vec3f) == 12 && sizeof(Vec4f) == 16 && sizeof(Vec2f) == 8);
+static_assert(sizeof(Vec3f) == 12 && sizeof(Vec4f) == 16 && sizeof(Vec2f) == 8 && sizeof(Joints4) == 8);
 
 IdenticalVertices find_identical_vertices(const Mesh& mesh) {
     const std::size_t n = mesh.vertex_count();
@@ -15,6 +15,9 @@ IdenticalVertices find_identical_vertices(const Mesh& mesh) {
     if (mesh.has_normals()) streams.push_back({mesh.normals.data(), sizeof(Vec3f), sizeof(Vec3f)});
     if (mesh.has_colors()) streams.push_back({mesh.colors.data(), sizeof(Vec4f), sizeof(Vec4f)});
     for (const auto& set : mesh.texcoords) streams.push_back({set.data(), sizeof(Vec2f), sizeof(Vec2f)});
+    // Vertices that follow different joints are different vertices, however alike they look.
+    for (const auto& set : mesh.joints) streams.push_back({set.data(), sizeof(Joints4), sizeof(Joints4)});
+    for (const auto& set : mesh.weights) streams.push_back({set.data(), sizeof(Vec4f), sizeof(Vec4f)});
     IdenticalVertices r;
     r.merged_of.resize(n);
     if (n == 0) return r;
@@ -40,15 +43,11 @@ Mesh IdenticalVertices::merged(const Mesh& mesh) const {
     m.face_materials = mesh.face_materials;
     const std::size_t k = first_of.size();
     m.positions.resize(k);
-    if (mesh.has_normals()) m.normals.resize(k);
-    if (mesh.has_colors()) m.colors.resize(k);
-    m.texcoords.assign(mesh.texcoords.size(), std::vector<Vec2f>(k));
+    allocate_vertex_attributes(m, mesh, k);
     for (std::size_t i = 0; i < k; ++i) {
         const std::uint32_t v = first_of[i];
         m.positions[i] = mesh.positions[v];
-        if (mesh.has_normals()) m.normals[i] = mesh.normals[v];
-        if (mesh.has_colors()) m.colors[i] = mesh.colors[v];
-        for (std::size_t s = 0; s < mesh.texcoords.size(); ++s) m.texcoords[s][i] = mesh.texcoords[s][v];
+        copy_vertex_attributes(m, i, mesh, v);
     }
     m.indices.resize(mesh.indices.size());
     for (std::size_t i = 0; i < mesh.indices.size(); ++i) m.indices[i] = merged_of[mesh.indices[i]];

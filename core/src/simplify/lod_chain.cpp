@@ -91,15 +91,11 @@ void build_shared(const Mesh& input, LodChainResult& out) {
     v.materials = input.materials;
     v.source_dir = input.source_dir;
     v.positions.resize(order.size());
-    if (input.has_normals()) v.normals.resize(order.size());
-    if (input.has_colors()) v.colors.resize(order.size());
-    v.texcoords.assign(input.texcoords.size(), std::vector<Vec2f>(order.size()));
+    allocate_vertex_attributes(v, input, order.size());
     for (std::size_t i = 0; i < order.size(); ++i) {
         const std::uint32_t iv = order[i];
         v.positions[i] = input.positions[iv];
-        if (input.has_normals()) v.normals[i] = input.normals[iv];
-        if (input.has_colors()) v.colors[i] = input.colors[iv];
-        for (std::size_t t = 0; t < input.texcoords.size(); ++t) v.texcoords[t][i] = input.texcoords[t][iv];
+        copy_vertex_attributes(v, i, input, iv);
     }
 
     std::size_t total = 0;

@@ -158,21 +158,20 @@ Mesh build_mesh(const Mesh& src, const std::vector<std::uint32_t>& point_of, con
     const std::size_t m = vertex_map.size();
     out.positions.resize(m);
     out.position_ids.resize(m);
-    if (src.has_normals()) out.normals.resize(m);
-    if (src.has_colors()) out.colors.resize(m);
-    out.texcoords.assign(src.texcoords.size(), std::vector<Vec2f>(m));
+    allocate_vertex_attributes(out, src, m);
     for (std::size_t i = 0; i < m; ++i) {
         const std::uint32_t v = vertex_map[i];
         out.positions[i] = positions ? (*positions)[point_of[v]] : src.positions[v];
         out.position_ids[i] = new_point[point_of[v]];
+        // A kept wedge keeps its influences (joint indices are labels, never averaged); solved attributes
+        // (write_solved_attributes) overwrite normals, colours and UVs afterwards.
+        copy_vertex_attributes(out, i, src, v);
         if (src.has_normals()) {
             Vec3f nn = src.normals[v];
             const float len = length(nn);
             if (len > 0.f) nn = nn * (1.f / len);
             out.normals[i] = nn;
         }
-        if (src.has_colors()) out.colors[i] = src.colors[v];
-        for (std::size_t s = 0; s < src.texcoords.size(); ++s) out.texcoords[s][i] = src.texcoords[s][v];
     }
     out.indices.resize(corners.size());
     for (std::size_t i = 0; i < corners.size(); ++i) out.indices[i] = new_index[corners[i]];

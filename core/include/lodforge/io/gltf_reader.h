@@ -30,7 +30,10 @@ struct GltfMorphTargets {
 // none is default) is appended once, placed by the world transform of its first instance in
 // depth-first order (further instances add nothing: counts match the data as stored).
 // POSITION, NORMAL, COLOR_0, TEXCOORD_0/1 are kept; each primitive's material becomes a Material
-// (face_materials per triangle). Textures keep their URI or embedded bytes. Vertices are never welded:
+// (face_materials per triangle). When every placed mesh is skinned, every JOINTS_n/WEIGHTS_n pair is
+// kept (Mesh::joints/weights, bind pose) with the node hierarchy, the skins (merged into one) and the
+// node animations (Mesh::skeleton; docs/skinning.md); a scene mixing skinned and static meshes is
+// imported static with a note. Textures keep their URI or embedded bytes. Vertices are never welded:
 // position_ids identify the accessor's stored vertices.
 struct GltfReadOptions {
     // false: each mesh once, as stored (counts match the file; LODs are built per mesh and shared by

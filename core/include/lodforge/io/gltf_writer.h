@@ -9,7 +9,9 @@
 // MSFT_lod shows level 0. Each level is one glTF mesh whose primitives are the level's triangles split
 // by face material. Positions (with min/max), normals (unit length), COLOR_0, every TEXCOORD_n (v
 // flipped back to glTF's top-left origin), materials (pbrMetallicRoughness, normal, occlusion,
-// emissive, double-sided) and their images (embedded in the binary chunk) are written.
+// emissive, double-sided) and their images (embedded in the binary chunk) are written. Skinned levels
+// (Mesh::has_skin, one shared Mesh::skeleton) get JOINTS_n/WEIGHTS_n, `"skin": 0` on every level node,
+// the skeleton's nodes after the level nodes and its animations once (docs/skinning.md).
 //
 // Extending with morph targets: the writer emits each *vertex source* (one Mesh's vertex arrays, or
 // SharedLodBuffers::vertices) once, and each level's primitives take accessors over a prefix of a

@@ -16,11 +16,16 @@ struct MeshInfo {
     std::size_t vertices = 0;   // surface points as stored in the file (Mesh::point_count())
     std::size_t wedges = 0;     // render vertices after splitting attribute seams (Mesh::vertex_count())
     std::size_t triangles = 0;
-    std::vector<std::string> attributes;  // "position", "normal", "color", "texcoord0", ...
+    std::vector<std::string> attributes;  // "position", "normal", "color", "texcoord0", "joints0", "weights0", ...
     std::size_t materials = 0;
     std::vector<std::string> textures;    // paths (or "<embedded image/png>") of every texture used
     std::vector<std::string> missing_textures;  // textures whose file does not exist
     std::vector<std::string> warnings;          // importer notes (Mesh::warnings)
+    // The skin (all zero when the mesh is not skinned): joint count, the most influences any vertex
+    // has, and each animation as "name (duration s, channels)".
+    std::size_t joints = 0;
+    std::size_t max_influences = 0;
+    std::vector<std::string> animations;
     Bounds bounds;
     ValidationReport validation;
 };

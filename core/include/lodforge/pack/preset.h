@@ -59,6 +59,14 @@ struct StripOptions {
     bool operator==(const StripOptions&) const = default;
 };
 
+// Skinned inputs (docs/skinning.md): the most joints a vertex of each level may follow, one value per
+// preset level (the last repeats for further levels), 1..8; the heaviest are kept and renormalised.
+// Level 0 (the input) keeps all its influences, renormalised.
+struct SkinOptions {
+    std::vector<std::uint32_t> max_influences{4};
+    bool operator==(const SkinOptions&) const = default;
+};
+
 // What the pack contains besides pack.json.
 struct ExportOptions {
     bool glb = true;          // one .glb with every level (MSFT_lod + MSFT_screencoverage)
@@ -80,6 +88,7 @@ struct Preset {
     OctreeOptions octree;
     McOctreeOptions mcoctree;
     StripOptions strips;
+    SkinOptions skin;
     ExportOptions exports;
     bool operator==(const Preset&) const = default;
 };
