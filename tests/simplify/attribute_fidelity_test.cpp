@@ -11,8 +11,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <map>
 #include <numeric>
 #include <string>
@@ -267,5 +269,69 @@ TEST(AttributeFidelity, OptimalPlacementSolvesUvsWithinTheirChart) {
             EXPECT_GT(moved, r.mesh.vertex_count() / 2) << name << " at " << ratio << ": UVs were not re-solved";
             for (const Vec3f& n : r.mesh.normals) EXPECT_NEAR(length(n), 1.f, 1e-4f) << name;
         }
+    }
+}
+
+namespace {
+
+// Border edges (one face, on points) of a mesh, as position pairs.
+std::vector<std::pair<Vec3f, Vec3f>> border_segments(const Mesh& m) {
+    std::map<std::pair<std::uint32_t, std::uint32_t>, std::pair<int, std::pair<std::uint32_t, std::uint32_t>>> edges;
+    auto pid = [&](std::uint32_t v) { return m.position_ids.empty() ? v : m.position_ids[v]; };
+    for (std::size_t f = 0; f < m.triangle_count(); ++f)
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t va = m.indices[3 * f + k], vb = m.indices[3 * f + (k + 1) % 3];
+            const std::uint32_t a = pid(va), b = pid(vb);
+            if (a == b) continue;
+            auto& e = edges[{std::min(a, b), std::max(a, b)}];
+            ++e.first;
+            e.second = {va, vb};
+        }
+    std::vector<std::pair<Vec3f, Vec3f>> out;
+    for (const auto& [key, e] : edges)
+        if (e.first == 1) out.push_back({m.positions[e.second.first], m.positions[e.second.second]});
+    return out;
+}
+
+double point_segment_distance(Vec3f p, Vec3f a, Vec3f b) {
+    const Vec3f ab = b - a;
+    const float l2 = dot(ab, ab);
+    const float t = l2 > 0.f ? std::clamp(dot(p - a, ab) / l2, 0.f, 1.f) : 0.f;
+    const Vec3f d = p - (a + ab * t);
+    return std::sqrt(double(dot(d, d)));
+}
+
+// Mean distance of the input's border vertices to the output's border, relative to the diagonal: how far
+// the outline of an open surface moved.
+double outline_error(const Mesh& in, const Mesh& out) {
+    const auto before = border_segments(in), after = border_segments(out);
+    EXPECT_FALSE(before.empty());
+    EXPECT_FALSE(after.empty());
+    double sum = 0;
+    for (const auto& [a, b] : before) {
+        double best = std::numeric_limits<double>::infinity();
+        for (const auto& [c, d] : after) best = std::min(best, point_segment_distance(a, c, d));
+        sum += best;
+    }
+    return sum / double(before.size()) / double(in.bounds().diagonal());
+}
+
+}  // namespace
+
+// The outline of an open scan is what the eye sees first: its border edges carry heavy constraint planes
+// (kBorderPlaneWeight, docs/simplification.md "Borders"), so at 5 % the border stays close. With
+// GH97's weight 1 the coloured scans lost to gltfpack in the image compare by their silhouette.
+TEST(AttributeFidelity, OpenScansKeepTheirOutline) {
+    const Mesh scan = read_mesh(test::shared_data("color-open3d-small/color.ply"));
+    for (Placement placement : {Placement::optimal, Placement::half_edge}) {
+        SimplifyParams p;
+        p.target_triangles = 352;  // 5 %: gltfpack's count in bench/fidelity_bench.mjs
+        p.placement = placement;
+        const Mesh out = simplify(scan, p).mesh;
+        const double e = outline_error(scan, out);
+        std::printf("color.ply at 352 triangles, %s: outline error %.3e\n",
+                    placement == Placement::optimal ? "optimal" : "half-edge", e);
+        // Measured: 2.48e-3 optimal, 2.23e-3 half-edge; 3.60e-3 both with weight 1; gltfpack -sv 1.99e-3.
+        EXPECT_LT(e, 2.9e-3);
     }
 }

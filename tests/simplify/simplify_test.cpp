@@ -112,7 +112,10 @@ TEST(Simplify, AreaAndHeightWeightsMeetTheSameContract) {
     SimplifyParams sqrt_area = ratio(0.1f), area = ratio(0.1f);
     sqrt_area.area_weight = SimplifyParams::AreaWeight::sqrt_area;
     const SimplifyResult a = simplify(bunny(), sqrt_area), b = simplify(bunny(), area);
-    EXPECT_EQ(a.triangles, b.triangles);
+    // Both reach the target; they may end one face apart (a border collapse removes one face, others two).
+    expect_target(bunny(), a, 0.1f);
+    expect_target(bunny(), b, 0.1f);
+    EXPECT_LE(std::max(a.triangles, b.triangles) - std::min(a.triangles, b.triangles), 1u);
     const bool same = a.collapses.size() == b.collapses.size() &&
                       std::equal(a.collapses.begin(), a.collapses.end(), b.collapses.begin(),
                                  [](const Collapse& x, const Collapse& y) {
