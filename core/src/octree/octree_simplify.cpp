@@ -805,15 +805,37 @@ NodeMesh simplify_node(const NodeMesh& input, const NodeQuadric& quadric, const 
         if (!degenerate(t) && copied[component[t]])
             for (int k = 0; k < 3; ++k) out.indices.push_back(use(idx[3 * t + k]));
     for (std::uint32_t v : collapsed_indices) out.indices.push_back(use(v));
-    std::sort(st.chords.begin(), st.chords.end());
-    st.chords.erase(std::unique(st.chords.begin(), st.chords.end()), st.chords.end());
     if (!closed.empty()) {
-        if (border && border->cluster_closed)
-            cluster_closed(input, closed, cell_min, cell_size, representative_key, out, st);
-        else
+        if (border && border->cluster_closed) {
+            // Parts sharing no edge with another node (a closed surface inside the cell, the root of a
+            // closed model) collapse freely to the node's error bound; the 16³ clustering, which lost
+            // Lucy's relief at her top levels (2.4 % Hausdorff at 4 554 triangles, 6.5× an edge
+            // collapse), is left for parts the collapse cannot keep oriented.
+            std::vector<std::uint32_t> group, rest;
+            std::sort(closed.begin(), closed.end(), [&](std::uint32_t a, std::uint32_t b) {
+                return std::pair(component[a], a) < std::pair(component[b], b);
+            });
+            for (std::size_t i = 0; i < closed.size();) {
+                group.clear();
+                const std::uint32_t root = component[closed[i]];
+                while (i < closed.size() && component[closed[i]] == root) group.push_back(closed[i++]);
+                if (!ooc::collapse_part(input, group, 1, kCollapseError * cell_size, false, collapse)) {
+                    rest.insert(rest.end(), group.begin(), group.end());
+                    continue;
+                }
+                for (std::uint32_t v : collapse.indices) out.indices.push_back(use(v));
+                free_border_chords(input, collapse.indices, st.chords);
+                st.error = std::max(st.error, collapse.error);
+                st.closed_triangles_in += group.size();
+                st.closed_triangles_out += collapse.indices.size() / 3;
+            }
+            if (!rest.empty()) cluster_closed(input, rest, cell_min, cell_size, representative_key, out, st);
+        } else
             for (std::uint32_t t : closed)
                 for (int k = 0; k < 3; ++k) out.indices.push_back(use(idx[3 * t + k]));
     }
+    std::sort(st.chords.begin(), st.chords.end());
+    st.chords.erase(std::unique(st.chords.begin(), st.chords.end()), st.chords.end());
     return out;
 }
 

@@ -14,6 +14,8 @@
 #include "octree/ooc_internal.h"
 
 #include <algorithm>
+#include <array>
+#include <tuple>
 
 namespace lodforge::ooc {
 namespace {
@@ -33,10 +35,52 @@ void add_net(const std::uint32_t* indices, std::size_t count, int sign, FlatMap&
         }
 }
 
+// The triangles of `triangles` less pairs of one triangle in both windings: such a pair (a flat pillow
+// left where children's collapses met from both sides of a thin sheet) adds nothing to the oriented
+// boundary, and the collapse simplifier drops repeated faces, which would change it.
+std::vector<std::uint32_t> cancel_opposite_pairs(const NodeMesh& input, const std::vector<std::uint32_t>& triangles) {
+    struct Face {
+        std::array<std::uint32_t, 3> sorted;
+        bool even;  // the corners in sorted order are an even rotation of the winding
+        std::uint32_t triangle;
+    };
+    std::vector<Face> faces(triangles.size());
+    for (std::size_t i = 0; i < triangles.size(); ++i) {
+        const std::uint32_t* c = &input.indices[3 * triangles[i]];
+        Face& f = faces[i];
+        f.sorted = {c[0], c[1], c[2]};
+        std::sort(f.sorted.begin(), f.sorted.end());
+        const int m = static_cast<int>(std::min_element(c, c + 3) - c);
+        f.even = c[(m + 1) % 3] == f.sorted[1];
+        f.triangle = triangles[i];
+    }
+    std::sort(faces.begin(), faces.end(), [](const Face& a, const Face& b) {
+        return std::tie(a.sorted, a.even, a.triangle) < std::tie(b.sorted, b.even, b.triangle);
+    });
+    std::vector<std::uint32_t> out;
+    out.reserve(triangles.size());
+    for (std::size_t i = 0; i < faces.size();) {
+        std::size_t j = i, odd = 0;
+        while (j < faces.size() && faces[j].sorted == faces[i].sorted) odd += !faces[j++].even;
+        const std::size_t even = j - i - odd, pairs = std::min(even, odd);
+        // Odd windings sort first: skip `pairs` of them and `pairs` of the even ones after them.
+        for (std::size_t k = i + pairs; k < i + odd; ++k) out.push_back(faces[k].triangle);
+        for (std::size_t k = i + odd + pairs; k < j; ++k) out.push_back(faces[k].triangle);
+        i = j;
+    }
+    return out;
+}
+
 }  // namespace
 
-bool collapse_part(const NodeMesh& input, const std::vector<std::uint32_t>& triangles, std::size_t target,
+bool collapse_part(const NodeMesh& input, const std::vector<std::uint32_t>& part, std::size_t target,
                    double max_error, bool lock_border, PartCollapse& out) {
+    const std::vector<std::uint32_t> triangles = cancel_opposite_pairs(input, part);
+    if (triangles.empty()) {
+        out.indices.clear();
+        out.error = 0;
+        return true;
+    }
     const VertexLayout& layout = input.layout;
     std::vector<std::uint32_t> local(input.vertex_count(), kNone), global;
     Mesh mesh;
