@@ -95,6 +95,7 @@ struct NodeBorderEdges {
 
 struct NodeSimplifyStats {
     std::size_t boundary_edges = 0;      // kept directed edge uses fanned (= fan triangles)
+    std::size_t collapsed_parts = 0;     // parts simplified by edge collapse instead of a fan
     std::size_t closed_components = 0;   // components with no boundary edge (clustered, or kept unchanged)
     std::size_t closed_triangles_in = 0, closed_triangles_out = 0;  // of those components, when clustered
     std::size_t free_uses_removed = 0;   // free boundary uses replaced by chords or dropped with their loop
