@@ -200,6 +200,9 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
 }
 
 MainWindow::~MainWindow() {
+    // Focus moves while ~QWidget deletes the children: the typing hint must not hear of it then.
+    disconnect(qApp, nullptr, this, nullptr);
+    qApp->removeEventFilter(this);
     // Jobs report to this window: stop them before its members go.
     delete task_;
     task_ = nullptr;

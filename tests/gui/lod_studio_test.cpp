@@ -574,10 +574,17 @@ void LodStudioTest::reportExportsHtmlAndPdf() {
     QVERIFY(bytes.size() > 20000);  // images inside
     QVERIFY(bytes.contains("/Image"));
 
-    // A folder that does not exist: an error naming the file, nothing written.
-    const QString bad = dir.filePath(QStringLiteral("missing/report.html"));
+    // A missing folder is created (the export dialogs create folders); one that cannot be, because a file
+    // holds its name: an error naming the report, nothing written.
+    const QString created = dir.filePath(QStringLiteral("new/folder/report.html"));
+    QVERIFY2(window_->exportReport(created, &error), qPrintable(error));
+    QVERIFY(QFile::exists(created));
+    QFile blocker(dir.filePath(QStringLiteral("blocker")));
+    QVERIFY(blocker.open(QIODevice::WriteOnly));
+    blocker.close();
+    const QString bad = dir.filePath(QStringLiteral("blocker/report.html"));
     QVERIFY(!window_->exportReport(bad, &error));
-    QVERIFY2(error.contains(QStringLiteral("missing/report.html")), qPrintable(error));
+    QVERIFY2(error.contains(QStringLiteral("blocker/report.html")), qPrintable(error));
     QVERIFY(!QFile::exists(bad));
 }
 

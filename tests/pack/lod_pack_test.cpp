@@ -249,7 +249,16 @@ TEST(LodPack, StructureMethodsPackValidLevels) {
         p.preset.octree.max_triangles_per_node = 300;  // Spot's 5,856 triangles in a few dozen leaves
         p.preset.mcoctree.resolution = 48;
         const PackResult r = write_lod_pack(mesh, p);
-        ASSERT_EQ(r.levels.size(), 4u);
+        // The octree's nodes stop collapsing at an error bound (docs/octree.md): Spot's root keeps about
+        // 740 triangles (13 %), so the 5 % target gets the root again, is reported and left out (issue 27
+        // asks for levels that meet their targets).
+        const std::size_t expected_levels = m == LodMethod::octree ? 3 : 4;
+        if (m == LodMethod::octree) {
+            EXPECT_TRUE(std::any_of(r.notes.begin(), r.notes.end(), [](const std::string& n) {
+                return n.find("coarsest level") != std::string::npos;
+            })) << "the missed 5 % target is not reported";
+        }
+        ASSERT_EQ(r.levels.size(), expected_levels);
         EXPECT_EQ(r.levels[0].triangles, mesh.triangle_count());
         for (std::size_t k = 1; k < r.levels.size(); ++k) {
             EXPECT_GT(r.levels[k].triangles, 0u) << k;
@@ -262,7 +271,7 @@ TEST(LodPack, StructureMethodsPackValidLevels) {
         EXPECT_TRUE(test::unexplained_warnings(v).empty()) << v.raw;
         const auto manifest = nlohmann::json::parse(r.manifest);
         EXPECT_EQ(manifest["method"], to_string(m));
-        EXPECT_EQ(manifest["levels"].size(), 4u);
+        EXPECT_EQ(manifest["levels"].size(), expected_levels);
         EXPECT_EQ(manifest["notes"].size(), r.notes.size());
         if (m == LodMethod::lodstrips) {
             const fs::path strips = fs::path(p.output_dir) / "spot_triangulated.lodstrips";
