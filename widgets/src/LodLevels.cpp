@@ -5,6 +5,7 @@
 
 #include "lodforge/error.h"
 #include "lodforge/metrics/metrics.h"
+#include "lodforge/pack/lod_pack.h"
 #include "lodforge/pack/preset_levels.h"
 #include "lodforge/progress_range.h"
 #include "lodforge/runtime/lodstrips_runtime.h"
@@ -45,11 +46,6 @@ LevelData makeLevel(int index, Mesh&& mesh, const DistanceResult* distance,
     level.scene = buildMeshScene(*shared, images);
     level.mesh = std::move(shared);
     return level;
-}
-
-bool sameMesh(const Mesh& a, const Mesh& b) {
-    return a.indices == b.indices && a.positions == b.positions && a.texcoords == b.texcoords &&
-           a.colors == b.colors && a.face_materials == b.face_materials;
 }
 
 // Beyond this relative distance a triangle target counts as missed: clustering and structure cuts land
@@ -121,7 +117,7 @@ std::vector<LevelData> buildLodLevels(const LevelData& original, const Preset& p
         // far from the target it is the structure's closest level, and the label must not say otherwise.
         if (level.missedTarget && built.stops[k] == LevelStop::target_reached) level.stopReason = stopText(LevelStop::closest);
         for (std::size_t j = 1; j < levels.size() && level.sameAs < 0; ++j) {
-            if (sameMesh(*levels[j].mesh, *level.mesh)) level.sameAs = int(j);
+            if (same_surface(*levels[j].mesh, *level.mesh)) level.sameAs = int(j);
         }
         level.verticesOnOriginal = built.vertices_on_input;
         level.cells = levels.front().cells;

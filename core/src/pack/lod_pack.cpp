@@ -57,19 +57,6 @@ struct BuiltLevels {
                                             // whose influence counts differ cannot share vertices)
 };
 
-// What an engine draws: equal meshes give equal frames. Normals are compared to 1e-5 because a chain
-// that stopped re-normalises them, which moves them by an ulp.
-bool same_surface(const Mesh& a, const Mesh& b) {
-    if (a.indices != b.indices || a.positions != b.positions || a.colors != b.colors ||
-        a.texcoords != b.texcoords || a.face_materials != b.face_materials || a.normals.size() != b.normals.size() ||
-        a.joints != b.joints || a.weights != b.weights)
-        return false;
-    for (std::size_t i = 0; i < a.normals.size(); ++i)
-        for (int c = 0; c < 3; ++c)
-            if (std::abs(a.normals[i][c] - b.normals[i][c]) > 1e-5f) return false;
-    return true;
-}
-
 // Every level of a skinned input bound to its skeleton (docs/skinning.md): level 0 keeps all its
 // influences, level k (preset level kept_ranges[k]) at most the preset's count, each renormalised to
 // sum 1. A method that does not keep input vertices (cluster, octree, mcoctree) has no influences to
@@ -197,6 +184,17 @@ std::string manifest(const Mesh& mesh, const PackParams& params, const BuiltLeve
 }
 
 }  // namespace
+
+bool same_surface(const Mesh& a, const Mesh& b) {
+    if (a.indices != b.indices || a.positions != b.positions || a.colors != b.colors ||
+        a.texcoords != b.texcoords || a.face_materials != b.face_materials || a.normals.size() != b.normals.size() ||
+        a.joints != b.joints || a.weights != b.weights)
+        return false;
+    for (std::size_t i = 0; i < a.normals.size(); ++i)
+        for (int c = 0; c < 3; ++c)
+            if (std::abs(a.normals[i][c] - b.normals[i][c]) > 1e-5f) return false;
+    return true;
+}
 
 PackResult write_lod_pack(const Mesh& mesh, const PackParams& params, Progress* progress) {
     if (params.source_path.empty())

@@ -76,6 +76,11 @@ struct PackResult {
 // Error(cancelled); in every case nothing is left in or beside output_dir.
 PackResult write_lod_pack(const Mesh& mesh, const PackParams& params, Progress* progress = nullptr);
 
+// True when an engine would draw `a` and `b` alike: the same indices, positions, colours, texcoords,
+// face materials, joints and weights, and normals within 1e-5 (a chain that stopped re-normalises them,
+// which moves them by an ulp). The pack leaves such a level out; the studio flags it.
+bool same_surface(const Mesh& a, const Mesh& b);
+
 // The reference screen of the coverage hints (docs/pack.md).
 inline constexpr int pack_reference_width = 1920;
 inline constexpr int pack_reference_height = 1080;
