@@ -122,6 +122,10 @@ TEST(OctreeCli, BuildInfoAndExtract) {
     EXPECT_EQ(missing.exit_code, 1);
     EXPECT_NE(missing.out.find("lodforge: error: "), std::string::npos);
     EXPECT_NE(run_cli("octree build " + quoted(input) + " -o " + quoted(dir.file("y.lfo")) + " --memory 2").exit_code, 0);
+    const auto bad_ratio = run_cli("octree build " + quoted(input) + " -o " + quoted(dir.file("y.lfo")) + " --level-ratio 1.5");
+    EXPECT_EQ(bad_ratio.exit_code, 2);
+    EXPECT_NE(bad_ratio.out.find("--level-ratio"), std::string::npos) << bad_ratio.out;
+    EXPECT_FALSE(fs::exists(dir.file("y.lfo")));
 }
 
 TEST(OctreeCli, TruncatedInputFailsCleanly) {
