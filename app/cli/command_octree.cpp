@@ -46,6 +46,7 @@ void add_build(CLI::App& octree, const GlobalOptions& global) {
     struct Options {
         std::string input, output, mode = "octree", temp_dir, weights, preset;
         long long max_triangles = 10000, max_depth = 12, memory = 256, grid = 256, threads = 2;
+        double level_ratio = OctreeBuildParams{}.level_ratio;
     };
     auto o = std::make_shared<Options>();
     CLI::App* cmd = octree.add_subcommand("build", "Build an octree LOD asset (or, with --mode cluster, one OoCS mesh) from a PLY of any size");
@@ -57,6 +58,9 @@ void add_build(CLI::App& octree, const GlobalOptions& global) {
                               ->capture_default_str();
     auto* max_depth = cmd->add_option("--max-depth", o->max_depth, "Never split below this depth (0..20)")->capture_default_str();
     auto* memory_mb = cmd->add_option("--memory", o->memory, "Working memory budget in MB (at least 4)")->capture_default_str();
+    cmd->add_option("--level-ratio", o->level_ratio,
+                    "Each level's size as a fraction of the level below (0.05..0.95; 0: collapse to the error bound)")
+        ->capture_default_str();
     cmd->add_option("--mode", o->mode, "octree: multi-level crack-free asset; cluster: Lindstrom OoCS, one mesh (fast)")
         ->check(CLI::IsMember({"octree", "cluster"}))
         ->capture_default_str();
@@ -77,6 +81,8 @@ void add_build(CLI::App& octree, const GlobalOptions& global) {
         if (o->memory < 4 || o->memory > (1ll << 30)) throw Error(Error::Kind::argument, "octree build: --memory must be at least 4 (MB)");
         if (o->max_triangles < 1) throw Error(Error::Kind::argument, "octree build: --max-triangles must be at least 1");
         if (o->max_depth < 0 || o->max_depth > 20) throw Error(Error::Kind::argument, "octree build: --max-depth must be in 0..20");
+        if (o->level_ratio != 0 && !(o->level_ratio >= 0.05 && o->level_ratio <= 0.95))
+            throw Error(Error::Kind::argument, "octree build: --level-ratio must be 0 or in 0.05..0.95");
         if (format_from_extension(o->input) != FileFormat::ply)
             throw Error(Error::Kind::argument, "octree build: " + o->input + ": the input must be a .ply file (convert it first)");
         TerminalProgress progress(!global.quiet && stderr_is_terminal());
@@ -105,6 +111,7 @@ void add_build(CLI::App& octree, const GlobalOptions& global) {
         p.memory_bytes = memory;
         p.temp_dir = o->temp_dir;
         p.threads = static_cast<int>(o->threads);
+        p.level_ratio = o->level_ratio;
         p.weights = weights;
         if (!o->weights.empty()) parse_weights(o->weights, p.weights);
         OctreeBuildStats times;

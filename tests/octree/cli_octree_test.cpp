@@ -122,6 +122,10 @@ TEST(OctreeCli, BuildInfoAndExtract) {
     EXPECT_EQ(missing.exit_code, 1);
     EXPECT_NE(missing.out.find("lodforge: error: "), std::string::npos);
     EXPECT_NE(run_cli("octree build " + quoted(input) + " -o " + quoted(dir.file("y.lfo")) + " --memory 2").exit_code, 0);
+    const auto bad_ratio = run_cli("octree build " + quoted(input) + " -o " + quoted(dir.file("y.lfo")) + " --level-ratio 1.5");
+    EXPECT_EQ(bad_ratio.exit_code, 2);
+    EXPECT_NE(bad_ratio.out.find("--level-ratio"), std::string::npos) << bad_ratio.out;
+    EXPECT_FALSE(fs::exists(dir.file("y.lfo")));
 }
 
 TEST(OctreeCli, TruncatedInputFailsCleanly) {
@@ -209,10 +213,11 @@ TEST(OctreeCli, NonFiniteOrHugeValuesFailLikeInfoDoes) {
 // had star fans, broken ears and dark slits, Hausdorff 31 times and image error 4.4 times an edge
 // collapse of its size) and of Lucy, at the settings a new user tries, stays within a small factor of
 // `lodforge simplify` to the same triangle count, in surface distance and in the rendered image.
-// Measured after the fix (bunny levels 1-3, Lucy 1-4): Hausdorff 2.7-4.6 times, 6.5 at Lucy's level 4
-// (4 554 triangles, most of them the depth-1 cells' cut lines at full resolution); image error 1.6-2.1
-// times. The bounds (8 and 2.5) leave about 20 % margin for the sampling; before the fix the bunny's
-// level 2 was at 31 and 4.4.
+// Measured with the level ratio 0.35 (bunny levels 1-4, Lucy 1-5): Hausdorff 1.3-4.4 times, 6.4 at the
+// bunny's level 1 (24 674 triangles: 0.35 % of the diagonal, the old 12 676-triangle level 1 had 0.58 %,
+// against a collapse at 0.054 %) and at Lucy's level 4 (4 736 triangles, most of them the depth-1 cells' cut
+// lines at full resolution); image error 1.1-1.7 times. The bounds (8 and 2.5) leave about 20 % margin
+// for the sampling; before the fix the bunny's level 2 was at 31 and 4.4.
 TEST(OctreeCli, EveryLevelStaysCloseToAnEdgeCollapseOfItsSize) {
     ScratchDir dir("octree-cli-quality");
     auto measure = [&](const std::string& reference, const std::string& test) {

@@ -252,8 +252,9 @@ TEST(OctreeBuild, OpenScanGainsNoBorderEdgesAtMixedLevels) {
         }
     }
     // The root's border is free (shared with no node), so it shrinks: the document's operator keeps every
-    // border edge. The root is one part collapsed with its border sliding: 318 triangles, 20 border edges
-    // where the input has 220.
+    // border edge. The root is one part collapsed with its border sliding, to the level ratio (35 % of the
+    // level below): 159 border edges where the input has 220 (20 when the root collapsed as far as the
+    // error bound let it, level_ratio 0).
     const Mesh root = extract_mesh(store, level_cut(store, store.level_count() - 1));
     std::map<std::pair<std::uint32_t, std::uint32_t>, int> root_uses;
     for (std::size_t t = 0; t < root.triangle_count(); ++t)
@@ -263,7 +264,7 @@ TEST(OctreeBuild, OpenScanGainsNoBorderEdgesAtMixedLevels) {
         }
     const auto root_border = std::count_if(root_uses.begin(), root_uses.end(), [](const auto& u) { return u.second == 1; });
     EXPECT_GT(root.triangle_count(), 0u);
-    EXPECT_LT(static_cast<std::size_t>(root_border), input_border.size() / 2);
+    EXPECT_LT(static_cast<std::size_t>(root_border), input_border.size() * 3 / 4);
 }
 
 TEST(OctreeBuild, ColoursAndNormalsOfAColouredScanSurviveAtEveryLevel) {
@@ -772,6 +773,41 @@ double triangle_area(const Mesh& m, std::size_t t) {
 
 // Issue #32 row 10: a node's mesh is never larger than what it replaces, so no level has more
 // triangles than the level below (one triangle used to become a fan of 3, a tetrahedron of 4 one of 8).
+// Issue #27: levels an artist would ship shrink as asked. Where level L replaces nodes of level L - 1 (a
+// parent instead of its children), the parents keep 30-50 % of their children's triangles (the default
+// ratio 0.35; measured 35-37 %). Nodes shown at both levels (a leaf beside deeper siblings) are counted
+// apart: they cannot change. Before the level ratio the bunny's leaves kept 18 % of the input and its
+// coarse levels 45-56 %, the root 12 %. (Lucy's level 4 keeps 59 %: the depth-1 cells' cut lines, at full
+// resolution for crack-free mixed cuts, are most of it.)
+TEST(OctreeBuild, LevelsKeepTheAskedShareOfTheNodesTheyReplace) {
+    for (const char* name : {"scan-bunny/bun_zipper.ply", "color-open3d-frag115/frag_115.ply"}) {
+        SCOPED_TRACE(name);
+        Built b("octree-ratio", shared_data(name), 2000, 8);
+        OctreeStore store(b.asset);
+        auto triangles = [&](const CutNode& c) {
+            const OctreeNode& n = store.node(c.node);
+            return std::uint64_t{c.raw ? n.raw_triangles : n.mesh_triangles};
+        };
+        ASSERT_GE(store.level_count(), 4);
+        for (int level = 1; level < store.level_count(); ++level) {
+            std::map<std::uint32_t, std::uint64_t> below, here;
+            for (const CutNode& c : level_cut(store, level - 1)) below[c.node] += triangles(c);
+            for (const CutNode& c : level_cut(store, level)) here[c.node] += triangles(c);
+            std::uint64_t replaced = 0, replacing = 0;
+            for (const auto& [node, t] : below)
+                if (!here.count(node) || level == 1) replaced += t;  // level 1 replaces the raw leaves
+            for (const auto& [node, t] : here)
+                if (!below.count(node) || level == 1) replacing += t;
+            ASSERT_GT(replaced, 0u) << level;
+            const double share = double(replacing) / double(replaced);
+            std::printf("%s level %d: %llu triangles replace %llu (%.0f %%)\n", name, level,
+                        static_cast<unsigned long long>(replacing), static_cast<unsigned long long>(replaced), 100 * share);
+            EXPECT_GE(share, 0.3) << level;
+            EXPECT_LE(share, 0.5) << level;
+        }
+    }
+}
+
 TEST(OctreeBuild, NoLevelHasMoreTrianglesThanTheLevelBelow) {
     Mesh triangle;
     triangle.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};

@@ -689,6 +689,9 @@ private:
         NodeBorderEdges border;
         border.input = &soup_.border_edges;
         border.chords = &r.chords;
+        border.keep_ratio = p_.level_ratio;
+        border.alone = id == 0;
+        border.alone_triangles = p_.coarsest_triangles;
         r.mesh = simplify_node(input, r.quadric, frame_, d.cell_min, d.cell_size, kRepresentativeKey | id,
                                &soup_.odd_non_manifold_edges, &st, &border);
         if (!st.chords.empty()) {
@@ -761,6 +764,9 @@ OctreeBuildResult build_octree_with_scratch(const std::string& input_ply, const 
         throw Error(Error::Kind::argument, "octree: max depth must be in [0, 20], got " + std::to_string(params.max_depth));
     if (params.memory_bytes < (std::size_t{4} << 20)) throw Error(Error::Kind::argument, "octree: the memory budget must be at least 4 MB");
     if (params.threads < 1 || params.threads > 2) throw Error(Error::Kind::argument, "octree: threads must be 1 or 2");
+    if (params.level_ratio != 0 && !(params.level_ratio >= 0.05 && params.level_ratio <= 0.95))
+        throw Error(Error::Kind::argument, "octree: the level ratio must be 0 or in [0.05, 0.95], got " +
+                                               std::to_string(params.level_ratio));
     OctreeBuildResult result;
     OctreeBuildStats local_stats;
     OctreeBuildStats& times = stats ? *stats : local_stats;

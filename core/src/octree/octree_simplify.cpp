@@ -26,7 +26,8 @@ namespace {
 
 constexpr std::uint32_t kNone = ~0u;
 constexpr std::uint64_t kClusterKey = std::uint64_t{1} << 62;  // with kRepresentativeKey: a cluster vertex
-// A collapsed part stops at its fan's size or before a collapse whose error estimate exceeds this
+// A collapsed part stops at its target (its fan's size, or the level ratio of its triangles) or before a
+// collapse whose error estimate exceeds this
 // fraction of the node's cell side, so each level's error bound doubles with its cell size. Measured on
 // the bunny at 2 000 per leaf (docs/octree.md, "Parts simplified by edge collapse"): 0.01 made levels
 // 30 % larger, 0.04 doubled the Hausdorff distance.
@@ -532,6 +533,38 @@ NodeMesh simplify_node(const NodeMesh& input, const NodeQuadric& quadric, const 
     auto edge_key = [](std::uint32_t a, std::uint32_t b) {
         return a < b ? (std::uint64_t{a} << 32 | b) : (std::uint64_t{b} << 32 | a);
     };
+    // A node that shares nothing, of an input without border or odd non-manifold edges (closed once its
+    // split-vertex seams are welded, as Spot), has no edge to keep: one collapse of its whole input, seams
+    // welded (they are otherwise kept at full resolution up to the root). Borders go the general way,
+    // whose chords keep a cut's new border edges between input border vertices.
+    const bool closed_input = border && (!border->input || border->input->empty()) &&
+                              (!odd_non_manifold_edges || odd_non_manifold_edges->empty());
+    if (closed_input && border->alone && (border->alone_triangles || border->keep_ratio > 0)) {
+        std::vector<std::uint32_t> all;
+        for (std::size_t t = 0; t < tris; ++t)
+            if (!degenerate(t)) all.push_back(static_cast<std::uint32_t>(t));
+        const std::size_t target = border->alone_triangles
+                                       ? border->alone_triangles
+                                       : static_cast<std::size_t>(std::ceil(border->keep_ratio * static_cast<double>(all.size())));
+        ooc::PartCollapse collapse;
+        if (target < all.size() && ooc::collapse_part(input, all, target, INFINITY, false, collapse, true)) {
+            st.degenerate_dropped = tris - all.size();
+            st.error = collapse.error;
+            NodeMesh out;
+            out.layout = input.layout;
+            const std::size_t f = input.layout.floats();
+            std::vector<std::uint32_t> remap(n, kNone);
+            for (std::uint32_t v : collapse.indices) {
+                if (remap[v] == kNone) {
+                    remap[v] = static_cast<std::uint32_t>(out.keys.size());
+                    out.keys.push_back(input.keys[v]);
+                    out.vertices.insert(out.vertices.end(), input.vertex(v), input.vertex(v) + f);
+                }
+                out.indices.push_back(remap[v]);
+            }
+            return out;
+        }
+    }
     // Per undirected edge: its net use (uses min→max minus max→min). A degenerate triangle (a, a, b)
     // would add a→b and b→a, which changes no net use, so dropping it changes no boundary.
     ooc::FlatMap slot_of(tris * 3 / 2 + 16);
@@ -702,13 +735,21 @@ NodeMesh simplify_node(const NodeMesh& input, const NodeQuadric& quadric, const 
             part_triangles[part_slot[component[t]]].push_back(static_cast<std::uint32_t>(t));
     std::vector<std::uint32_t> collapsed_indices;
     ooc::PartCollapse collapse;
+    const double keep_ratio = border ? border->keep_ratio : 0;
+    const double max_error = kCollapseError * cell_size;
+    // A part's collapse target: its fan's size, or with a keep ratio that fraction of its triangles.
+    auto part_target = [&](std::size_t triangles, std::size_t fan) {
+        if (keep_ratio <= 0) return fan;
+        return std::max(fan, static_cast<std::size_t>(std::ceil(keep_ratio * static_cast<double>(triangles))));
+    };
     for (std::uint32_t root : kept_component) {
         if (alive[root] == 2) continue;
         if (fan_triangles[root] >= component_triangles[root]) {
             copied[root] = 1;
         } else if (part_slot[root] != kNone &&
-                   ooc::collapse_part(input, part_triangles[part_slot[root]], fan_triangles[root],
-                                      kCollapseError * cell_size, shared_border[root] != 0, collapse)) {
+                   ooc::collapse_part(input, part_triangles[part_slot[root]],
+                                      part_target(component_triangles[root], fan_triangles[root]), max_error,
+                                      shared_border[root] != 0, collapse)) {
             collapsed[root] = 1;
             collapsed_indices.insert(collapsed_indices.end(), collapse.indices.begin(), collapse.indices.end());
             st.error = std::max(st.error, collapse.error);
@@ -819,7 +860,7 @@ NodeMesh simplify_node(const NodeMesh& input, const NodeQuadric& quadric, const 
                 group.clear();
                 const std::uint32_t root = component[closed[i]];
                 while (i < closed.size() && component[closed[i]] == root) group.push_back(closed[i++]);
-                if (!ooc::collapse_part(input, group, 1, kCollapseError * cell_size, false, collapse)) {
+                if (!ooc::collapse_part(input, group, part_target(group.size(), 1), max_error, false, collapse)) {
                     rest.insert(rest.end(), group.begin(), group.end());
                     continue;
                 }

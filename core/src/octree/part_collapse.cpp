@@ -74,7 +74,7 @@ std::vector<std::uint32_t> cancel_opposite_pairs(const NodeMesh& input, const st
 }  // namespace
 
 bool collapse_part(const NodeMesh& input, const std::vector<std::uint32_t>& part, std::size_t target,
-                   double max_error, bool lock_border, PartCollapse& out) {
+                   double max_error, bool lock_border, PartCollapse& out, bool weld) {
     const std::vector<std::uint32_t> triangles = cancel_opposite_pairs(input, part);
     if (triangles.empty()) {
         out.indices.clear();
@@ -122,15 +122,16 @@ bool collapse_part(const NodeMesh& input, const std::vector<std::uint32_t>& part
     if (diagonal > 0 && max_error < INFINITY) params.max_error = static_cast<float>(max_error / diagonal);
     params.lock_border = lock_border;
     // Vertices are the node's keys: two at one position (a wedge-UV seam, the dragon's zipped cracks) are
-    // different vertices with a border between them, which every level keeps.
-    params.weld = false;
+    // different vertices with a border between them, which every level keeps (unless the caller welds).
+    params.weld = weld;
     SimplifyResult r;
     try {
         r = simplify(mesh, params);
     } catch (const Error&) {
         return false;  // the caller fans the part instead
     }
-    if (r.dropped_faces) return false;
+    // A dropped repeated face would change the part's boundary; a welded node keeps none.
+    if (r.dropped_faces && !weld) return false;
     out.indices.clear();
     out.indices.reserve(r.mesh.indices.size());
     for (std::uint32_t v : r.mesh.indices) out.indices.push_back(global[r.vertex_map[v]]);

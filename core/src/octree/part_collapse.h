@@ -21,7 +21,9 @@ struct PartCollapse {
 // unspecified) unless the result has exactly the part's oriented boundary (a non-manifold or
 // inconsistently oriented part fails), so the caller's crack-freeness argument holds for every part it
 // accepts; without it border vertices slide along the border (a part sharing no edge with another node).
+// `weld`: vertices at one position (a UV seam stored as split vertices) collapse together, as the
+// collapse simplifier welds them; only for a node that shares nothing with another (the root).
 bool collapse_part(const NodeMesh& input, const std::vector<std::uint32_t>& triangles, std::size_t target,
-                   double max_error, bool lock_border, PartCollapse& out);
+                   double max_error, bool lock_border, PartCollapse& out, bool weld = false);
 
 }  // namespace lodforge::ooc

@@ -255,6 +255,16 @@ void mcoctree_levels(const Mesh& mesh, const Preset& preset, const PresetLevelsP
                             "are not carried over");
 }
 
+// The octree's level ratio for the artist's targets: their mean step (the geometric mean of each
+// target over the one before, the input first), within the 30-50 % the levels are built for; the pack
+// then takes the finest tree level at or below each target.
+double octree_level_ratio(std::size_t input, const std::vector<std::size_t>& targets) {
+    const std::size_t last = targets.empty() ? input : std::max<std::size_t>(targets.back(), 1);
+    const double step = std::pow(static_cast<double>(last) / static_cast<double>(std::max<std::size_t>(input, 1)),
+                                 1.0 / static_cast<double>(std::max<std::size_t>(targets.size(), 1)));
+    return std::clamp(step, 0.3, 0.5);
+}
+
 void octree_levels(const Mesh& mesh, const Preset& preset, const PresetLevelsParams& params, PresetLevels& out,
                    Progress* progress) {
     out.target_triangles = triangle_targets(mesh, preset, params.source_path);
@@ -273,6 +283,10 @@ void octree_levels(const Mesh& mesh, const Preset& preset, const PresetLevelsPar
     p.max_depth = static_cast<int>(preset.octree.max_depth);
     p.memory_bytes = std::size_t{preset.octree.memory_mb} << 20;
     p.weights = preset.weights;
+    p.level_ratio = octree_level_ratio(mesh.triangle_count(), out.target_triangles);
+    // The coarsest level is the artist's smallest target: the root shares nothing, so it can meet it.
+    if (!out.target_triangles.empty())
+        p.coarsest_triangles = *std::min_element(out.target_triangles.begin(), out.target_triangles.end());
     const std::string asset = temp.file("asset.lfoct");
     ProgressRange build_progress(progress, 0.0, 0.8);
     OctreeBuildResult built;
@@ -288,20 +302,29 @@ void octree_levels(const Mesh& mesh, const Preset& preset, const PresetLevelsPar
     for (const OctreeCell& c : store.cells())
         out.cells.push_back({{c.min[0], c.min[1], c.min[2]}, c.size, c.depth, c.leaf, c.triangles});
     const std::vector<std::uint64_t>& per_level = built.stats.triangles_per_level;
-    for (std::size_t i = 0; i < out.target_triangles.size(); ++i) {
-        check_progress(progress, 0.8 + 0.2 * double(i) / double(out.target_triangles.size()), "Octree levels");
-        // The finest tree level at or below the target; the root level when none is.
-        int level = static_cast<int>(per_level.size()) - 1;
-        for (int l = 1; l < static_cast<int>(per_level.size()); ++l)
+    // Per target, the finest tree level at or below it (the root level when none is); a target whose
+    // level a smaller target also takes gets the level above instead (closest, reported), so the pack
+    // keeps one level per target: below the cells' cut lines and seams only the root shrinks further.
+    const int root_level = static_cast<int>(per_level.size()) - 1;
+    std::vector<int> chosen(out.target_triangles.size(), root_level);
+    for (std::size_t i = 0; i < chosen.size(); ++i)
+        for (int l = 1; l < root_level; ++l)
             if (per_level[static_cast<std::size_t>(l)] <= out.target_triangles[i]) {
-                level = l;
+                chosen[i] = l;
                 break;
             }
+    for (std::size_t i = chosen.size(); i-- > 1;)
+        if (chosen[i - 1] >= chosen[i] && chosen[i] > 1) chosen[i - 1] = chosen[i] - 1;
+    for (std::size_t i = 0; i < out.target_triangles.size(); ++i) {
+        check_progress(progress, 0.8 + 0.2 * double(i) / double(out.target_triangles.size()), "Octree levels");
+        const int level = chosen[i];
         const bool met = per_level[static_cast<std::size_t>(level)] <= out.target_triangles[i];
         if (!met)
-            out.notes.push_back("level " + std::to_string(i + 1) + ": the octree's coarsest level has " +
+            out.notes.push_back("level " + std::to_string(i + 1) + ": the nearest octree level has " +
                                 std::to_string(per_level[static_cast<std::size_t>(level)]) + " triangles (asked " +
-                                std::to_string(out.target_triangles[i]) + "); raise max triangles per node");
+                                std::to_string(out.target_triangles[i]) +
+                                "); the cells' cut lines and seams stay at full resolution below the root: raise max "
+                                "triangles per node");
         out.stops.push_back(met ? LevelStop::target_reached : LevelStop::closest);
         Mesh m = extract_mesh(store, level_cut(store, level));
         keep_materials(mesh, m);

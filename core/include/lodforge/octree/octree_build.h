@@ -30,6 +30,12 @@ struct OctreeBuildParams {
     std::size_t memory_bytes = std::size_t{256} << 20;  // working memory (≥ 4 MB)
     std::string temp_dir;               // empty: a temporary directory beside the asset
     SimplifyWeights weights;            // attribute weights of the generalized quadric
+    // Each level's size as a fraction of the level below, in [0.05, 0.95] (0: the old schedule, collapse to
+    // the fans' size or the error bound). A level stays larger where the cells' cut lines, kept at full
+    // resolution for crack-free mixed cuts, are most of it (docs/octree.md, "Level sizes").
+    double level_ratio = 0.35;
+    // The root's (coarsest level's) triangles, reached by one free collapse of the root (0: by level_ratio).
+    std::size_t coarsest_triangles = 0;
     // 1 or 2: the nodes of a subtree held in memory are computed on two threads (the asset is the same
     // byte for byte whatever this is).
     int threads = 2;

@@ -91,6 +91,15 @@ struct NodeBorderEdges {
     // Chords the node's descendants made (NodeSimplifyStats::chords, merged), sorted (min key, max key).
     const std::vector<std::pair<std::uint64_t, std::uint64_t>>* chords = nullptr;
     bool cluster_closed = true;
+    // Fraction of its triangles each part keeps when simplified by edge collapse (never below its fan's
+    // size): 0 collapses to the fan's size or the error bound, the old schedule; 0.35 makes a node about
+    // 35 % of its children's meshes, so each level is that fraction of the one below until the cells'
+    // locked cut lines are all that is left (docs/octree.md, "Level sizes").
+    double keep_ratio = 0;
+    // The node shares nothing with another node (the root: a cut holding it holds nothing else): its
+    // whole input collapses freely, UV seams welded, to `alone_triangles` (0: by keep_ratio).
+    bool alone = false;
+    std::size_t alone_triangles = 0;
 };
 
 struct NodeSimplifyStats {
