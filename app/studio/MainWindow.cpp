@@ -134,6 +134,8 @@ private:
     bool skipRedo_;
 };
 
+QString measureName(bool full) { return full ? MainWindow::tr("Full-precision measure") : MainWindow::tr("Measure"); }
+
 }  // namespace
 
 MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
@@ -206,6 +208,8 @@ MainWindow::~MainWindow() {
     // Jobs report to this window: stop them before its members go.
     delete task_;
     task_ = nullptr;
+    delete measure_;
+    measure_ = nullptr;
 }
 
 QString MainWindow::lodChainJobName() { return tr("LOD chain"); }
@@ -345,6 +349,9 @@ void MainWindow::createActions() {
     cancelAction_ = action(tr("&Cancel job"), QStringLiteral("actionCancel"), QKeySequence(Qt::Key_Escape),
                            tr("Cancel the load or job that is running"));
     connect(cancelAction_, &QAction::triggered, this, &MainWindow::cancelLoading);
+    measureFullAction_ = action(tr("&Measure at full precision"), QStringLiteral("actionMeasureFull"), QKeySequence(),
+                                tr("Measure every level's error with the full sample count (as lodforge compare)"));
+    connect(measureFullAction_, &QAction::triggered, this, [this] { measureLevels(true); });
     nextLevelAction_ = action(tr("&Next level"), QStringLiteral("actionNextLevel"), QKeySequence(Qt::Key_PageDown),
                               tr("Show the next (coarser) level"));
     connect(nextLevelAction_, &QAction::triggered, this,
@@ -461,6 +468,7 @@ void MainWindow::createMenus() {
     lod->setObjectName(QStringLiteral("menuLod"));
     lod->addAction(buildAction_);
     lod->addAction(cancelAction_);
+    lod->addAction(measureFullAction_);
     lod->addAction(autoRebuildAction_);
     lod->addSeparator();
     lod->addAction(previousLevelAction_);
@@ -590,12 +598,16 @@ void MainWindow::saveSettings() {
 }
 
 void MainWindow::setBusyUi(bool busy, const QString& format) {
-    progressBar_->setVisible(busy);
-    cancelButton_->setVisible(busy);
-    cancelButton_->setEnabled(busy);
+    // A measure runs beside the jobs: the bar shows it when no job does.
+    const bool measuring = !busy && measure_ != nullptr;
+    progressBar_->setVisible(busy || measuring);
+    cancelButton_->setVisible(busy || measuring);
+    cancelButton_->setEnabled(busy || (measuring && !measure_->isCancelling()));
     if (busy) {
         progressBar_->setValue(0);
         progressBar_->setFormat(format.isEmpty() ? tr("Loading %p%") : format);
+    } else if (measuring) {
+        progressBar_->setFormat(tr("Measuring %p%"));
     }
     if (buildAction_) updateActions();
 }
@@ -604,7 +616,8 @@ void MainWindow::updateActions() {
     const bool busy = isBusy();
     const bool haveMesh = model_ != nullptr;
     buildAction_->setEnabled(haveMesh && !busy);
-    cancelAction_->setEnabled(busy);
+    cancelAction_->setEnabled(busy || measure_ != nullptr);
+    measureFullAction_->setEnabled(levels_->levelCount() > 1 && !levelsStale());
     exportReportAction_->setEnabled(!report_->isEmpty());
     exportPackAction_->setEnabled(haveMesh && !busy);
     const int level = levels_->currentLevel();
@@ -650,9 +663,10 @@ void MainWindow::openFile(const QString& path) {
 }
 
 void MainWindow::cancelLoading() {
-    if (!job_ && !task_) return;
+    if (!job_ && !task_ && !measure_) return;
     if (job_) job_->cancel();
     if (task_) task_->cancel();
+    if (measure_) measure_->cancel();
     cancelButton_->setEnabled(false);
     progressBar_->setFormat(tr("Cancelling…"));
 }
@@ -682,6 +696,7 @@ void MainWindow::onLoadFinished(widgets::LoadJob* job, const widgets::LoadResult
     switch (result.status) {
     case widgets::LoadResult::Status::ok: {
         imageErrors_->cancel();  // the old mesh's levels
+        stopMeasuring();
         model_ = result.model;
         widgets::LevelData original;
         original.index = 0;
@@ -702,6 +717,7 @@ void MainWindow::onLoadFinished(widgets::LoadJob* job, const widgets::LoadResult
         octreePanel_->setModel(model_);
         report_->clear();
         stats_->showInfo(model_->info, model_->elapsedMs, model_->warnings);
+        params_->setMesh(model_->mesh.triangle_count(), model_->mesh.has_colors(), model_->mesh.has_texcoords());
         setWindowTitle(tr("%1[*] — LodForge Studio").arg(name));
         setWindowFilePath(result.path);
         if (interactive_) addRecentFile(result.path);
@@ -795,6 +811,7 @@ void MainWindow::buildLodChain() {
     if (!model_) return failTask(name, tr("open a mesh first"));
     if (isBusy()) return failTask(name, tr("another job is running; wait for it or cancel it"));
     const lodforge::Preset preset = params_->preset();
+    stopMeasuring();  // the levels it measures are about to go
 
     const widgets::LevelData original = levels_->levels().front();
     struct Output {
@@ -820,12 +837,10 @@ void MainWindow::buildLodChain() {
                            out->levels);
         for (const widgets::LevelData& l : out->levels) {
             if (l.index == 0) continue;
-            appendLog(tr("  LOD %1: %2 triangles, %3 vertices, error %4 (%5 %), %6 ms, %7")
+            appendLog(tr("  LOD %1: %2 triangles, %3 vertices, %4 ms, %5")
                           .arg(l.index)
                           .arg(l.triangles)
                           .arg(l.vertices)
-                          .arg(l.error, 0, 'g', 4)
-                          .arg(100.0 * l.errorRelative, 0, 'f', 4)
                           .arg(l.buildMs, 0, 'f', 1)
                           .arg(l.stopReason)
                       + (l.missedTarget ? tr(", target %1 missed").arg(l.targetTriangles) : QString())
@@ -835,7 +850,72 @@ void MainWindow::buildLodChain() {
             appendLog(QStringLiteral("  ") + out->levels.front().structureSummary);
         explainMissingCells();
         imageErrors_->requestNow();
+        measureLevels(false);
     });
+}
+
+void MainWindow::stopMeasuring() {
+    if (!measure_) return;
+    measure_->cancel();  // it deletes itself when it ends (finished below)
+    measure_ = nullptr;
+    ++measureSerial_;
+    levels_->setMeasuring(false);
+    setBusyUi(job_ || task_);
+}
+
+void MainWindow::measureLevels(bool full) {
+    stopMeasuring();
+    const std::vector<widgets::LevelData> levels = levels_->levels();
+    if (levels.size() < 2) return;
+    const quint64 serial = ++measureSerial_;
+    auto* job = new widgets::Job(
+        measureName(full),
+        [this, levels, full, serial](lodforge::Progress* p) {
+            widgets::measureLevels(levels, full, [this, serial](const widgets::LevelMeasure& m) {
+                // To the GUI thread; `this` outlives the job (~Job waits for its worker).
+                QMetaObject::invokeMethod(
+                    this, [this, serial, m] {
+                        if (serial != measureSerial_ || !measure_ || measure_->isCancelling()) return;
+                        levels_->setLevelMeasure(m);
+                        report_->setLevelMeasure(m);
+                        appendLog(tr("  LOD %1: error %2 (%3 % of the diagonal)%4")
+                                      .arg(m.level)
+                                      .arg(m.error, 0, 'g', 4)
+                                      .arg(100.0 * m.errorRelative, 0, 'f', 4)
+                                      .arg(m.measured == widgets::Measured::sampled ? tr(", sampled") : QString()));
+                        emit levelMeasured(m.level);
+                    },
+                    Qt::QueuedConnection);
+            }, p);
+        },
+        this);
+    measure_ = job;
+    levels_->setMeasuring(true);
+    connect(job, &widgets::Job::progressChanged, this, [this, job](double fraction, const QString& stage) {
+        if (job == measure_ && !job_ && !task_) onLoadProgress(fraction, stage);
+    });
+    connect(job, &widgets::Job::finished, this, [this, job](const widgets::JobResult& r) {
+        job->deleteLater();
+        if (job != measure_) return;  // let go by stopMeasuring
+        const bool ok = r.ok() && !job->isCancelling();
+        measure_ = nullptr;
+        levels_->setMeasuring(false);
+        setBusyUi(job_ || task_);
+        updateActions();
+        if (ok) {
+            appendLog(tr("%1 done in %2 ms").arg(r.name).arg(r.elapsedMs));
+        } else if (r.status == widgets::JobResult::Status::failed) {
+            appendLog(tr("%1: %2").arg(r.name, r.error));
+        } else {
+            appendLog(tr("%1 cancelled after %2 ms").arg(r.name).arg(r.elapsedMs));
+            statusBar()->showMessage(tr("%1 cancelled").arg(r.name), 5000);
+        }
+        emit measuringFinished(ok);
+    });
+    appendLog(tr("%1 started").arg(job->name()));
+    setBusyUi(job_ || task_);
+    updateActions();
+    job->start();
 }
 
 void MainWindow::computeHeatmaps() {
@@ -884,6 +964,9 @@ void MainWindow::exportPack(const QString& directory) {
                           .arg(100.0 * l.error_relative, 0, 'f', 4)
                           .arg(l.screen_coverage, 0, 'g', 4));
         }
+        // Levels identical to the one before them are left out (same_surface, the rule the labels' "same
+        // as LOD" flag follows): the notes say which.
+        for (const std::string& note : result->notes) appendLog(tr("  note: %1").arg(QString::fromStdString(note)));
         appendLog(tr("  wrote %1 to %2").arg(lastPackFiles_.join(QStringLiteral(", ")), directory));
     });
 }

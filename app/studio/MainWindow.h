@@ -79,6 +79,13 @@ public:
     // ok = false) when no mesh is loaded, or another job runs.
     void buildLodChain();
     void computeHeatmaps();
+    // The levels' errors, measured after they show (a built chain starts the quick measure itself), on
+    // a worker of their own beside any job: each level's label and report row fill in as it is done
+    // (levelMeasured), the status bar shows the progress per level and Cancel stops it. `full`: at full
+    // precision (LOD > Measure at full precision); else with the quick sample budget
+    // (widgets::measureLevels). A new chain, a new mesh or another measure cancels the running one.
+    void measureLevels(bool full = false);
+    bool isMeasuring() const { return measure_ != nullptr; }
     static QString lodChainJobName();
     static QString heatmapJobName();
 
@@ -142,6 +149,9 @@ signals:
     void loadFinished(bool ok, const QString& message);
     // After every job (lodChainJobName(), heatmapJobName()): ok, or the error (empty when cancelled).
     void jobFinished(const QString& name, bool ok, const QString& message);
+    // measureLevels: after each level (in level order), and once at the end (ok false: cancelled).
+    void levelMeasured(int level);
+    void measuringFinished(bool ok);
 
 protected:
     // Single-letter shortcuts work whatever has focus in this window (spin boxes, sliders, lists),
@@ -184,6 +194,7 @@ private:
     // Starts `job` as the running task; `onDone` runs on success before jobFinished is emitted.
     void startTask(widgets::Job* job, std::function<void()> onDone);
     void failTask(const QString& name, const QString& message);
+    void stopMeasuring();  // lets the running measure go; its results no longer show
     void onTaskFinished(widgets::Job* job, const widgets::JobResult& result, const std::function<void()>& onDone);
 
     widgets::LevelViews* levels_ = nullptr;
@@ -217,6 +228,7 @@ private:
     QAction* redoAction_ = nullptr;
     QAction* buildAction_ = nullptr;
     QAction* cancelAction_ = nullptr;
+    QAction* measureFullAction_ = nullptr;
     QAction* sideBySideAction_ = nullptr;
     QAction* heatmapAction_ = nullptr;
     QAction* compareAction_ = nullptr;
@@ -250,6 +262,8 @@ private:
 
     widgets::LoadJob* job_ = nullptr;  // the load whose result will be shown; older ones are cancelled
     widgets::Job* task_ = nullptr;     // the LOD chain or heat map job running, if any
+    widgets::Job* measure_ = nullptr;  // the levels' measure running, if any (beside task_)
+    quint64 measureSerial_ = 0;        // of the newest measure; results of older ones are dropped
     std::shared_ptr<const widgets::LoadedModel> model_;
     QString presetPath_;
     QStringList lastPackFiles_;

@@ -1,4 +1,4 @@
-// lodforge-studio [FILE] [--screenshot OUT.png [--size WxH]] [--wireframe] [--flat] [--no-texture]
+// lodforge-studio [FILE] [--screenshot OUT.png [--size WxH]] [--export-report OUT.html|OUT.pdf] [--wireframe] [--flat] [--no-texture]
 //                 [--no-colors] [--edges] [--normals] [--uv-checker] [--cells [--cells-by-triangles]]
 //                 [--preset NAME|P.json] [--lod-chain R1,R2,..] [--heatmap] [--side-by-side] [--level N] [--compare]
 #include "MainWindow.h"
@@ -47,25 +47,57 @@ struct StartupPlan {
     int level = -1;  // -1: the last level
     bool compare = false;
     QString screenshot;  // empty: stay open
+    QString report;      // --export-report: the report written headless (empty: none)
+    bool reportMeasured = false;  // the levels were measured at full precision for the report
+    bool headless() const { return !screenshot.isEmpty() || !report.isEmpty(); }
 };
 
 void quitWithError(const StartupPlan& plan, const QString& message, int code) {
     printError(message);
-    if (!plan.screenshot.isEmpty()) QApplication::exit(code);
+    if (plan.headless()) QApplication::exit(code);
 }
 
 void finishStartup(lodforge::studio::MainWindow& window, const StartupPlan& plan) {
+    using lodforge::studio::MainWindow;
+    if (!plan.report.isEmpty() && !plan.reportMeasured) {
+        // An exported report carries the full-precision errors, not the quick estimate.
+        StartupPlan next = plan;
+        next.reportMeasured = true;
+        QObject::connect(&window, &MainWindow::measuringFinished, &window, [&window, next](bool ok) {
+            if (!ok) return quitWithError(next, QStringLiteral("the levels' measure did not finish"), exitJobFailed);
+            finishStartup(window, next);
+        }, Qt::SingleShotConnection);
+        window.measureLevels(true);
+        if (!window.isMeasuring()) quitWithError(plan, QStringLiteral("--export-report: no levels to report"), exitJobFailed);
+        return;
+    }
+    if (!plan.screenshot.isEmpty() && window.isMeasuring()) {
+        // The labels carry the levels' errors, measured after the chain: shoot once they are in.
+        QObject::connect(&window, &lodforge::studio::MainWindow::measuringFinished, &window,
+                         [&window, plan](bool) { finishStartup(window, plan); }, Qt::SingleShotConnection);
+        return;
+    }
     window.setSideBySide(plan.sideBySide);
     if (plan.level >= 0) window.levelViews()->setCurrentLevel(plan.level);
     if (plan.compare) window.setCompareVisible(true);
-    if (plan.screenshot.isEmpty()) return;
+    if (!plan.headless()) return;
     // Let the window settle (layout, first paint of new views) before grabbing it.
-    QTimer::singleShot(plan.sideBySide ? 400 : 100, &window, [&window, path = plan.screenshot] {
-        const QImage image = window.grabWindowImage();
-        if (image.isNull() || !image.save(path, "PNG")) {
-            printError(QStringLiteral("cannot write %1").arg(path));
-            QApplication::exit(exitSaveFailed);
-            return;
+    QTimer::singleShot(plan.sideBySide ? 400 : 100, &window, [&window, plan] {
+        if (!plan.report.isEmpty()) {
+            QString error;
+            if (!window.exportReport(plan.report, &error)) {
+                printError(error);
+                QApplication::exit(exitSaveFailed);
+                return;
+            }
+        }
+        if (!plan.screenshot.isEmpty()) {
+            const QImage image = window.grabWindowImage();
+            if (image.isNull() || !image.save(plan.screenshot, "PNG")) {
+                printError(QStringLiteral("cannot write %1").arg(plan.screenshot));
+                QApplication::exit(exitSaveFailed);
+                return;
+            }
         }
         QApplication::exit(0);
     });
@@ -122,6 +154,12 @@ struct CommandLine {
         QStringLiteral("Open FILE, save a PNG of the window to <out.png> once it is shown, and exit "
                        "(exit status 2 when FILE cannot be loaded, 3 when the PNG cannot be written)."),
         QStringLiteral("out.png")};
+    QCommandLineOption exportReport{
+        QStringLiteral("export-report"),
+        QStringLiteral("Open FILE, build the levels (of --preset, --lod-chain or the default preset), measure them "
+                       "at full precision, write the report (.pdf: PDF, else HTML) and exit (exit status 2 when FILE "
+                       "cannot be loaded, 3 when the report cannot be written, 4 when the build fails)."),
+        QStringLiteral("out.html|out.pdf")};
     QCommandLineOption size{
         QStringLiteral("size"), QStringLiteral("Window size, e.g. 1024x768 (for --screenshot: 1280x800 unless given)."),
         QStringLiteral("WxH")};
@@ -161,7 +199,7 @@ struct CommandLine {
         parser.addVersionOption();
         parser.addPositionalArgument(QStringLiteral("file"),
                                      QStringLiteral("Mesh to open (PLY, OBJ, glTF, GLB)."), QStringLiteral("[FILE]"));
-        parser.addOptions({screenshot, size, wireframe, flat, noTexture, noColors, edges, normals, uvChecker, cells,
+        parser.addOptions({screenshot, exportReport, size, wireframe, flat, noTexture, noColors, edges, normals, uvChecker, cells,
                            cellsByTriangles, preset, lodChain, heatmap, sideBySide, level, compare});
     }
 };
@@ -222,6 +260,11 @@ int main(int argc, char* argv[]) {
         printError(QStringLiteral("--screenshot needs a FILE to open"));
         return exitUsage;
     }
+    const bool report = parser.isSet(commandLine.exportReport);
+    if (report && file.isEmpty()) {
+        printError(QStringLiteral("--export-report needs a FILE to open"));
+        return exitUsage;
+    }
 
     lodforge::widgets::ViewOptions options;
     options.wireframe = parser.isSet(commandLine.wireframe);
@@ -250,17 +293,18 @@ int main(int argc, char* argv[]) {
             return exitUsage;
         }
     }
-    plan.buildChain = !ratios.empty() || parser.isSet(commandLine.preset);
+    plan.buildChain = !ratios.empty() || parser.isSet(commandLine.preset) || report;
     plan.heatmap = parser.isSet(commandLine.heatmap);
     plan.sideBySide = parser.isSet(commandLine.sideBySide);
     plan.compare = parser.isSet(commandLine.compare);
     if (screenshot) plan.screenshot = parser.value(commandLine.screenshot);
+    if (report) plan.report = parser.value(commandLine.exportReport);
 
     lodforge::studio::MainWindow window;
     // A screenshot is the same whatever the saved settings say; a normal start keeps them unless told.
-    if (screenshot || viewFlags) window.setViewOptions(options);
-    if (screenshot || parser.isSet(commandLine.size)) window.resize(size);
-    if (screenshot) window.setInteractive(false);
+    if (plan.headless() || viewFlags) window.setViewOptions(options);
+    if (plan.headless() || parser.isSet(commandLine.size)) window.resize(size);
+    if (plan.headless()) window.setInteractive(false);
     if (parser.isSet(commandLine.preset)) {
         QString error;
         if (!window.loadPreset(parser.value(commandLine.preset), &error)) {

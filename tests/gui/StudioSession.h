@@ -34,7 +34,13 @@ inline bool loadInStudio(studio::MainWindow& window, const QString& path) {
     return finished.wait(120000) && finished.at(0).at(0).toBool();
 }
 
-// Builds `preset`'s levels; false with the job's message (or why it never finished) in `message`.
+// The levels' measure (started by every built chain) has ended.
+inline bool measuredInStudio(const studio::MainWindow& window, int timeoutMs = 120000) {
+    return QTest::qWaitFor([&] { return !window.isMeasuring(); }, timeoutMs);
+}
+
+// Builds `preset`'s levels and waits for their measure; false with the job's message (or why it never
+// finished) in `message`.
 inline bool buildInStudio(studio::MainWindow& window, const Preset& preset, QString* message) {
     window.setPreset(preset);
     QSignalSpy finished(&window, &studio::MainWindow::jobFinished);
@@ -44,6 +50,10 @@ inline bool buildInStudio(studio::MainWindow& window, const Preset& preset, QStr
         return false;
     }
     *message = finished.at(0).at(2).toString();
+    if (finished.at(0).at(1).toBool() && !measuredInStudio(window)) {
+        *message = QStringLiteral("the levels' measure never ended");
+        return false;
+    }
     return finished.at(0).at(1).toBool();
 }
 

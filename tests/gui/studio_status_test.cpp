@@ -24,6 +24,10 @@
 #include <QDoubleSpinBox>
 #include <QFile>
 #include <QFileDialog>
+#include <QJsonArray>
+#include <QJsonDocument>
+#include <QJsonObject>
+#include <QPlainTextEdit>
 #include <QLabel>
 #include <QLineEdit>
 #include <QLocale>
@@ -174,6 +178,34 @@ void StudioStatusTest::labelsAndReportTellTargetsMissesAndDuplicates() {
     const QString html = window_->reportPanel()->toHtml({});
     QVERIFY(html.contains(QStringLiteral("same as LOD")));
     QVERIFY(html.contains(QStringLiteral("<th>Target</th>")));
+
+    // The pack exported from the studio (Ctrl+Shift+E, a new folder typed) leaves out exactly the levels
+    // the labels flag: no level is exported twice.
+    QTemporaryDir root;
+    QVERIFY(root.isValid());
+    QTest::keyClick(window_.get(), Qt::Key_E, Qt::ControlModifier | Qt::ShiftModifier);
+    lodforge::studio::OutputFolderDialog* dialog = nullptr;
+    QTRY_VERIFY((dialog = window_->findChild<lodforge::studio::OutputFolderDialog*>()) && dialog->isVisible());
+    const QString packDir = root.filePath(QStringLiteral("spot_pack"));
+    dialog->pathEdit()->setFocus();
+    dialog->pathEdit()->selectAll();
+    QTest::keyClick(dialog->pathEdit(), Qt::Key_Delete);
+    QTest::keyClicks(dialog->pathEdit(), packDir);
+    QSignalSpy finished(window_.get(), &MainWindow::jobFinished);
+    QTest::keyClick(dialog->pathEdit(), Qt::Key_Return);
+    QVERIFY(finished.wait(60000));
+    QCOMPARE(finished.at(0).at(0).toString(), MainWindow::packJobName());
+    QVERIFY2(finished.at(0).at(1).toBool(), qPrintable(finished.at(0).at(2).toString()));
+    QFile manifest(packDir + QStringLiteral("/pack.json"));
+    QVERIFY(manifest.open(QIODevice::ReadOnly));
+    const QJsonObject pack = QJsonDocument::fromJson(manifest.readAll()).object();
+    QList<int> dropped, flagged;
+    for (const QJsonValue& v : pack.value(QStringLiteral("dropped_levels")).toArray()) dropped << v.toInt();
+    for (int i = 1; i < levels->levelCount(); ++i)
+        if (levels->levels()[std::size_t(i)].sameAs > 0) flagged << i;
+    QCOMPARE(dropped, flagged);
+    QCOMPARE(pack.value(QStringLiteral("levels")).toArray().size(), levels->levelCount() - duplicates);
+    QVERIFY(window_->logView()->toPlainText().contains(QStringLiteral("left out of the pack")));
 }
 
 void StudioStatusTest::parameterEditMarksLevelsStaleAndRebuilds() {

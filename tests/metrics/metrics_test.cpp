@@ -105,6 +105,36 @@ TEST(Metrics, SameSeedSameResult) {
     EXPECT_GT(a.hausdorff, 0.0);
 }
 
+TEST(Metrics, TwoThreadsAndAPreparedReferenceGiveTheSameResult) {
+    const Mesh in = read_mesh(test::shared_data("scan-bunny/bun_zipper.ply"));
+    SimplifyParams sp;
+    sp.target_ratio = 0.05f;
+    const Mesh s = simplify(in, sp).mesh;
+    DistanceParams one;
+    one.samples = 30000;
+    one.region_errors = true;
+    DistanceParams two = one;
+    two.threads = 2;
+    const DistanceResult a = compare(in, s, one), b = compare(in, s, two);
+    EXPECT_GT(a.hausdorff, 0.0);
+    EXPECT_EQ(a.hausdorff, b.hausdorff);
+    EXPECT_EQ(a.mean, b.mean);
+    EXPECT_EQ(a.rms, b.rms);
+    EXPECT_EQ(a.test_to_reference.samples, b.test_to_reference.samples);
+    EXPECT_EQ(a.reference_to_test.max, b.reference_to_test.max);
+    EXPECT_EQ(a.vertex_errors, b.vertex_errors);
+    EXPECT_EQ(a.region_errors, b.region_errors);
+    // A prepared reference, measured against twice, gives the same result again.
+    const DistanceReference prepared(in);
+    for (int k = 0; k < 2; ++k) {
+        const DistanceResult c = compare(prepared, s, two);
+        EXPECT_EQ(c.hausdorff, a.hausdorff);
+        EXPECT_EQ(c.mean, a.mean);
+        EXPECT_EQ(c.region_errors, a.region_errors);
+    }
+    EXPECT_THROW(DistanceReference{Mesh{}}, Error);
+}
+
 TEST(Metrics, ColourErrorOnTheByteScale) {
     Mesh a = unit_square(0), b = unit_square(0);
     a.colors.assign(4, Vec4f{0.5f, 0.5f, 0.5f, 1});

@@ -287,7 +287,14 @@ QString LevelViews::levelLabelText(int level) const {
         text += tr(" · %1").arg(l.stopReason);  // an error target the simplifier could not reach
     }
     if (l.sameAs > 0) text += tr(" · same as LOD %1").arg(l.sameAs);
-    text += tr(" · error %1 % (%2)").arg(100.0 * l.errorRelative, 0, 'f', 3).arg(formatDistance(l.error));
+    if (l.measured == Measured::no) {
+        text += measuring_ ? tr(" · error measuring…") : tr(" · error not measured");
+    } else {
+        text += tr(" · error %1%2 % (%3)")
+                    .arg(l.measured == Measured::sampled ? QStringLiteral("≈ ") : QString())
+                    .arg(100.0 * l.errorRelative, 0, 'f', 3)
+                    .arg(formatDistance(l.error));
+    }
     return stale_ ? tr("Stale · %1").arg(text) : text;
 }
 
@@ -408,6 +415,7 @@ void LevelViews::rebuildTiles() {
         t.view->setMinimumSize(120, 90);
         t.view->setSharedCamera(single_);
         t.view->setViewOptions(options_);
+        t.view->setSplitPosition(split_);
         layout->addWidget(t.label);
         layout->addWidget(t.view, 1);
         grid_->addWidget(t.box, i / columns, i % columns);
@@ -421,6 +429,31 @@ void LevelViews::refreshSingle() {
     showLevelIn(single_, current_);
     // The original as loaded (textured), also beside a heat map: the swipe shows what the error field covers.
     single_->setCompareScene(compareVisible_ && current_ > 0 ? levels_.front().scene : nullptr);
+    refreshSingleLabel();
+}
+
+void LevelViews::setLevelMeasure(const LevelMeasure& measure) {
+    if (measure.level <= 0 || measure.level >= levelCount()) return;
+    LevelData& l = levels_[std::size_t(measure.level)];
+    l.error = measure.error;
+    l.errorRelative = measure.errorRelative;
+    l.measured = measure.measured;
+    if (measure.level < int(tiles_.size())) tiles_[measure.level].label->setText(levelLabelText(measure.level));
+    if (measure.level == current_) refreshSingleLabel();
+}
+
+void LevelViews::setMeasuring(bool measuring) {
+    if (measuring == measuring_) return;
+    measuring_ = measuring;
+    refreshLabels();
+}
+
+void LevelViews::refreshLabels() {
+    for (int i = 0; i < int(tiles_.size()); ++i) tiles_[i].label->setText(levelLabelText(i));
+    refreshSingleLabel();
+}
+
+void LevelViews::refreshSingleLabel() {
     if (inspection_.owner && !heatmapVisible_) {
         singleLabel_->setText(inspection_.label);
         return;
@@ -437,6 +470,9 @@ void LevelViews::refreshSingle() {
 void LevelViews::refreshTiles() {
     for (int i = 0; i < int(tiles_.size()); ++i) {
         showLevelIn(tiles_[i].view, i);
+        // Split compare in every tile but the original's: the original left of the split, the level right.
+        std::shared_ptr<const MeshScene> reference = compareVisible_ && i > 0 ? levels_.front().scene : nullptr;
+        if (tiles_[i].view->compareScene() != reference) tiles_[i].view->setCompareScene(std::move(reference));
         tiles_[i].label->setText(levelLabelText(i));
     }
 }
@@ -492,11 +528,13 @@ double LevelViews::heatmapRange() const {
 void LevelViews::setCompareVisible(bool visible) {
     compareVisible_ = visible;
     refreshSingle();
+    refreshTiles();
 }
 
 void LevelViews::setSplitPosition(double fraction) {
     split_ = fraction;
     single_->setSplitPosition(fraction);
+    for (const Tile& t : tiles_) t.view->setSplitPosition(fraction);
 }
 
 void LevelViews::setViewOptions(const ViewOptions& options) {

@@ -13,6 +13,7 @@
 #include <QHeaderView>
 #include <QLabel>
 #include <QLineEdit>
+#include <QLocale>
 #include <QPushButton>
 #include <QSpinBox>
 #include <QTableWidget>
@@ -81,9 +82,9 @@ void ParametersPanel::buildUi() {
 
     auto* levelsBox = new QGroupBox(tr("LOD targets (level 1 onwards)"), this);
     auto* levelsLayout = new QVBoxLayout(levelsBox);
-    levels_ = new QTableWidget(0, 2, levelsBox);
+    levels_ = new QTableWidget(0, 3, levelsBox);
     levels_->setObjectName(QStringLiteral("levels"));
-    levels_->setHorizontalHeaderLabels({tr("Target"), tr("Value")});
+    levels_->setHorizontalHeaderLabels({tr("Target"), tr("Value"), tr("Triangles")});
     levels_->horizontalHeader()->setSectionResizeMode(QHeaderView::Stretch);
     levels_->verticalHeader()->setDefaultSectionSize(28);
     levels_->setSelectionBehavior(QAbstractItemView::SelectRows);
@@ -104,6 +105,8 @@ void ParametersPanel::buildUi() {
 
     auto* weightsBox = new QGroupBox(tr("Simplification"), this);
     auto* weights = new QFormLayout(weightsBox);
+    weightsBox_ = weightsBox;
+    weightsForm_ = weights;
     normalWeight_ = weightBox(weightsBox, QStringLiteral("normalWeight"), tr("Cost of a unit normal change, in diagonals"));
     colorWeight_ = weightBox(weightsBox, QStringLiteral("colorWeight"), tr("Cost of a unit colour change, in diagonals"));
     uvWeight_ = weightBox(weightsBox, QStringLiteral("uvWeight"), tr("Cost of a unit UV change, in diagonals"));
@@ -115,8 +118,11 @@ void ParametersPanel::buildUi() {
     weights->addRow(lockBorder_);
     layout->addWidget(weightsBox);
 
-    auto* octreeBox = new QGroupBox(tr("Octree / marching cubes / strips"), this);
+    auto* octreeBox = new QGroupBox(tr("Structure"), this);
+    octreeBox->setObjectName(QStringLiteral("structureBox"));
     auto* octree = new QFormLayout(octreeBox);
+    structureBox_ = octreeBox;
+    structureForm_ = octree;
     maxTrianglesPerNode_ = countBox(octreeBox, QStringLiteral("maxTrianglesPerNode"), 16, 100'000'000);
     maxDepth_ = countBox(octreeBox, QStringLiteral("maxDepth"), 1, 21);
     memoryMb_ = countBox(octreeBox, QStringLiteral("memoryMb"), 16, 1'048'576, tr(" MB"));
@@ -152,6 +158,7 @@ void ParametersPanel::buildUi() {
     connect(method_, &QComboBox::currentIndexChanged, this, [this](int index) {
         if (index < 0) return;
         edit([&](Preset& p) { p.method = allMethods[index]; });
+        updateRelevance();
     });
     auto weight = [this](QDoubleSpinBox* box, float SimplifyWeights::*field) {
         connect(box, &QDoubleSpinBox::valueChanged, this,
@@ -187,7 +194,62 @@ void ParametersPanel::edit(const std::function<void(Preset&)>& change) {
     if (after == preset_) return;
     const Preset before = preset_;
     preset_ = after;
+    updatePreview();
     emit presetEdited(before, after);
+}
+
+void ParametersPanel::setMesh(std::size_t triangles, bool hasColors, bool hasTexcoords) {
+    meshTriangles_ = triangles;
+    meshColors_ = hasColors;
+    meshTexcoords_ = hasTexcoords;
+    updateRelevance();
+    updatePreview();
+}
+
+// Which knobs each method reads: build_preset_levels (core/src/pack/preset_levels.cpp).
+void ParametersPanel::updateRelevance() {
+    const LodMethod m = preset_.method;
+    const bool weighted = m != LodMethod::mcoctree;
+    weightsForm_->setRowVisible(normalWeight_, weighted);
+    weightsForm_->setRowVisible(colorWeight_, weighted && meshColors_);
+    weightsForm_->setRowVisible(uvWeight_, weighted && meshTexcoords_);
+    weightsForm_->setRowVisible(lockBorder_, m == LodMethod::collapse || m == LodMethod::lodstrips);
+    weightsBox_->setVisible(weighted);
+    const bool octree = m == LodMethod::octree;
+    structureForm_->setRowVisible(maxTrianglesPerNode_, octree);
+    structureForm_->setRowVisible(maxDepth_, octree);
+    structureForm_->setRowVisible(memoryMb_, octree);
+    structureForm_->setRowVisible(mcResolution_, m == LodMethod::mcoctree);
+    structureForm_->setRowVisible(primitiveRestart_, m == LodMethod::lodstrips);
+    structureBox_->setVisible(octree || m == LodMethod::mcoctree || m == LodMethod::lodstrips);
+    // Only the lodstrips method writes a .lodstrips; a box ticked for another stays, to be unticked.
+    exportLodstrips_->setVisible(m == LodMethod::lodstrips || preset_.exports.lodstrips);
+}
+
+QString ParametersPanel::previewText(int row) const {
+    if (row < 0 || std::size_t(row) >= preset_.levels.size() || meshTriangles_ == 0) return QStringLiteral("—");
+    const LodTarget& t = preset_.levels[std::size_t(row)];
+    double n = 0;
+    // As the build resolves a target (floor); an error target's count is known only once built.
+    switch (t.kind) {
+    case LodTarget::Kind::ratio: n = std::floor(t.value * double(meshTriangles_)); break;
+    case LodTarget::Kind::triangles: n = std::min(std::floor(t.value), double(meshTriangles_)); break;
+    case LodTarget::Kind::error: return QStringLiteral("—");
+    }
+    return QLocale().toString(qulonglong(std::max(0.0, n)));
+}
+
+void ParametersPanel::updatePreview() {
+    for (int row = 0; row < levels_->rowCount(); ++row) {
+        auto* item = levels_->item(row, 2);
+        if (!item) {
+            item = new QTableWidgetItem;
+            item->setFlags(Qt::ItemIsEnabled);
+            item->setTextAlignment(Qt::AlignRight | Qt::AlignVCenter);
+            levels_->setItem(row, 2, item);
+        }
+        item->setText(previewText(row));
+    }
 }
 
 void ParametersPanel::configureValueBox(QDoubleSpinBox* box, LodTarget::Kind kind) {
@@ -303,6 +365,8 @@ void ParametersPanel::setPreset(const Preset& preset) {
     exportLodstrips_->setChecked(preset.exports.lodstrips);
     library_->setCurrentIndex(std::max(0, library_->findText(QString::fromStdString(preset.name))));
     updating_ = false;
+    updateRelevance();
+    updatePreview();
 }
 
 void ParametersPanel::applyShippedPreset(int index) {

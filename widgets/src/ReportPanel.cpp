@@ -47,8 +47,10 @@ QStringList cellsOf(const ReportRow& r) {
             locale.toString(qulonglong(r.triangles)),
             r.targetTriangles > 0 ? locale.toString(qulonglong(r.targetTriangles)) : QStringLiteral("—"),
             locale.toString(qulonglong(r.vertices)),
-            QString::number(100.0 * r.errorRelative, 'f', 4),
-            QString::number(r.error, 'g', 4),
+            // "…" until measured; "≈" marks the quick measure's sampled estimate.
+            r.level > 0 && r.measured == Measured::no ? QStringLiteral("…")
+            : (r.measured == Measured::sampled ? QStringLiteral("≈ ") : QString()) + QString::number(100.0 * r.errorRelative, 'f', 4),
+            r.level > 0 && r.measured == Measured::no ? QStringLiteral("…") : QString::number(r.error, 'g', 4),
             r.level == 0 ? QStringLiteral("—") : QString::number(r.buildMs, 'f', 1),
             stoppedText(r),
             r.level == 0 ? QStringLiteral("—")
@@ -113,7 +115,7 @@ void ReportPanel::setReport(const QString& meshName, const QString& presetName, 
     method_ = method;
     rows_.clear();
     for (const LevelData& l : levels)
-        rows_.push_back({l.index, l.triangles, l.vertices, l.error, l.errorRelative, l.buildMs, l.stopReason,
+        rows_.push_back({l.index, l.triangles, l.vertices, l.error, l.errorRelative, l.measured, l.buildMs, l.stopReason,
                          l.targetTriangles, l.missedTarget, l.sameAs, {}, {}});
     fillTable();
     title_->setText(tr("%1 — preset “%2”, %3, %n level(s) besides the original", "", int(rows_.size()) - 1)
@@ -122,6 +124,21 @@ void ReportPanel::setReport(const QString& meshName, const QString& presetName, 
     structureLabel_->setText(structure_);
     structureLabel_->setVisible(!structure_.isEmpty());
     updateChart();
+}
+
+void ReportPanel::setLevelMeasure(const LevelMeasure& measure) {
+    if (measure.level <= 0 || measure.level >= int(rows_.size())) return;
+    ReportRow& row = rows_[std::size_t(measure.level)];
+    row.error = measure.error;
+    row.errorRelative = measure.errorRelative;
+    row.measured = measure.measured;
+    fillTable();
+    updateChart();
+}
+
+bool ReportPanel::allMeasured() const {
+    return std::all_of(rows_.begin(), rows_.end(),
+                       [](const ReportRow& r) { return r.level == 0 || r.measured != Measured::no; });
 }
 
 void ReportPanel::fillTable() {
@@ -158,6 +175,7 @@ void ReportPanel::updateChart() {
         auto* points = new QScatterSeries(chart);
         points->setMarkerSize(9);
         for (const ReportRow& r : rows_) {
+            if (r.level > 0 && r.measured == Measured::no) continue;  // drawn once measured
             line->append(double(std::max<std::size_t>(r.triangles, 1)), 100.0 * r.errorRelative);
             points->append(double(std::max<std::size_t>(r.triangles, 1)), 100.0 * r.errorRelative);
         }

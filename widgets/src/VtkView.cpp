@@ -164,6 +164,7 @@ struct VtkView::Private {
     vtkSmartPointer<vtkActor> overlayActor;
     vtkSmartPointer<vtkPolyDataMapper> overlayMapper;
     void applyOverlayOptions();
+    void placeScalarBar(int width, int height);
 
     vtkSmartPointer<vtkActor> markerActor;
     std::vector<vtkSmartPointer<vtkBillboardTextActor3D>> markerLabels;
@@ -318,7 +319,22 @@ void VtkView::initializeGL() {
 
 void VtkView::resizeGL(int w, int h) {
     const qreal ratio = devicePixelRatioF();
-    d->interactor->UpdateSize(static_cast<int>(std::lround(w * ratio)), static_cast<int>(std::lround(h * ratio)));
+    const int pw = static_cast<int>(std::lround(w * ratio)), ph = static_cast<int>(std::lround(h * ratio));
+    d->interactor->UpdateSize(pw, ph);
+    d->placeScalarBar(pw, ph);
+}
+
+// The labels keep a fixed font size, so the bar keeps a fixed width in pixels at the right edge: as a
+// fraction of the view (0.12 at 0.86) a side-by-side tile clipped its labels at the edge. Short views
+// get fewer labels, so they do not overlap.
+void VtkView::Private::placeScalarBar(int width, int height) {
+    constexpr int barPixels = 90, marginPixels = 6;
+    const double w = std::max(width, 1);
+    const double fraction = std::min(0.45, barPixels / w);
+    scalarBar->SetWidth(fraction);
+    scalarBar->SetPosition(std::max(0.0, 1.0 - fraction - marginPixels / w), 0.08);
+    scalarBar->SetMaximumWidthInPixels(barPixels);
+    scalarBar->SetNumberOfLabels(height < 160 ? 2 : height < 260 ? 3 : 5);
 }
 
 void VtkView::paintGL() {

@@ -9,10 +9,12 @@
 #include "lodforge/metrics/metrics.h"
 
 #include "lodforge/error.h"
+#include "parallel_for.h"
 
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <optional>
 #include <random>
 
 namespace lodforge {
@@ -418,60 +420,70 @@ Accumulator measure(const Mesh& from, const TriangleBvh& to_bvh, const Mesh& to,
     return acc;
 }
 
-}  // namespace
-
-DistanceResult compare(const Mesh& reference, const Mesh& test, const DistanceParams& params, Progress* progress) {
-    require_triangles(reference, "reference");
-    require_triangles(test, "test");
-    check_progress(progress, 0.0, "compare");
+// Both directions, with both trees built.
+DistanceResult measure_both(const Mesh& reference, const TriangleBvh* ref_bvh, const Mesh& test,
+                            const TriangleBvh* test_bvh, const DistanceParams& params, Progress* progress) {
     DistanceResult r;
     r.diagonal = reference.bounds().diagonal();
+    const unsigned threads = std::max(1u, params.threads);
 
-    const TriangleBvh ref_bvh(reference);
-    const TriangleBvh test_bvh(test);
-
+    // Each direction raises its own copy of the region field (they may run at once); merged by max.
     std::vector<float>* region = nullptr;
+    std::vector<float> region_back;
     if (params.region_errors) {
         r.region_errors.assign(test.vertex_count(), 0.f);
+        region_back.assign(test.vertex_count(), 0.f);
         region = &r.region_errors;
     }
-    Accumulator forward = measure(test, ref_bvh, reference, params, params.seed, true, r, progress, 0.0, region, true);
-    DistanceResult ignored;
-    Accumulator backward = measure(reference, test_bvh, test, params, params.seed ^ 0x9e3779b97f4a7c15ull, false,
-                                   ignored, progress, 0.5, region, false);
-    r.test_to_reference = forward.finish();
-    r.reference_to_test = backward.finish();
+    // Beside this thread the backward direction only polls for cancellation: one reporter at a time.
+    struct CancelOnly final : Progress {
+        Progress* parent;
+        explicit CancelOnly(Progress* p) : parent(p) {}
+        void report(double, std::string_view) override {}
+        bool cancelled() const override { return parent && parent->cancelled(); }
+    } cancel_only(progress);
+    Progress* back_progress = threads > 1 ? &cancel_only : progress;
 
-    // Vertices: samples for the maxima and the per-vertex field.
-    if (params.include_vertices || params.vertex_errors || params.region_errors) {
+    Accumulator forward, backward;
+    auto forward_side = [&] {
+        forward = measure(test, *ref_bvh, reference, params, params.seed, true, r, progress, 0.0, region, true);
+        // Vertices: samples for the maxima and the per-vertex field.
+        if (!(params.include_vertices || params.vertex_errors || params.region_errors)) return;
         std::uint32_t hint = 0xffffffffu;
         if (params.vertex_errors) r.vertex_errors.assign(test.vertex_count(), 0.f);
         std::vector<std::uint8_t> used(test.vertex_count(), 0);
         for (std::uint32_t i : test.indices) used[i] = 1;
         for (std::size_t v = 0; v < test.vertex_count(); ++v) {
-            const double d = std::sqrt(ref_bvh.closest(to_p3(test.positions[v]), hint).distance2);
+            const double d = std::sqrt(ref_bvh->closest(to_p3(test.positions[v]), hint).distance2);
             if (params.vertex_errors) r.vertex_errors[v] = static_cast<float>(d);
             if (used[v]) raise_to(region, static_cast<std::uint32_t>(v), d);
-            if (params.include_vertices && used[v]) r.test_to_reference.max = std::max(r.test_to_reference.max, d);
+            if (params.include_vertices && used[v]) forward.max = std::max(forward.max, d);
         }
-        if (params.include_vertices) {
-            hint = 0xffffffffu;
-            std::vector<std::uint8_t> ref_used(reference.vertex_count(), 0);
-            for (std::uint32_t i : reference.indices) ref_used[i] = 1;
-            for (std::size_t v = 0; v < reference.vertex_count(); ++v) {
-                if (!ref_used[v]) continue;
-                const TriangleBvh::Hit hit = test_bvh.closest(to_p3(reference.positions[v]), hint);
-                const double d = std::sqrt(hit.distance2);
-                r.reference_to_test.max = std::max(r.reference_to_test.max, d);
-                if (region) {
-                    const int k = major_corner(hit.bary[0], hit.bary[1], hit.bary[2]);
-                    raise_to(region, test.indices[3 * hit.triangle + k], d);
-                }
+    };
+    auto backward_side = [&] {
+        DistanceResult ignored;
+        backward = measure(reference, *test_bvh, test, params, params.seed ^ 0x9e3779b97f4a7c15ull, false, ignored,
+                           back_progress, 0.5, region ? &region_back : nullptr, false);
+        if (!params.include_vertices) return;
+        std::uint32_t hint = 0xffffffffu;
+        std::vector<std::uint8_t> ref_used(reference.vertex_count(), 0);
+        for (std::uint32_t i : reference.indices) ref_used[i] = 1;
+        for (std::size_t v = 0; v < reference.vertex_count(); ++v) {
+            if (!ref_used[v]) continue;
+            const TriangleBvh::Hit hit = test_bvh->closest(to_p3(reference.positions[v]), hint);
+            const double d = std::sqrt(hit.distance2);
+            backward.max = std::max(backward.max, d);
+            if (region) {
+                const int k = major_corner(hit.bary[0], hit.bary[1], hit.bary[2]);
+                raise_to(&region_back, test.indices[3 * hit.triangle + k], d);
             }
         }
-    }
-    check_progress(progress, 1.0, "compare");
-
+    };
+    detail::run_beside(threads, forward_side, backward_side);
+    r.test_to_reference = forward.finish();
+    r.reference_to_test = backward.finish();
+    if (region)
+        for (std::size_t v = 0; v < region_back.size(); ++v) r.region_errors[v] = std::max(r.region_errors[v], region_back[v]);
     r.hausdorff = std::max(r.test_to_reference.max, r.reference_to_test.max);
     const double n = double(forward.count + backward.count);
     if (n > 0) {
@@ -483,6 +495,41 @@ DistanceResult compare(const Mesh& reference, const Mesh& test, const DistancePa
         r.mean_relative = r.mean / r.diagonal;
         r.rms_relative = r.rms / r.diagonal;
     }
+    return r;
+}
+
+}  // namespace
+
+struct DistanceReference::Tree {
+    TriangleBvh bvh;
+    explicit Tree(const Mesh& mesh) : bvh(mesh) {}
+};
+
+DistanceReference::DistanceReference(const Mesh& reference) : mesh_(&reference) {
+    require_triangles(reference, "reference");
+    tree_ = std::make_unique<Tree>(reference);
+}
+
+DistanceReference::~DistanceReference() = default;
+
+DistanceResult compare(const Mesh& reference, const Mesh& test, const DistanceParams& params, Progress* progress) {
+    require_triangles(reference, "reference");
+    require_triangles(test, "test");
+    check_progress(progress, 0.0, "compare");
+    std::optional<TriangleBvh> ref_bvh, test_bvh;
+    detail::run_beside(std::max(1u, params.threads), [&] { ref_bvh.emplace(reference); }, [&] { test_bvh.emplace(test); });
+    DistanceResult r = measure_both(reference, &*ref_bvh, test, &*test_bvh, params, progress);
+    check_progress(progress, 1.0, "compare");
+    return r;
+}
+
+DistanceResult compare(const DistanceReference& reference, const Mesh& test, const DistanceParams& params,
+                       Progress* progress) {
+    require_triangles(test, "test");
+    check_progress(progress, 0.0, "compare");
+    const TriangleBvh test_bvh(test);
+    DistanceResult r = measure_both(reference.mesh(), &reference.tree_->bvh, test, &test_bvh, params, progress);
+    check_progress(progress, 1.0, "compare");
     return r;
 }
 

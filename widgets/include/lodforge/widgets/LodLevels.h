@@ -13,6 +13,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -30,13 +31,18 @@ struct ContinuousLodData {
     std::shared_ptr<const MeshScene> fullScene;
 };
 
+// How a level's error was measured: not yet (the levels show before their measures), with the quick
+// sample budget (measureLevels), or at full precision (compare()'s defaults, as `lodforge compare`).
+enum class Measured { no, sampled, full };
+
 struct LevelData {
     int index = 0;  // 0 = the original
     std::size_t triangles = 0;
     std::size_t vertices = 0;
     double error = 0;           // measured symmetric Hausdorff distance to the original, model units
     double errorRelative = 0;   // the same relative to the original's bounding-box diagonal
-    double buildMs = 0;         // time to build and measure this level (0 for the original)
+    Measured measured = Measured::no;  // error and errorRelative are 0 until measured
+    double buildMs = 0;         // time to build this level (0 for the original)
     QString stopReason;         // why the engine stopped ("target reached", ...), empty for the original
     std::size_t targetTriangles = 0;  // the preset's triangle target (ratios resolved); 0 for error targets
     // The target was a triangle count and the level is more than 10 % away from it (a structure's
@@ -46,7 +52,7 @@ struct LevelData {
     // the level adds nothing to the chain.
     int sameAs = -1;
     // Every vertex is a vertex of the original at its place (half-edge collapse): the distance to the
-    // original is zero at the level's own vertices, so its heat map is drawn on the original instead.
+    // original is zero at the level's own vertices, so its heat map needs the region field.
     bool verticesOnOriginal = true;
     std::shared_ptr<const lodforge::Mesh> mesh;
     std::shared_ptr<const MeshScene> scene;
@@ -65,7 +71,7 @@ QString octreeSummary(const lodforge::OctreeStats& stats);
 QString methodDisplayName(lodforge::LodMethod method);
 
 // Levels 0..N: `original` first (as given), then one per preset level, built with the preset's method,
-// weights and border locking, measured against the original with compare(). `images`: the decoded base
+// weights and border locking, not measured yet (measureLevels). `images`: the decoded base
 // colour textures of the materials (LoadedModel::images), so the levels show their texture.
 // The levels come from build_preset_levels (the pack's function). Throws lodforge::Error: argument for
 // targets the method cannot take, invalid for a mesh without triangles, cancelled when `progress` asks
@@ -74,9 +80,22 @@ std::vector<LevelData> buildLodLevels(const LevelData& original, const lodforge:
                                       const std::vector<std::shared_ptr<const lodforge::Image>>& images,
                                       lodforge::Progress* progress = nullptr);
 
+struct LevelMeasure {
+    int level = 0;
+    double error = 0, errorRelative = 0;
+    Measured measured = Measured::no;
+};
+
+// Measures levels 1..N against levels[0], one after the other, each direction on its own thread:
+// `full` at full precision (compare()'s defaults), else quickly (a sample budget per surface, no vertex
+// pass, the original's tree built once: docs/studio.md, "Measuring"). A level identical to an earlier one (sameAs) takes that one's measure. `measured` runs
+// on this thread after each level. Throws Error(cancelled) when `progress` asks to stop.
+void measureLevels(const std::vector<LevelData>& levels, bool full,
+                   const std::function<void(const LevelMeasure&)>& measured, lodforge::Progress* progress = nullptr);
+
 struct HeatmapData {
-    // Per level: a scene whose scalars are the distance to the original (model units) at each vertex of
-    // the surface drawn (see LevelData::verticesOnOriginal). Level 0's field is zero.
+    // Per level: the level's surface with, at each vertex, the largest distance to the original
+    // measured around it (DistanceResult::region_errors, model units). Level 0's field is zero.
     std::vector<std::shared_ptr<const MeshScene>> scenes;
     // Values at vertices no triangle uses are left out of both (they colour nothing).
     std::vector<float> levelMax;  // largest value per level

@@ -27,6 +27,7 @@ struct ReportRow {
     std::size_t vertices = 0;
     double error = 0;          // model units
     double errorRelative = 0;  // of the bounding-box diagonal
+    Measured measured = Measured::no;  // LevelData::measured
     double buildMs = 0;
     QString stopReason;
     std::size_t targetTriangles = 0;  // 0: an error target (LevelData::targetTriangles)
@@ -47,6 +48,10 @@ public:
     void setReport(const QString& meshName, const QString& presetName, const QString& method,
                    const std::vector<LevelData>& levels);
     void clear();
+    // A level's error measured after setReport (measureLevels): its row and the chart follow.
+    void setLevelMeasure(const LevelMeasure& measure);
+    // Every level besides the original is measured (at least with the quick budget).
+    bool allMeasured() const;
     // Per level (index = level; level 0, the original itself, included or not): the image-space errors
     // computed after setReport. The column shows "…" until then. Ignored when the sizes do not fit.
     void setImageErrors(const std::vector<lodforge::ImageError>& errors);

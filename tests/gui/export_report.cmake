@@ -1,0 +1,41 @@
+# `lodforge-studio FILE --lod-chain R1,R2 --export-report OUT.html` writes the report headless and exits 0:
+# the mesh named, a row per level with its error measured at full precision (a plain number, no "≈"
+# estimate, no "…" pending), a thumbnail per level and the chart embedded.
+# Arguments: -DSTUDIO=<lodforge-studio> -DMESH=<file> -DWORK_DIR=<scratch folder>
+file(MAKE_DIRECTORY "${WORK_DIR}")
+set(out "${WORK_DIR}/headless_report.html")
+file(REMOVE "${out}")
+execute_process(COMMAND "${STUDIO}" "${MESH}" --lod-chain 0.5,0.1 --export-report "${out}" --size 800x600
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out_text ERROR_VARIABLE err_text TIMEOUT 240)
+message(STATUS "exit status: ${rc}\nstderr: ${err_text}")
+if(NOT rc STREQUAL "0")
+  message(FATAL_ERROR "expected exit status 0, got '${rc}'")
+endif()
+if(NOT EXISTS "${out}")
+  message(FATAL_ERROR "no report written")
+endif()
+file(READ "${out}" html)
+get_filename_component(mesh_name "${MESH}" NAME)
+if(NOT html MATCHES "LOD report: ${mesh_name}")
+  message(FATAL_ERROR "the report does not name ${mesh_name}")
+endif()
+string(REGEX MATCHALL "<tr class=\"level\">" rows "${html}")
+list(LENGTH rows row_count)
+if(NOT row_count EQUAL 3)
+  message(FATAL_ERROR "expected 3 level rows (the original and 2 levels), got ${row_count}")
+endif()
+if(html MATCHES "≈")
+  message(FATAL_ERROR "the report carries the quick estimate, not the full-precision measure")
+endif()
+# The error column (% of the diagonal, 4 decimals): the original's 0.0000 and two positive errors.
+string(REGEX MATCHALL "<td class=\"n\" align=\"right\">[0-9]+\\.[0-9][0-9][0-9][0-9]</td><td class=\"n\" align=\"right\">[0-9.e+-]+</td>"
+       errors "${html}")
+list(LENGTH errors error_count)
+if(error_count LESS 3)
+  message(FATAL_ERROR "expected 3 measured error cells, found ${error_count}")
+endif()
+string(REGEX MATCHALL "data:image/png;base64," images "${html}")
+list(LENGTH images image_count)
+if(image_count LESS 4)
+  message(FATAL_ERROR "expected 3 thumbnails and the chart, found ${image_count} images")
+endif()

@@ -1,0 +1,212 @@
+// View modes that compose, driven by the studio's keys under Xvfb: side by side (S), wireframe (W),
+// split compare (X) and heat map (H) together. Split compare is honoured in every level's tile (the
+// original's dense wireframe left of the split), and the heat map, drawn on each level's own surface,
+// keeps side by side and the split on; its scale bar's labels stay inside small tiles. The Parameters
+// dock, driven by keys, shows only the knobs the method and the mesh use and previews each target's
+// triangle count.
+#include "PixelStats.h"
+#include "StudioSession.h"
+
+#include "lodforge/widgets/LevelViews.h"
+#include "lodforge/widgets/LoadJob.h"
+#include "lodforge/widgets/MeshScene.h"
+#include "lodforge/widgets/ParametersPanel.h"
+
+#include <QAction>
+#include <QApplication>
+#include <QComboBox>
+#include <QDoubleSpinBox>
+#include <QLocale>
+#include <QTableWidget>
+#include <QSettings>
+#include <QSignalSpy>
+#include <QTest>
+
+#include <cmath>
+#include <memory>
+
+using lodforge::studio::MainWindow;
+using lodforge::testing::PixelStats;
+using lodforge::widgets::LevelViews;
+using lodforge::widgets::ParametersPanel;
+using lodforge::widgets::VtkView;
+using lodforge::widgets::viewBackgroundColor;
+
+namespace {
+
+const QString spotPath = QStringLiteral(LODFORGE_SAMPLES_DIR "/spot/spot_triangulated.obj");
+const QString bunnyPath = QStringLiteral(LODFORGE_SHARED_DATA "/scan-bunny/bun_zipper.ply");
+
+QRect leftHalf(const QImage& image) { return QRect(0, 0, image.width() / 2 - 4, image.height()); }
+
+}  // namespace
+
+class StudioModesTest : public QObject {
+    Q_OBJECT
+
+private slots:
+    void initTestCase() { QSettings().clear(); }
+    void cleanup() { QSettings().clear(); }
+
+    void splitCompareAndHeatmapComposeWithSideBySide();
+    void parametersShowWhatTheMethodAndMeshUse();
+};
+
+void StudioModesTest::splitCompareAndHeatmapComposeWithSideBySide() {
+    auto window = lodforge::testing::openStudioWindow();
+    QVERIFY(window);
+    window->activateWindow();
+    QVERIFY(QTest::qWaitForWindowActive(window.get()));
+    QVERIFY(lodforge::testing::loadInStudio(*window, spotPath));
+    lodforge::Preset preset = window->preset();
+    preset.levels = lodforge::lod_targets_from_ratios({0.3, 0.02});
+    QString message;
+    QVERIFY2(lodforge::testing::buildInStudio(*window, preset, &message), qPrintable(message));
+    LevelViews* levels = window->levelViews();
+
+    QTest::keyClick(window.get(), Qt::Key_S);
+    QTest::keyClick(window.get(), Qt::Key_W);
+    QCOMPARE(levels->arrangement(), LevelViews::Arrangement::sideBySide);
+    QVERIFY(levels->viewOptions().wireframe);
+    const QList<VtkView*> tiles = levels->tileViews();
+    QCOMPARE(tiles.size(), 3);
+    QTRY_VERIFY_WITH_TIMEOUT(tiles[2]->isVisible() && tiles[2]->frameCount() > 0, 10000);
+    const QImage coarse = lodforge::testing::freshFrame(tiles[2]);
+    const PixelStats before = lodforge::testing::measure(coarse, viewBackgroundColor(), leftHalf(coarse));
+
+    // Split compare in side by side: the coarsest tile's left half now shows the original's wireframe,
+    // far denser than the 2 % level's.
+    QTest::keyClick(window.get(), Qt::Key_X);
+    QVERIFY(window->findChild<QAction*>(QStringLiteral("actionCompare"))->isChecked());
+    QVERIFY(tiles[0]->compareScene() == nullptr);
+    QVERIFY(tiles[2]->compareScene() == levels->levels().front().scene);
+    const QImage split = lodforge::testing::freshFrame(tiles[2]);
+    const PixelStats after = lodforge::testing::measure(split, viewBackgroundColor(), leftHalf(split));
+    qInfo("left half of LOD 2 in wireframe: %lld model pixels alone, %lld split with the original", before.modelPixels,
+          after.modelPixels);
+    QVERIFY2(after.modelPixels > before.modelPixels * 3 / 2,
+             qPrintable(QStringLiteral("%1 vs %2").arg(after.modelPixels).arg(before.modelPixels)));
+
+    // The heat map (computed on first use) keeps side by side and the split: each tile shows its
+    // level's map, the original still left of the split.
+    QTest::keyClick(window.get(), Qt::Key_W);
+    QSignalSpy finished(window.get(), &MainWindow::jobFinished);
+    QTest::keyClick(window.get(), Qt::Key_H);
+    QVERIFY(finished.wait(60000));
+    QCOMPARE(finished.at(0).at(0).toString(), MainWindow::heatmapJobName());
+    QVERIFY(finished.at(0).at(1).toBool());
+    QVERIFY(levels->heatmapVisible());
+    QCOMPARE(levels->arrangement(), LevelViews::Arrangement::sideBySide);
+    QVERIFY(window->findChild<QAction*>(QStringLiteral("actionSideBySide"))->isChecked());
+    QVERIFY(window->findChild<QAction*>(QStringLiteral("actionCompare"))->isChecked());
+    for (int i = 0; i < 3; ++i) {
+        QVERIFY(tiles[i]->scene() == levels->heatmaps().scenes[std::size_t(i)]);
+        // On the level's own surface (its outline is what the map shows), not on the original's.
+        std::size_t triangles = 0;
+        for (const auto& part : lodforge::widgets::describe(*tiles[i]->scene()).parts) triangles += part.triangles;
+        QCOMPARE(triangles, levels->levels()[std::size_t(i)].triangles);
+    }
+    QVERIFY(tiles[2]->compareScene() == levels->levels().front().scene);
+    const QImage heat = lodforge::testing::freshFrame(tiles[2]);
+    const QRect right(heat.width() / 2 + 4, 0, heat.width() / 2 - 4, heat.height());
+    const PixelStats heatRight = lodforge::testing::measure(heat, viewBackgroundColor(), right);
+    qInfo("right half of LOD 2's heat map: %.2f chromatic", heatRight.chromaticFraction);
+    QVERIFY(heatRight.modelPixels > 0);
+    QVERIFY2(heatRight.chromaticFraction > 0.5, qPrintable(QString::number(heatRight.chromaticFraction)));
+
+    // Scale-bar labels stay inside small tiles: only background in the tile's last columns, the bar and
+    // its labels just left of them.
+    window->resize(760, 560);
+    QTRY_VERIFY_WITH_TIMEOUT(tiles[1]->width() < 320, 5000);
+    const QImage small = lodforge::testing::freshFrame(tiles[1]);
+    const QRect edge(small.width() - 3, 0, 3, small.height());
+    const QRect strip(small.width() - 100, 0, 97, small.height());
+    const PixelStats edgeStats = lodforge::testing::measure(small, viewBackgroundColor(), edge);
+    const PixelStats stripStats = lodforge::testing::measure(small, viewBackgroundColor(), strip);
+    qInfo("tile %dx%d: %lld pixels at the right edge, %lld in the bar's strip", small.width(), small.height(),
+          edgeStats.modelPixels, stripStats.modelPixels);
+    QCOMPARE(edgeStats.modelPixels, 0);
+    QVERIFY(stripStats.modelPixels > 300);
+
+    // Off again (X): the tiles lose the split, side by side and the heat map stay.
+    QTest::keyClick(window.get(), Qt::Key_X);
+    QVERIFY(tiles[2]->compareScene() == nullptr);
+    QCOMPARE(levels->arrangement(), LevelViews::Arrangement::sideBySide);
+    QVERIFY(levels->heatmapVisible());
+}
+
+void StudioModesTest::parametersShowWhatTheMethodAndMeshUse() {
+    auto window = lodforge::testing::openStudioWindow();
+    QVERIFY(window);
+    window->activateWindow();
+    QVERIFY(QTest::qWaitForWindowActive(window.get()));
+    QVERIFY(lodforge::testing::loadInStudio(*window, bunnyPath));
+    const std::size_t triangles = window->model()->mesh.triangle_count();
+    QVERIFY(!window->model()->mesh.has_colors() && !window->model()->mesh.has_texcoords());
+    ParametersPanel* panel = window->parametersPanel();
+    auto shown = [panel](const char* name) {
+        QWidget* w = panel->findChild<QWidget*>(QString::fromLatin1(name));
+        return w && w->isVisibleTo(panel);
+    };
+    auto* method = panel->findChild<QComboBox*>(QStringLiteral("method"));
+    QVERIFY(method);
+    // Chooses a method with the arrow keys, as from the keyboard.
+    auto choose = [method](const char* name) {
+        method->setFocus();
+        const int target = method->findData(QString::fromLatin1(name));
+        while (method->currentIndex() != target)
+            QTest::keyClick(method, method->currentIndex() < target ? Qt::Key_Down : Qt::Key_Up);
+    };
+
+    // An untextured, uncoloured scan: no colour or UV weight, for any method.
+    choose("collapse");
+    QCOMPARE(window->preset().method, lodforge::LodMethod::collapse);
+    QVERIFY(shown("normalWeight") && shown("lockBorder"));
+    QVERIFY(!shown("colorWeight") && !shown("uvWeight"));
+    QVERIFY(!shown("mcResolution") && !shown("maxTrianglesPerNode") && !shown("structureBox"));
+    choose("mcoctree");
+    QCOMPARE(window->preset().method, lodforge::LodMethod::mcoctree);
+    QVERIFY(shown("mcResolution") && !shown("maxTrianglesPerNode") && !shown("primitiveRestart"));
+    QVERIFY(!shown("normalWeight") && !shown("lockBorder"));
+    choose("octree");
+    QVERIFY(shown("maxTrianglesPerNode") && shown("maxDepth") && shown("memoryMb") && !shown("mcResolution"));
+    QVERIFY(shown("normalWeight") && !shown("lockBorder"));
+    choose("lodstrips");
+    QVERIFY(shown("primitiveRestart") && shown("lockBorder") && shown("exportLodstrips") && !shown("maxDepth"));
+    choose("collapse");
+    QVERIFY(!shown("exportLodstrips"));
+
+    // The targets preview their triangle counts, and follow a typed value.
+    auto* levels = panel->findChild<QTableWidget*>(QStringLiteral("levels"));
+    QVERIFY(levels && levels->columnCount() == 3);
+    const auto& targets = window->preset().levels;
+    for (int row = 0; row < int(targets.size()); ++row) {
+        QCOMPARE(targets[std::size_t(row)].kind, lodforge::LodTarget::Kind::ratio);
+        const auto expected = qulonglong(std::floor(targets[std::size_t(row)].value * double(triangles)));
+        QCOMPARE(levels->item(row, 2)->text(), QLocale().toString(expected));
+    }
+    auto* value = qobject_cast<QDoubleSpinBox*>(levels->cellWidget(0, 1));
+    QVERIFY(value);
+    value->setFocus();
+    value->selectAll();
+    QTest::keyClicks(value, QStringLiteral("0.1"));
+    QTest::keyClick(value, Qt::Key_Return);
+    QCOMPARE(window->preset().levels.front().value, 0.1);
+    QCOMPARE(levels->item(0, 2)->text(), QLocale().toString(qulonglong(std::floor(0.1 * double(triangles)))));
+
+    // A textured mesh shows the UV weight again.
+    QVERIFY(lodforge::testing::loadInStudio(*window, spotPath));
+    QVERIFY(shown("uvWeight") && !shown("colorWeight"));
+    QCOMPARE(levels->item(0, 2)->text(), QLocale().toString(qulonglong(std::floor(0.1 * 5856.0))));
+}
+
+int main(int argc, char* argv[]) {
+    lodforge::widgets::VtkView::setDefaultSurfaceFormat();
+    QApplication app(argc, argv);
+    QApplication::setOrganizationName(QStringLiteral("LodForgeTests"));
+    QApplication::setApplicationName(QStringLiteral("gui_studio_modes_test"));
+    StudioModesTest test;
+    return QTest::qExec(&test, argc, argv);
+}
+
+#include "studio_modes_test.moc"
