@@ -2,6 +2,8 @@
 #pragma once
 
 #include <algorithm>
+#include <cstdio>
+#include <cstdlib>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -15,6 +17,15 @@ inline std::vector<std::string> split(const std::string& s) {
     std::string item;
     while (std::getline(ss, item, ',')) out.push_back(item);
     return out;
+}
+
+// The value of option argv[i] (argv[i + 1]; i moves onto it). A missing value ends the run with status 2.
+inline std::string option_value(int argc, char** argv, int& i) {
+    if (i + 1 >= argc) {
+        std::fprintf(stderr, "%s needs a value\n", argv[i]);
+        std::exit(2);
+    }
+    return argv[++i];
 }
 
 // Median of repeated timings (robust to the noise of a shared machine).

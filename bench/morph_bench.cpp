@@ -257,13 +257,7 @@ int main(int argc, char** argv) {
     bool strips_only = false;  // only the morph LODStrips tables (no Metro errors, .lfmorph, extraction)
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
-        auto next = [&]() -> std::string {
-            if (i + 1 >= argc) {
-                std::fprintf(stderr, "%s needs a value\n", a.c_str());
-                std::exit(2);
-            }
-            return argv[++i];
-        };
+        auto next = [&] { return bench::option_value(argc, argv, i); };
         if (a == "--models") models = next();
         else if (a == "--samples") samples = std::strtoul(next().c_str(), nullptr, 10);
         else if (a == "--frame-stride") stride = std::max<std::size_t>(1, std::strtoul(next().c_str(), nullptr, 10));

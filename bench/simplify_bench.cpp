@@ -278,13 +278,7 @@ int main(int argc, char** argv) {
     bool vtk = true, openmesh = true, openmesh_dragon_all = false, greedy = false, attributes = true, digest = false;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
-        auto next = [&]() -> std::string {
-            if (i + 1 >= argc) {
-                std::fprintf(stderr, "%s needs a value\n", a.c_str());
-                std::exit(2);
-            }
-            return argv[++i];
-        };
+        auto next = [&] { return bench::option_value(argc, argv, i); };
         if (a == "--quick") {
             models = {"dragon", "bunny"};
             ratios = {0.1f};

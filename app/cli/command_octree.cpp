@@ -7,13 +7,13 @@
 #include "lodforge/error.h"
 #include "lodforge/io/mesh_io.h"
 #include "lodforge/octree/octree_build.h"
+#include "lodforge/octree/octree_info.h"
 #include "lodforge/octree/octree_select.h"
 #include "lodforge/octree/octree_store.h"
 #include "lodforge/octree/ooc_cluster.h"
 #include "lodforge/io/ply.h"
 #include "lodforge/io/temp_directory.h"
 
-#include <nlohmann/json.hpp>
 
 #include <cmath>
 #include <cstdio>
@@ -148,29 +148,7 @@ void add_info(CLI::App& octree) {
         const OctreeStats s = store.stats();
         const OctreeHeader& h = store.header();
         if (o->json) {
-            nlohmann::json j;
-            j["nodes"] = s.nodes;
-            j["leaves"] = s.leaves;
-            j["depth_reached"] = s.depth_reached;
-            j["levels"] = s.triangles_per_level.size();
-            j["triangles_per_level"] = s.triangles_per_level;
-            j["leaves_per_depth"] = s.leaves_per_depth;
-            j["triangles_per_depth"] = s.triangles_per_depth;
-            j["input_triangles"] = h.input_triangles;
-            j["input_vertices"] = h.input_vertices;
-            j["max_leaf_triangles"] = s.max_leaf_triangles;
-            std::vector<std::string> attrs;
-            if (h.layout.normals) attrs.push_back("normals");
-            if (h.layout.colors) attrs.push_back("colors");
-            if (h.layout.texcoords) attrs.push_back("texcoords");
-            j["attributes"] = attrs;
-            j["bounds"] = {{"min", {h.bounds.min.x, h.bounds.min.y, h.bounds.min.z}},
-                           {"max", {h.bounds.max.x, h.bounds.max.y, h.bounds.max.z}}};
-            j["root_cube"] = {{"min", {h.root_min[0], h.root_min[1], h.root_min[2]}}, {"size", h.root_size}};
-            j["max_triangles"] = h.max_triangles;
-            j["max_depth"] = h.max_depth;
-            j["file_bytes"] = s.file_bytes;
-            std::printf("%s\n", j.dump(2).c_str());
+            std::printf("%s\n", octree_info_json(s, h).c_str());
             return;
         }
         std::printf("%s: octree LOD asset, version %u\n", o->asset.c_str(), h.version);

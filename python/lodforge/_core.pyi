@@ -158,6 +158,7 @@ def write_lod_pack(mesh: Union[Mesh, PathArg], output_dir: PathArg, *, preset: P
 def build_octree(input_ply: PathArg, asset_path: PathArg, *, preset: PresetArg = None, max_triangles: Optional[int] = None,
                  max_depth: Optional[int] = None, memory_mb: Optional[int] = None, temp_dir: PathArg = "",
                  weights: WeightsArg = None, threads: int = 2, progress: Progress = None) -> Dict[str, Any]: ...
+# The keys and values of `lodforge octree info --json` (build_octree: the same plus 'warnings').
 def octree_info(asset_path: PathArg) -> Dict[str, Any]: ...
 def extract_octree(asset_path: PathArg, *, level: Optional[int] = None, camera: Optional[Sequence[float]] = None,
                    screen_error: Optional[float] = None, viewport: Tuple[int, int] = (1920, 1080),

@@ -9,6 +9,7 @@
 #include "lodforge/io/mesh_io.h"
 #include "lodforge/metrics/metrics.h"
 #include "lodforge/octree/octree_build.h"
+#include "lodforge/octree/octree_info.h"
 #include "lodforge/octree/octree_select.h"
 #include "lodforge/octree/octree_store.h"
 #include "lodforge/pack/lod_pack.h"
@@ -339,18 +340,9 @@ py::dict pack_py(const py::object& mesh_arg, const fs::path& output_path, const 
     return d;
 }
 
-py::dict octree_stats_dict(const OctreeStats& s) {
-    py::dict d;
-    d["nodes"] = s.nodes;
-    d["leaves"] = s.leaves;
-    d["depth_reached"] = s.depth_reached;
-    d["levels"] = s.triangles_per_level.size();
-    d["triangles_per_level"] = s.triangles_per_level;
-    d["leaves_per_depth"] = s.leaves_per_depth;
-    d["input_triangles"] = s.input_triangles;
-    d["max_leaf_triangles"] = s.max_leaf_triangles;
-    d["file_bytes"] = s.file_bytes;
-    return d;
+// `lodforge octree info --json` as a dict: one core description, so the keys are the CLI's.
+py::dict octree_info_dict(const OctreeStore& store) {
+    return py::module_::import("json").attr("loads")(octree_info_json(store.stats(), store.header()));
 }
 
 // `lodforge octree build` (octree mode): flags as keyword arguments; None takes the preset's value,
@@ -384,7 +376,7 @@ py::dict octree_build_py(const fs::path& input_path, const fs::path& asset_path,
     p.threads = threads;
     p.weights = weights_from(weights_arg, p.weights);
     const OctreeBuildResult r = run_with_progress(callback, [&](Progress* pr) { return build_octree(input, asset, p, pr); });
-    py::dict d = octree_stats_dict(r.stats);
+    py::dict d = octree_info_dict(OctreeStore(asset));
     d["warnings"] = r.warnings;
     return d;
 }
@@ -621,10 +613,11 @@ override its keys like the CLI's flags. Returns {'levels', 'files', 'glb', 'note
           py::arg("memory_mb") = py::none(), py::arg("temp_dir") = "", py::arg("weights") = py::none(),
           py::arg("threads") = 2, py::arg("progress") = py::none(),
           "Builds an out-of-core octree asset (.lfo) from a PLY as `lodforge octree build` does "
-          "(defaults: the preset's, else max_triangles 10000, max_depth 12, memory_mb 256). Returns its statistics.");
+          "(defaults: the preset's, else max_triangles 10000, max_depth 12, memory_mb 256). Returns its statistics "
+          "(octree_info's keys) and 'warnings'.");
     m.def(
-        "octree_info", [](const fs::path& asset) { return octree_stats_dict(OctreeStore(asset.string()).stats()); },
-        py::arg("asset_path"), "Statistics of an octree asset, as `lodforge octree info`.");
+        "octree_info", [](const fs::path& asset) { return octree_info_dict(OctreeStore(asset.string())); },
+        py::arg("asset_path"), "Statistics of an octree asset: the keys and values of `lodforge octree info --json`.");
     m.def("extract_octree", &octree_extract_py, py::arg("asset_path"), py::kw_only(), py::arg("level") = py::none(),
           py::arg("camera") = py::none(), py::arg("screen_error") = py::none(),
           py::arg("viewport") = std::pair<int, int>{1920, 1080}, py::arg("culling") = true, py::arg("progress") = py::none(),

@@ -124,6 +124,10 @@ def test_octree_build_and_extract_match_the_cli(tmp_path):
     run_cli("octree", "build", DRAGON, "-o", tmp_path / "cli.lfo", "--max-triangles", "2000", "--threads", "1")
     assert (tmp_path / "py.lfo").read_bytes() == (tmp_path / "cli.lfo").read_bytes()
     assert stats["levels"] >= 2 and stats == {**lodforge.octree_info(str(tmp_path / "py.lfo")), "warnings": stats["warnings"]}
+    # One core description: the dict is the CLI's JSON, key for key and value for value.
+    info = lodforge.octree_info(str(tmp_path / "py.lfo"))
+    assert info == cli_json("octree", "info", tmp_path / "cli.lfo", "--json")
+    assert {"triangles_per_depth", "bounds", "root_cube", "attributes", "max_depth"} <= info.keys()
     level = 1
     m = lodforge.extract_octree(str(tmp_path / "py.lfo"), level=level)
     assert m.triangle_count == stats["triangles_per_level"][level]

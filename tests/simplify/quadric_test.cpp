@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <optional>
 
 using namespace lodforge;
 
@@ -11,6 +12,20 @@ TEST(Quadric, PlaneQuadricIsWeightedSquaredDistance) {
     EXPECT_NEAR(q.evaluate({5, -7, 2}), 0.0, 1e-12);
     EXPECT_NEAR(q.evaluate({1, 1, 5}), 3.0 * 9.0, 1e-9);
     EXPECT_DOUBLE_EQ(q.weight, 3.0);
+}
+
+TEST(Quadric, TriangleQuadricIsItsPlaneWeightedByItsArea) {
+    double area = 0;
+    // Right triangle in the plane y = 1 with legs 2 and 3: area 3.
+    const std::optional<Quadric> q = Quadric::from_triangle({0, 1, 0}, {2, 1, 0}, {0, 1, 3}, area);
+    ASSERT_TRUE(q.has_value());
+    EXPECT_DOUBLE_EQ(area, 3.0);
+    EXPECT_DOUBLE_EQ(q->weight, 3.0);
+    EXPECT_NEAR(q->evaluate({7, 1, -4}), 0.0, 1e-12);
+    EXPECT_NEAR(q->evaluate({0, 3, 0}), 3.0 * 4.0, 1e-9);  // 2 off the plane
+    // Collinear corners: no plane, zero area.
+    EXPECT_FALSE(Quadric::from_triangle({0, 0, 0}, {1, 1, 1}, {2, 2, 2}, area).has_value());
+    EXPECT_EQ(area, 0.0);
 }
 
 TEST(Quadric, OptimalPositionIsThePlanesIntersection) {

@@ -13,6 +13,7 @@
 #include "lodforge/mcoctree/mc_octree.h"
 #include "mcoctree/mc_face_samples.h"
 #include "mcoctree/mc_field.h"
+#include "mcoctree/mc_leaf_flood.h"
 #include "mcoctree/mc_octree_internal.h"
 #include "mcoctree/mc_points.h"
 #include "mcoctree/mc_winding.h"
@@ -45,6 +46,7 @@ using mc::CubeSet;
 using mc::Field;
 using mc::KdTree;
 using mc::KeyMap;
+using mc::LeafFlood;
 using mc::LowestNearest;
 using mc::PointCloud;
 using mc::for_cubes_around;
@@ -55,6 +57,7 @@ using mc::pack;
 using mc::parallel_for;
 using mc::points_of;
 using mc::thread_count;
+using mc::TmpNode;
 
 // Wall, process CPU time (all threads) and the calling thread's CPU time per build stage, for
 // McOctreeBuildResult::stages.
@@ -81,25 +84,6 @@ private:
     std::chrono::steady_clock::time_point wall_;
     std::clock_t cpu_;
     double thread_ = 0;
-};
-
-std::uint64_t morton(std::uint32_t x, std::uint32_t y, std::uint32_t z) {
-    auto spread = [](std::uint64_t v) {
-        v &= 0x1fffff;
-        v = (v | v << 32) & 0x1f00000000ffffULL;
-        v = (v | v << 16) & 0x1f0000ff0000ffULL;
-        v = (v | v << 8) & 0x100f00f00f00f00fULL;
-        v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
-        v = (v | v << 2) & 0x1249249249249249ULL;
-        return v;
-    };
-    return spread(x) | (spread(y) << 1) | (spread(z) << 2);
-}
-
-struct TmpNode {
-    std::uint64_t code;  // Morton code at the node's level
-    std::uint32_t x, y, z;
-    std::uint32_t corners = 0;  // leaves: inside corners (bit c = corner c), known from the flood
 };
 
 }  // namespace
@@ -214,38 +198,18 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
     };
     // Leaf cubes: flood along the surface from the cubes holding points, across every face the surface
     // crosses, so no crossing face of a kept cube leads to an unexamined one (that would be a hole).
-    CubeSet visited(pc.points.size() * 2, grid);
-    std::vector<std::uint64_t> frontier;
+    LeafFlood flood(field, grid, cap, threads, progress, pc.points.size() * 2);
     bool scattering = false;
     auto seeds_and_scatter = [&] {
-        for (const Vec3f& p : pc.points) {
-            const Vec3f r = (p - tree.origin) * static_cast<float>(1.0 / h);
-            std::uint32_t lo[3], hi[3];
-            for (int a = 0; a < 3; ++a) {
-                const auto c = static_cast<std::uint32_t>(std::clamp(r[a], 0.f, float(grid - 1)));
-                // A point on a lattice plane (as the field places that plane: `world`) also seeds the cube
-                // on the plane's other side. The plane's lattice points are on the point's tangent plane
-                // when the input is flat along that axis, so they count as outside (D1), and only the cube
-                // on the normal's back side has a sign change: a flat, axis-aligned cloud got no seed.
-                // The rounding of `r` may put the point in either cube, hence both tests.
-                lo[a] = hi[a] = c;
-                if (c > 0 && field.world(pack(c, c, c))[a] >= p[a]) lo[a] = c - 1;
-                if (c + 1 < grid && field.world(pack(c + 1, c + 1, c + 1))[a] <= p[a]) hi[a] = c + 1;
-            }
-            for (std::uint32_t z = lo[2]; z <= hi[2]; ++z)
-                for (std::uint32_t y = lo[1]; y <= hi[1]; ++y)
-                    for (std::uint32_t x = lo[0]; x <= hi[0]; ++x)
-                        if (visited.insert(pack(x, y, z))) frontier.push_back(pack(x, y, z));
-        }
-        std::sort(frontier.begin(), frontier.end());  // lattice order: the queries' hints are near
+        flood.seed(pc.points, tree.origin, h);
         // The field's blocks number about a quarter to a half of the seeds on the scans (dragon, frag_115 at
         // 64-512): room for half of them at once saves the copies and page faults of growing 1.3 KB per block
         // (only what is written becomes resident).
-        field.reserve_blocks(frontier.size() / 2 + 4096);
+        field.reserve_blocks(flood.frontier.size() / 2 + 4096);
         // Scattering costs per point and per lattice point within the radius, a query per lattice point:
         // within 2 cube sizes (nearly every value the flood asks for) where there are at most 2 points per
         // cube holding points, within 1 (about 60 % of them, in the kd-tree's build time) up to 8.
-        const double per_cube = double(pc.points.size()) / double(frontier.size());
+        const double per_cube = double(pc.points.size()) / double(flood.frontier.size());
         float radius = per_cube <= 2 ? 2.f : per_cube <= 8 ? 1.f : 0.f;
         if (params.field != McFieldMethod::automatic) radius = params.field == McFieldMethod::scatter ? 2.f : 0.f;
         scattering = radius > 0;
@@ -268,113 +232,10 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
                                 " points have no usable normal (zero, no face uses them, or their faces cancel: the "
                                 "same triangle with both windings, or folded back) and were skipped");
     clock.mark(scattering ? "points, kd-tree + scatter" : "points, kd-tree");
-    std::vector<TmpNode> leaves;
-    std::vector<std::uint64_t> corner_keys, next;
-    std::size_t round = 0;
-    // A frontier cube examined on the worker threads: its inside corners, the faces to flood across
-    // (bit f: face f = 2 * axis + side), and what became of it.
-    struct CubeState {
-        enum : std::uint8_t { none, far, kept, serial };
-        std::uint8_t inside, faces, state;
-    };
-    std::vector<CubeState> cube_states;
-    // The neighbour of cube `k` across face f (inside the grid: the caller checks).
-    auto face_neighbour = [](std::uint64_t k, int f) {
-        const int a = f / 2;
-        const std::uint64_t step = std::uint64_t(1) << (17 * a);
-        return f & 1 ? k + step : k - step;
-    };
-    // The faces of cube `k` with corner signs `inside` that the surface crosses towards a neighbour
-    // inside the grid for which `wanted(neighbour)` holds.
-    auto crossed_faces = [&](std::uint64_t k, std::uint32_t inside, auto&& wanted) {
-        std::uint8_t faces = 0;
-        for (int f = 0; f < 6; ++f) {
-            const int a = f / 2, side = f & 1;
-            std::uint32_t fm = 0, count = 0;
-            for (int c = 0; c < 8; ++c)
-                if (((c >> a) & 1) == side) fm |= ((inside >> c) & 1u) << count++;
-            if (fm == 0 || fm == 15) continue;  // the surface does not cross this face
-            const auto coord = std::int64_t((k >> (17 * a)) & mc::max_lattice) + (side ? 1 : -1);
-            if (coord < 0 || coord >= std::int64_t(grid)) continue;
-            if (wanted(face_neighbour(k, f))) faces = static_cast<std::uint8_t>(faces | 1u << f);
-        }
-        return faces;
-    };
-    auto run_flood = [&] {
-        while (!frontier.empty()) {
-            check_progress(progress, 0.05 + 0.4 * (1.0 - 1.0 / double(++round + 1)), "mcoctree: leaf cubes");
-            corner_keys.clear();
-            for (std::uint64_t k : frontier)
-                for (int c = 0; c < 8; ++c)
-                    corner_keys.push_back(k + pack(c & 1, (c >> 1) & 1, (c >> 2) & 1));
-            field.evaluate(corner_keys);
-            // Each cube's corner signs and the faces the surface crosses towards cubes not examined before
-            // this round, on every thread (reads only); then, in frontier order, the leaves and the new
-            // frontier. A neighbour examined before the round would not be inserted anyway, so leaving it
-            // out changes nothing but the work.
-            cube_states.resize(frontier.size());
-            parallel_for(frontier.size(), threads, [&](std::size_t b, std::size_t e) {
-                std::vector<Blocks::Cached> field_cache(Blocks::cache_size), visited_cache(Blocks::cache_size);
-                for (std::size_t i = b; i < e; ++i) {
-                    const std::uint64_t k = frontier[i];
-                    CubeState& st = cube_states[i];
-                    st = {0, 0, 0};
-                    float far = 0;
-                    for (int c = 0; c < 8; ++c) {
-                        float d = 0;
-                        if (!field.peek_dist(k + pack(c & 1, (c >> 1) & 1, (c >> 2) & 1), field_cache.data(), d)) {
-                            st.state = CubeState::serial;
-                            break;
-                        }
-                        if (d < 0) st.inside = static_cast<std::uint8_t>(st.inside | 1u << c);
-                        far = std::max(far, std::fabs(d));
-                    }
-                    if (st.state == CubeState::serial) continue;
-                    if (st.inside == 0 || st.inside == 255) continue;
-                    if (far > cap) {
-                        st.state = CubeState::far;
-                        continue;
-                    }
-                    st.state = CubeState::kept;
-                    st.faces = crossed_faces(k, st.inside, [&](std::uint64_t nk) {
-                        return !visited.contains(nk, visited_cache.data());
-                    });
-                }
-            });
-            next.clear();
-            for (std::size_t i = 0; i < frontier.size(); ++i) {
-                const std::uint64_t k = frontier[i];
-                CubeState st = cube_states[i];
-                if (st.state == CubeState::serial) {  // a corner not evaluated (none, in practice): as before
-                    st = {0, 0, CubeState::none};
-                    float far = 0;
-                    for (int c = 0; c < 8; ++c) {
-                        const float d = field.dist(field.index(k + pack(c & 1, (c >> 1) & 1, (c >> 2) & 1)));
-                        if (d < 0) st.inside = static_cast<std::uint8_t>(st.inside | 1u << c);
-                        far = std::max(far, std::fabs(d));
-                    }
-                    if (st.inside != 0 && st.inside != 255) {
-                        st.state = far > cap ? CubeState::far : CubeState::kept;
-                        st.faces = crossed_faces(k, st.inside, [](std::uint64_t) { return true; });
-                    }
-                }
-                if (st.state == CubeState::far) ++result.dropped_far_cubes;
-                if (st.state != CubeState::kept) continue;
-                const auto x = std::uint32_t(k & mc::max_lattice), y = std::uint32_t((k >> 17) & mc::max_lattice),
-                           z = std::uint32_t((k >> 34) & mc::max_lattice);
-                leaves.push_back({morton(x, y, z), x, y, z, st.inside});
-                for (int f = 0; f < 6; ++f) {
-                    if (!(st.faces & (1u << f))) continue;
-                    const std::uint64_t nk = face_neighbour(k, f);
-                    if (visited.insert(nk)) next.push_back(nk);
-                }
-            }
-            frontier.swap(next);
-        }
-    };
-    run_flood();
+    std::vector<std::uint64_t> corner_keys;
+    flood.run();
     clock.mark("flood");
-    if (leaves.empty())
+    if (flood.leaves.empty())
         throw_error(Error::Kind::invalid, input_name,
                     "no surface: the signed distance never changes sign at cube size " + std::to_string(h) +
                         " (a part thinner than a cube has no inside lattice point: try a finer --resolution or "
@@ -392,7 +253,7 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
     {
         const auto& subs = mc::sub_edges();
         present.reserve(levels + 1);
-        for (std::uint32_t l = 0; l <= levels; ++l) present.emplace_back(l == 0 ? 16 : leaves.size() >> (2 * l));
+        for (std::uint32_t l = 0; l <= levels; ++l) present.emplace_back(l == 0 ? 16 : flood.leaves.size() >> (2 * l));
         std::vector<std::pair<std::uint32_t, std::uint64_t>> fresh;  // new coarse nodes: (level, packed x, y, z)
         std::vector<std::uint32_t> fresh_inside;  // their sample masks
         std::vector<std::uint8_t> fresh_edges;    // their crossings' leaf edges found in parallel (255: none)
@@ -405,11 +266,11 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
                         (z << l) + std::uint32_t(s / 9) * half);
         };
         std::size_t seen = 0;
-        while (seen < leaves.size()) {
+        while (seen < flood.leaves.size()) {
             fresh.clear();
             sample_keys.clear();
-            for (; seen < leaves.size(); ++seen) {
-                const TmpNode& leaf = leaves[seen];
+            for (; seen < flood.leaves.size(); ++seen) {
+                const TmpNode& leaf = flood.leaves[seen];
                 for (std::uint32_t l = 1; l <= levels; ++l) {
                     const std::uint64_t key = pack(leaf.x >> l, leaf.y >> l, leaf.z >> l);
                     if (present[l].find(key) != none) break;
@@ -470,7 +331,7 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
                             bool examined = known;
                             if (examined)
                                 for_cubes_around(a, se.axis, [&](std::uint64_t cube) {
-                                    examined = examined && visited.contains(cube, visited_cache.data());
+                                    examined = examined && flood.visited.contains(cube, visited_cache.data());
                                 });
                             if (known && !examined) out.push_back(a | std::uint64_t(se.axis) << 51);
                         }
@@ -484,10 +345,10 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
                     }
                 }
             });
-            frontier.clear();
+            flood.frontier.clear();
             auto flood_around = [&](std::uint64_t a, int axis) {
                 for_cubes_around(a, axis, [&](std::uint64_t cube) {
-                    if (visited.insert(cube)) frontier.push_back(cube);
+                    flood.add(cube);
                 });
             };
             for (std::size_t range = 0; range < ranges; ++range) {
@@ -514,7 +375,7 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
                     }
                 }
             }
-            run_flood();
+            flood.run();
         }
     }
 
@@ -526,14 +387,14 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
     // cubes outnumber points by the sampling's spacing (Spot's control cage at 64, 188 vertices and 15,782
     // samples for 24,829 cubes, was warned about). A scan with a few long faces is still judged by its
     // vertices (the bunny at 100).
-    if (leaves.size() > tree.input_points && !density_warned && result.face_samples <= tree.input_points) {
+    if (flood.leaves.size() > tree.input_points && !density_warned && result.face_samples <= tree.input_points) {
         char buf[256];
         std::snprintf(buf, sizeof buf,
                       "%zu surface cubes for %zu points: the resolution exceeds the data density, expect holes and "
                       "bumps (a resolution near %zu or lower fits the data)",
-                      leaves.size(), tree.input_points,
+                      flood.leaves.size(), tree.input_points,
                       static_cast<std::size_t>(std::max(1.0, std::floor(longest / h * std::sqrt(double(tree.input_points) /
-                                                                                                 double(leaves.size()))))));
+                                                                                                 double(flood.leaves.size()))))));
         tree.warnings.push_back(buf);
     }
     // An open input: the zero set runs on past the input's border (an open scan, or a hole too wide for
@@ -542,7 +403,7 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
     // input: say where, and what ends the surface near the border instead.
     if (params.band == 0) {
         std::uint32_t sides = 0;  // bit 2 * axis + (1 for the high side)
-        for (const TmpNode& leaf : leaves) {
+        for (const TmpNode& leaf : flood.leaves) {
             const std::uint32_t c[3] = {leaf.x, leaf.y, leaf.z};
             for (int a = 0; a < 3; ++a) {
                 if (c[a] == 0) sides |= 1u << (2 * a);
@@ -639,12 +500,12 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
         tree.normals.clear();
         tree.colors.clear();
         vertex_edge.clear();
-        result.leaf_cubes = leaves.size();
+        result.leaf_cubes = flood.leaves.size();
 
         // Levels bottom-up: each level sorted by Morton code, so a node's children are contiguous.
         check_progress(progress, 0.5, "mcoctree: octree");
         lv.assign(levels + 1, {});
-        lv[0] = leaves;
+        lv[0] = flood.leaves;
         std::sort(lv[0].begin(), lv[0].end(), [](const TmpNode& a, const TmpNode& b) { return a.code < b.code; });
         for (std::uint32_t l = 1; l <= levels; ++l) {
             for (const TmpNode& c : lv[l - 1]) {
@@ -893,7 +754,7 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
                 make_vertex(v, ia, field.index(b_of(v)));
             }
         clock.mark("vertices, neighbours");
-        frontier.clear();
+        flood.frontier.clear();
         // Cubes around a vertex's leaf edge not examined yet (none, in practice; both threads), then
         // added in the order the vertices were first met from the last node to the first.
         std::atomic<bool> unexamined{false};
@@ -902,7 +763,7 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
             bool found = false;
             for (std::size_t v = b; v < e && !found; ++v)
                 for_cubes_around(vertex_edge[v] & ((std::uint64_t(1) << 51) - 1), int(vertex_edge[v] >> 51),
-                                 [&](std::uint64_t cube) { found = found || !visited.contains(cube, cache.data()); });
+                                 [&](std::uint64_t cube) { found = found || !flood.visited.contains(cube, cache.data()); });
             if (found) unexamined = true;
         });
         if (unexamined) {
@@ -912,16 +773,16 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
                 met[v] = 1;
                 const std::uint64_t ek = vertex_edge[v];
                 for_cubes_around(ek & ((std::uint64_t(1) << 51) - 1), int(ek >> 51), [&](std::uint64_t cube) {
-                    if (visited.insert(cube)) frontier.push_back(cube);
+                    flood.add(cube);
                 });
             }
         }
-        if (frontier.empty() || pass >= 32) break;
+        if (flood.frontier.empty() || pass >= 32) break;
         // With a band, the cube diagonal to a kept one across a crossing edge may sit behind a dropped
         // face neighbour and was never examined; it is usually dropped too, and then the tree stands.
-        const std::size_t kept = leaves.size();
-        run_flood();
-        if (leaves.size() == kept) break;
+        const std::size_t kept = flood.leaves.size();
+        flood.run();
+        if (flood.leaves.size() == kept) break;
     }
 
     clock.mark("check");
@@ -955,6 +816,7 @@ McOctreeBuildResult build_mc_octree(const Mesh& input, const McOctreeParams& par
     result.hidden_cuts = mc::number_mc_octree(tree, maps, threads, progress);
     clock.mark("numbering");
 
+    result.dropped_far_cubes = flood.dropped_far_cubes;
     result.field_samples = field.size() + field.scattered();
     result.scattered_samples = field.scattered();
     result.warnings = tree.warnings;

@@ -488,13 +488,10 @@ void NodeQuadric::add_triangle(const QuadricFrame& frame, const float* v0, const
         position_sum[2] += p.z;
     }
     position_count += 3;
-    const Vec3d e1{p1.x - p0.x, p1.y - p0.y, p1.z - p0.z}, e2{p2.x - p0.x, p2.y - p0.y, p2.z - p0.z};
-    Vec3d n{e1.y * e2.z - e1.z * e2.y, e1.z * e2.x - e1.x * e2.z, e1.x * e2.y - e1.y * e2.x};
-    const double len = std::sqrt(n.x * n.x + n.y * n.y + n.z * n.z);
-    if (!(len > 0)) return;
-    n = {n.x / len, n.y / len, n.z / len};
-    const double area = 0.5 * len;
-    geometry += Quadric::from_plane(n, -(n.x * p0.x + n.y * p0.y + n.z * p0.z), area);
+    double area = 0;
+    const std::optional<Quadric> plane = Quadric::from_triangle(p0, p1, p2, area);
+    if (!plane) return;
+    geometry += *plane;
     const std::size_t m = frame.attribute_dimension();
     if (m == 0) return;
     double s[3][9];

@@ -101,16 +101,9 @@ OocClusterResult ooc_cluster_soup(const std::string& soup_path, const OocCluster
                 }
                 p[k] = {(v[k][0] - origin[0]) * inv, (v[k][1] - origin[1]) * inv, (v[k][2] - origin[2]) * inv};
             }
-            const Vec3d e1{p[1].x - p[0].x, p[1].y - p[0].y, p[1].z - p[0].z};
-            const Vec3d e2{p[2].x - p[0].x, p[2].y - p[0].y, p[2].z - p[0].z};
-            Vec3d nn{e1.y * e2.z - e1.z * e2.y, e1.z * e2.x - e1.x * e2.z, e1.x * e2.y - e1.y * e2.x};
-            const double len = std::sqrt(nn.x * nn.x + nn.y * nn.y + nn.z * nn.z);
-            const double area = 0.5 * len;
-            if (len > 0) {
-                nn = {nn.x / len, nn.y / len, nn.z / len};
-                const Quadric q = Quadric::from_plane(nn, -(nn.x * p[0].x + nn.y * p[0].y + nn.z * p[0].z), area);
-                for (int k = 0; k < 3; ++k) cells[id[k]].q += q;
-            }
+            double area = 0;
+            if (const std::optional<Quadric> q = Quadric::from_triangle(p[0], p[1], p[2], area))
+                for (int k = 0; k < 3; ++k) cells[id[k]].q += *q;
             const double w = area > 0 ? area : 1e-30;
             for (int k = 0; k < 3; ++k) {
                 Cell& c = cells[id[k]];

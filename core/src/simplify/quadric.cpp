@@ -36,6 +36,16 @@ Quadric Quadric::from_plane(Vec3d n, double d, double weight) {
     return q;
 }
 
+std::optional<Quadric> Quadric::from_triangle(Vec3d p0, Vec3d p1, Vec3d p2, double& area) {
+    const Vec3d e1{p1.x - p0.x, p1.y - p0.y, p1.z - p0.z}, e2{p2.x - p0.x, p2.y - p0.y, p2.z - p0.z};
+    Vec3d n{e1.y * e2.z - e1.z * e2.y, e1.z * e2.x - e1.x * e2.z, e1.x * e2.y - e1.y * e2.x};
+    const double len = std::sqrt(n.x * n.x + n.y * n.y + n.z * n.z);
+    area = 0.5 * len;
+    if (!(len > 0)) return std::nullopt;
+    n = {n.x / len, n.y / len, n.z / len};
+    return from_plane(n, -(n.x * p0.x + n.y * p0.y + n.z * p0.z), area);
+}
+
 AttributeQuadrics::AttributeQuadrics(std::size_t count, std::size_t dimension)
     : m_(dimension), data_(count * (11 + 4 * dimension), 0.0) {}
 

@@ -339,14 +339,10 @@ void Clusterer::build(const Grid& g, ClusterResult& out) {
         if ((f & 0xffff) == 0) check_progress(progress_, 0.6 + 0.3 * static_cast<double>(f) / faces, "cluster: quadrics");
         const std::uint32_t* i = &m.indices[3 * f];
         const Vec3d p0 = norm(m.positions[i[0]]), p1 = norm(m.positions[i[1]]), p2 = norm(m.positions[i[2]]);
-        const Vec3d e1{p1.x - p0.x, p1.y - p0.y, p1.z - p0.z}, e2{p2.x - p0.x, p2.y - p0.y, p2.z - p0.z};
-        Vec3d nn{e1.y * e2.z - e1.z * e2.y, e1.z * e2.x - e1.x * e2.z, e1.x * e2.y - e1.y * e2.x};
-        const double len = std::sqrt(nn.x * nn.x + nn.y * nn.y + nn.z * nn.z);
-        if (!(len > 0)) continue;
-        nn = {nn.x / len, nn.y / len, nn.z / len};
-        const double area = 0.5 * len;
-        const Quadric q = Quadric::from_plane(nn, -(nn.x * p0.x + nn.y * p0.y + nn.z * p0.z), area);
-        for (int k = 0; k < 3; ++k) geo[g.cell_of[i[k]]] += q;
+        double area = 0;
+        const std::optional<Quadric> q = Quadric::from_triangle(p0, p1, p2, area);
+        if (!q) continue;
+        for (int k = 0; k < 3; ++k) geo[g.cell_of[i[k]]] += *q;
         if (dim) {
             attributes_of(i[0], s0.data());
             attributes_of(i[1], s1.data());

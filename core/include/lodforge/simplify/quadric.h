@@ -11,6 +11,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 namespace lodforge {
@@ -29,6 +30,9 @@ struct Quadric {
 
     // weight * (n·p + d)² for a unit normal n.
     static Quadric from_plane(Vec3d n, double d, double weight);
+    // The plane of triangle p0 p1 p2 weighted by its area (GH97's face quadric); `area` receives the
+    // area. Empty when the triangle has no area (no normal).
+    static std::optional<Quadric> from_triangle(Vec3d p0, Vec3d p1, Vec3d p2, double& area);
     // Inline: the simplifier's costing and setup call these millions of times.
     Quadric& operator+=(const Quadric& q) {
         a00 += q.a00; a01 += q.a01; a02 += q.a02; a11 += q.a11; a12 += q.a12; a22 += q.a22;
