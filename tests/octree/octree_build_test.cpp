@@ -629,7 +629,7 @@ TEST(OctreeBuild, CorruptInputAndAssetStopWithAClearError) {
     std::ofstream(cut, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size() - 100));
     EXPECT_THROW(OctreeStore{cut}, Error);
     std::vector<char> flipped = bytes;
-    flipped[128 + 8] ^= 0x7f;  // the first node chunk's triangle count
+    flipped[16 + 8] ^= 0x7f;  // the first node chunk's triangle count (after the 16-byte lead)
     const std::string damaged = dir.file("damaged.lfo");
     std::ofstream(damaged, std::ios::binary).write(flipped.data(), static_cast<std::streamsize>(flipped.size()));
     OctreeStore store(damaged);
@@ -649,7 +649,7 @@ TEST(OctreeBuild, CorruptInputAndAssetStopWithAClearError) {
 }
 
 // Before version 2 the asset had no checksum: 29 of 38 byte-flipped assets passed `octree info` and
-// 24 `extract`. Now a flipped byte anywhere (header, chunks, table, footer) stops the open or the load.
+// 24 `extract`. Now a flipped byte anywhere (lead, chunks, index, footer) stops the open or the load.
 TEST(OctreeBuild, EveryFlippedByteIsDetected) {
     ScratchDir dir("octree-flip");
     OctreeBuildParams p;
@@ -659,8 +659,14 @@ TEST(OctreeBuild, EveryFlippedByteIsDetected) {
     const std::vector<char> bytes((std::istreambuf_iterator<char>(in)), {});
     ASSERT_GT(bytes.size(), 1000u);
     std::vector<std::size_t> positions;
-    for (std::size_t i = 0; i < 128; i += 3) positions.push_back(i);  // the header, densely
-    for (std::size_t i = 128; i < bytes.size(); i += bytes.size() / 150) positions.push_back(i);
+    for (std::size_t i = 0; i < 16; ++i) positions.push_back(i);  // the lead: magic, version, byte order
+    for (std::size_t i = 16; i < bytes.size(); i += bytes.size() / 150) positions.push_back(i);
+    // The index (container header, header fields, node table) densely: the footer says where it starts.
+    std::uint64_t index_offset = 0;
+    std::memcpy(&index_offset, bytes.data() + bytes.size() - 16, 8);
+    ASSERT_LT(index_offset, bytes.size() - 16);
+    for (std::size_t i = index_offset; i < index_offset + 200 && i < bytes.size() - 16; ++i) positions.push_back(i);
+    for (std::size_t i = index_offset + 200; i < bytes.size() - 16; i += 7) positions.push_back(i);
     for (std::size_t i = bytes.size() - 16; i < bytes.size(); ++i) positions.push_back(i);  // the footer
     const std::string damaged = dir.file("damaged.lfo");
     std::size_t detected = 0;
@@ -686,23 +692,26 @@ TEST(OctreeBuild, EveryFlippedByteIsDetected) {
     for (std::uint32_t i = 0; i < good.nodes().size(); ++i) good.load(i, false);
 }
 
-TEST(OctreeBuild, VersionOneAssetIsRefusedWithARebuildHint) {
+// Versions 1 (no checksums) and 2 (header and table before the container index) are refused with a
+// message that says to rebuild; a newer version is refused as unknown.
+TEST(OctreeBuild, OlderAssetVersionsAreRefusedWithARebuildHint) {
     ScratchDir dir("octree-v1");
     build_octree(shared_data("color-open3d-small/color.ply"), dir.file("a.lfo"));
-    std::fstream f(dir.file("a.lfo"), std::ios::in | std::ios::out | std::ios::binary);
-    const std::uint32_t one = 1;
-    f.seekp(8);
-    f.write(reinterpret_cast<const char*>(&one), 4);
-    f.close();
-    try {
-        OctreeStore store(dir.file("a.lfo"));
-        FAIL() << "a version-1 asset opened";
-    } catch (const Error& e) {
-        EXPECT_EQ(e.kind(), Error::Kind::unsupported);
-        const std::string m = e.what();
-        EXPECT_NE(m.find("a.lfo"), std::string::npos) << m;
-        EXPECT_NE(m.find("version 1"), std::string::npos) << m;
-        EXPECT_NE(m.find("rebuild it"), std::string::npos) << m;
+    for (const std::uint32_t version : {1u, 2u, 4u}) {
+        std::fstream f(dir.file("a.lfo"), std::ios::in | std::ios::out | std::ios::binary);
+        f.seekp(8);
+        f.write(reinterpret_cast<const char*>(&version), 4);
+        f.close();
+        try {
+            OctreeStore store(dir.file("a.lfo"));
+            FAIL() << "a version-" << version << " asset opened";
+        } catch (const Error& e) {
+            EXPECT_EQ(e.kind(), Error::Kind::unsupported);
+            const std::string m = e.what();
+            EXPECT_NE(m.find("a.lfo"), std::string::npos) << m;
+            EXPECT_NE(m.find("version " + std::to_string(version)), std::string::npos) << m;
+            EXPECT_EQ(m.find("rebuild it") != std::string::npos, version < 3) << m;
+        }
     }
 }
 
