@@ -401,6 +401,48 @@ TEST(LodPack, ExistingOutputDirectoryKeepsOtherFilesAndSurvivesAFailure) {
 
 }  // namespace
 
+// The octree's levels draw every triangle with the first material and UV set 0 (the soup carries no
+// per-face material ids or second set): a pack of a multi-material or two-set mesh says so, one of a
+// single material and set does not.
+TEST(LodPack, OctreeSaysWhichMaterialsAndUvSetsItDrops) {
+    Preset preset;
+    preset.method = LodMethod::octree;
+    preset.levels = {{LodTarget::Kind::ratio, 0.5}};
+    preset.octree.max_triangles_per_node = 2000;
+    PresetLevelsParams unmeasured;
+    unmeasured.measure = false;
+    const auto notes_with = [](const PresetLevels& r, const char* word) {
+        return std::count_if(r.notes.begin(), r.notes.end(),
+                             [&](const std::string& n) { return n.find(word) != std::string::npos; });
+    };
+
+    const Mesh truck = read_mesh(shared_data("tex-cesium-milk-truck/CesiumMilkTruck.gltf"));
+    ASSERT_GT(truck.materials.size(), 1u);
+    unmeasured.source_path = "CesiumMilkTruck.gltf";
+    const PresetLevels t = build_preset_levels(truck, preset, unmeasured);
+    ASSERT_EQ(t.levels.size(), 1u);
+    EXPECT_TRUE(t.levels[0].face_materials.empty());  // what the note is about
+    EXPECT_EQ(notes_with(t, "per-face materials"), 1);
+
+    Mesh sphere = test::icosphere(3);
+    sphere.texcoords.assign(2, std::vector<Vec2f>(sphere.vertex_count()));
+    for (std::size_t i = 0; i < sphere.vertex_count(); ++i) {
+        sphere.texcoords[0][i] = {sphere.positions[i].x, sphere.positions[i].y};
+        sphere.texcoords[1][i] = {sphere.positions[i].y, sphere.positions[i].z};
+    }
+    unmeasured.source_path = "sphere.glb";
+    const PresetLevels s = build_preset_levels(sphere, preset, unmeasured);
+    ASSERT_EQ(s.levels.size(), 1u);
+    EXPECT_EQ(s.levels[0].texcoords.size(), 1u);
+    EXPECT_EQ(notes_with(s, "texture coordinate set 0 only"), 1);
+    EXPECT_EQ(notes_with(s, "per-face materials"), 0);
+
+    const Mesh spot = read_mesh(shared_data("tex-spot/spot_triangulated.obj"));
+    unmeasured.source_path = "spot.obj";
+    const PresetLevels one = build_preset_levels(spot, preset, unmeasured);
+    EXPECT_EQ(notes_with(one, "per-face materials") + notes_with(one, "texture coordinate set 0 only"), 0);
+}
+
 // The structure methods hand back their cells for the studio's overlay: every octree node with the
 // octree's statistics, the MC octree's finest cut, nothing for LODStrips.
 TEST(LodPack, StructureMethodsReturnTheirCells) {

@@ -282,6 +282,14 @@ void octree_levels(const Mesh& mesh, const Preset& preset, const PresetLevelsPar
         throw without_temporary_names(e, params.source_path);  // the asset is a temporary too
     }
     for (const std::string& w : built.warnings) out.notes.push_back(w);
+    // The out-of-core soup carries one UV set and no per-face material ids (docs/pack.md): what the
+    // levels lose is said, not left for the user to find in the pack.
+    if (std::any_of(mesh.face_materials.begin(), mesh.face_materials.end(), [](std::uint32_t m) { return m != 0; }))
+        out.notes.push_back("the octree does not carry per-face materials yet: every triangle of its levels uses the "
+                            "first material");
+    if (mesh.texcoords.size() > 1)
+        out.notes.push_back("the octree carries texture coordinate set 0 only: its levels drop the other " +
+                            std::to_string(mesh.texcoords.size() - 1) + " set(s)");
 
     OctreeStore store(asset);
     out.octree_stats = store.stats();
