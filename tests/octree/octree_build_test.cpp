@@ -7,6 +7,7 @@
 #include "lodforge/simplify/simplify.h"
 
 #include "octree_test_util.h"
+#include "support/icosphere.h"
 #include "support/test_paths.h"
 
 #include <gtest/gtest.h>
@@ -342,6 +343,12 @@ TEST(OctreeBuild, TexcoordsSurvive) {
     ASSERT_TRUE(d.has_texcoord_error);
     // Seams tear (docs/octree.md), so the UV error is real, but most of the surface keeps its mapping.
     EXPECT_LT(d.texcoord_rms, 0.2);
+}
+
+// The materials of every level: each triangle's, and which ones occur.
+std::set<std::uint32_t> level_materials(const Mesh& m) {
+    EXPECT_EQ(m.face_materials.size(), m.triangle_count());
+    return {m.face_materials.begin(), m.face_materials.end()};
 }
 
 // Border edges counted after welding equal positions: what a viewer sees as a crack.
@@ -846,6 +853,60 @@ TEST(OctreeBuild, FansStayNearTheSurfaceTheyReplace) {
                     level, lm.triangle_count(), 100 * octree.test_to_reference.max / octree.diagonal,
                     100 * octree.reference_to_test.max / octree.diagonal, 100 * reference / octree.diagonal);
         EXPECT_LE(octree.test_to_reference.max, 8 * reference) << "level " << level;
+    }
+}
+
+}  // namespace
+}  // namespace lodforge
+
+namespace lodforge {
+namespace {
+
+// Per-face materials (a PLY face `texnumber`) ride in the soup records and split vertices at material
+// borders: every level of the truck keeps each of its materials, and a sphere painted in two halves
+// keeps both halves, its border crack-free, at every level and at mixed levels.
+TEST(OctreeBuild, EveryMaterialSurvivesAtEveryLevel) {
+    ScratchDir dir("octree-materials");
+    WriteOptions w;
+    w.ply_face_materials = true;
+
+    const Mesh truck = read_mesh(shared_data("tex-cesium-milk-truck/CesiumMilkTruck.gltf"));
+    const std::set<std::uint32_t> truck_materials(truck.face_materials.begin(), truck.face_materials.end());
+    ASSERT_GT(truck_materials.size(), 1u);
+    write_mesh(truck, dir.file("truck.ply"), w);
+    OctreeBuildParams p;
+    p.max_triangles = 500;
+    build_octree(dir.file("truck.ply"), dir.file("truck.lfo"), p);
+    OctreeStore store(dir.file("truck.lfo"));
+    ASSERT_TRUE(store.header().layout.material);
+    ASSERT_GE(store.level_count(), 3);
+    for (int level = 0; level < store.level_count(); ++level) {
+        const Mesh m = extract_mesh(store, level_cut(store, level));
+        EXPECT_EQ(level_materials(m), truck_materials) << "level " << level;
+        ASSERT_EQ(m.texcoords.size(), 1u);
+    }
+    const std::size_t coarsest = extract_mesh(store, level_cut(store, store.level_count() - 1)).triangle_count();
+    EXPECT_LT(coarsest, truck.triangle_count());  // the levels do simplify
+
+    Mesh sphere = test::icosphere(5);
+    sphere.face_materials.resize(sphere.triangle_count());
+    for (std::size_t t = 0; t < sphere.triangle_count(); ++t)
+        sphere.face_materials[t] = sphere.positions[sphere.indices[3 * t]].z > 0 ? 1u : 0u;
+    write_mesh(sphere, dir.file("sphere.ply"), w);
+    p.max_triangles = 300;
+    build_octree(dir.file("sphere.ply"), dir.file("sphere.lfo"), p);
+    OctreeStore s(dir.file("sphere.lfo"));
+    ASSERT_GE(s.level_count(), 3);
+    for (int level = 0; level < s.level_count(); ++level) {
+        const Mesh m = extract_mesh(s, level_cut(s, level));
+        EXPECT_EQ(level_materials(m), (std::set<std::uint32_t>{0, 1})) << "level " << level;
+        EXPECT_EQ(welded_border_edges(m), 0u) << "level " << level;
+    }
+    std::mt19937 rng(7);
+    for (int i = 0; i < 4; ++i) {
+        const Mesh m = extract_mesh(s, random_cut(s, rng));
+        EXPECT_EQ(level_materials(m), (std::set<std::uint32_t>{0, 1}));
+        EXPECT_EQ(welded_border_edges(m), 0u);
     }
 }
 

@@ -190,6 +190,12 @@ private:
         const std::uint64_t h = ooc::mix64(std::uint64_t{bits[0]} << 32 | bits[1]) & 0x7fffffffu;
         return h << 32 | vid;
     }
+    // Per-face materials split a vertex the same way: the material's hash goes into the same bits, so a
+    // material border is kept at every level like a UV seam.
+    static std::uint64_t material_key(std::uint64_t key, float material) {
+        const std::uint64_t h = ooc::mix64(static_cast<std::uint64_t>(material) + 0x9e3779b97f4a7c15ull) & 0x7fffffffu;
+        return ((key >> 32 ^ h) & 0x7fffffffu) << 32 | (key & 0xffffffffu);
+    }
     int octant(const std::byte* tri, const double mid[3]) const { return ooc::centroid_octant(tri, corner_, mid); }
     void cell_mid(std::uint32_t id, double mid[3]) const {
         const OctreeNode& d = nodes_[id];
@@ -615,7 +621,8 @@ private:
                 std::uint32_t vid;
                 std::memcpy(&vid, c, 4);
                 v[k] = reinterpret_cast<const float*>(c + 4);
-                const std::uint64_t key = wedge_ ? wedge_key(vid, v[k] + uv_at_) : vid;
+                std::uint64_t key = wedge_ ? wedge_key(vid, v[k] + uv_at_) : vid;
+                if (layout_.material) key = material_key(key, v[k][layout_.material_offset()]);
                 bool inserted = false;
                 std::uint32_t& local = map.find_or_insert(key, static_cast<std::uint32_t>(raw.keys.size()), inserted);
                 if (inserted) {

@@ -103,7 +103,7 @@ OctreeStore::OctreeStore(const std::string& path, std::size_t cache_bytes) : pat
     binary::Reader table(sections[1].data, sections[1].size, path, index_offset + sections[1].offset, "section NODE");
     header_.version = version;
     const auto layout = head.get<std::uint32_t>("layout flags");
-    if (layout > 15u) head.fail("unknown layout flags " + std::to_string(layout));
+    if (layout > 31u) head.fail("unknown layout flags " + std::to_string(layout));
     header_.layout = VertexLayout::from_flags(layout);
     header_.wedge_texcoords = (layout & 8u) != 0;
     header_.input_vertices = head.get<std::uint64_t>("input vertices");
@@ -337,6 +337,10 @@ Mesh extract_mesh(OctreeStore& store, const Cut& cut, Progress* progress, std::v
             local[i] = v;
         }
         for (std::uint32_t i : m->indices) out.indices.push_back(local[i]);
+        // Every corner of a triangle carries its face's material (a vertex key includes it).
+        if (L.material)
+            for (std::size_t t = 0; t < m->indices.size(); t += 3)
+                out.face_materials.push_back(static_cast<std::uint32_t>(m->vertex(m->indices[t])[L.material_offset()]));
     }
     check_progress(progress, 1.0, "octree: extracting");
     return out;

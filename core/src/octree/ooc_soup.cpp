@@ -764,7 +764,7 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
     SoupResult r;
     r.path = soup_path;
     r.wedge_texcoords = reader.has_corner_texcoords();
-    r.layout = {attrs.normals, attrs.colors, attrs.texcoords || r.wedge_texcoords};
+    r.layout = {attrs.normals, attrs.colors, attrs.texcoords || r.wedge_texcoords, reader.has_texnumbers()};
     r.vertices = reader.vertex_count();
     if (r.vertices == 0) throw_error(Error::Kind::invalid, ply_path, "no vertices");
     if (r.vertices >= 0xffffffffull)
@@ -793,6 +793,12 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
             record[uv_at + 1] = uv.y;
         }
     };
+    // A face's material index goes into every corner record (a float, exact below 2^24).
+    const std::size_t material_at = L.material_offset();
+    auto set_material = [&](float* record, std::int64_t texnumber) {
+        record[material_at] = static_cast<float>(std::clamp<std::int64_t>(texnumber, 0, std::int64_t{1} << 24));
+    };
+    const bool per_corner = r.wedge_texcoords || L.material;  // corner records differ from the vertex's
 
     const std::uint64_t expected_edges = 3 * std::max<std::uint64_t>(header.elements[face_element].count, 1);
     const std::string edges_path = (fs::path(soup_path).parent_path() / "edges.tmp").string();
@@ -857,16 +863,18 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
                     std::memcpy(at, &id, 4);
                     std::memcpy(at + 4, &vertices[static_cast<std::size_t>(id) * floats], vrec);
                     if (r.wedge_texcoords) set_wedge(reinterpret_cast<float*>(at + 4), fc.corner_texcoords[c]);
+                    if (L.material) set_material(reinterpret_cast<float*>(at + 4), fc.texnumbers[c / 3]);
                     used.add(reinterpret_cast<const float*>(at + 4));
                 }
                 const std::size_t at = octant_of.size();
                 octant_of.resize(at + n);
                 octant_files->add(tris.data(), n, octant_of.data() + at);
-            } else if (r.wedge_texcoords) {
+            } else if (per_corner) {
                 for (std::size_t c = 0; c < fc.indices.size(); ++c) {
                     const std::uint32_t id = fc.indices[c];
                     std::memcpy(wedge.data(), &vertices[static_cast<std::size_t>(id) * floats], vrec);
-                    set_wedge(wedge.data(), fc.corner_texcoords[c]);
+                    if (r.wedge_texcoords) set_wedge(wedge.data(), fc.corner_texcoords[c]);
+                    if (L.material) set_material(wedge.data(), fc.texnumbers[c / 3]);
                     soup_file->corner(id, wedge.data());
                 }
             } else {
@@ -1034,7 +1042,9 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
         const std::uint64_t rounds = (r.vertices + widest * workers - 1) / (widest * workers);
         const std::uint64_t range = std::max<std::uint64_t>(1, (r.vertices + rounds * workers - 1) / (rounds * workers));
         const std::size_t ranges = static_cast<std::size_t>((r.vertices + range - 1) / range);
-        const std::size_t ref_bytes = r.wedge_texcoords ? 20 : 12;  // vertex, corner[, wedge u v]
+        // vertex, corner[, wedge u v][, material]
+        const std::size_t material_ref = r.wedge_texcoords ? 20 : 12;
+        const std::size_t ref_bytes = material_ref + (L.material ? 4 : 0);
         auto buffer_for = [&](std::size_t buckets) {
             return std::clamp<std::size_t>(static_cast<std::size_t>(0.25 * budget) / std::max<std::size_t>(buckets, 1),
                                            4096, std::size_t{1} << 20);
@@ -1056,13 +1066,18 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
                     reader.read_faces(kFaceChunk, faces);
                     r.skipped_faces += faces.skipped_faces;
                     edge_worker.push(faces.indices);
-                    char rec[20];
+                    char rec[24];
                     for (std::size_t c = 0; c < faces.indices.size(); ++c) {
                         const std::uint32_t id = faces.indices[c];
                         std::memcpy(rec, &id, 4);
                         std::memcpy(rec + 4, &tail, 8);
                         if (r.wedge_texcoords) std::memcpy(rec + 12, &faces.corner_texcoords[c], 8);
-                        if (r.wedge_texcoords) refs.add<20>(id / range, rec);
+                        if (L.material) {
+                            const std::int64_t m = faces.texnumbers[c / 3];
+                            std::memcpy(rec + material_ref, &m, 4);  // low half (little endian), set_material clamps
+                        }
+                        if (L.material) refs.add(id / range, rec);
+                        else if (r.wedge_texcoords) refs.add<20>(id / range, rec);
                         else refs.add<12>(id / range, rec);
                         ++tail;
                     }
@@ -1123,6 +1138,11 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
                                 std::memcpy(&uv, data + o + 12, 8);
                                 float* record = reinterpret_cast<float*>(rec.data() + 8);
                                 set_wedge(record, uv);
+                            }
+                            if (L.material) {
+                                std::int32_t m;
+                                std::memcpy(&m, data + o + material_ref, 4);
+                                set_material(reinterpret_cast<float*>(rec.data() + 8), m);
                             }
                             placed[static_cast<std::size_t>(w)]->add(static_cast<std::size_t>(chunk), rec.data());
                         }
