@@ -342,6 +342,11 @@ Mesh extract_mesh(OctreeStore& store, const Cut& cut, Progress* progress, std::v
             for (std::size_t t = 0; t < m->indices.size(); t += 3)
                 out.face_materials.push_back(static_cast<std::uint32_t>(m->vertex(m->indices[t])[L.material_offset()]));
     }
+    // The asset keeps material indices, not the material list: each index gets a default material so
+    // the mesh is valid as it is (the pack puts the input's list back).
+    if (!out.face_materials.empty())
+        out.materials.resize(*std::max_element(out.face_materials.begin(), out.face_materials.end()) + std::size_t{1});
+    for (std::size_t i = 0; i < out.materials.size(); ++i) out.materials[i].name = "material " + std::to_string(i);
     check_progress(progress, 1.0, "octree: extracting");
     return out;
 }

@@ -151,7 +151,9 @@ Cut level_cut(const OctreeStore& store, int level);
 // is in the cut, raw only on leaves. Nodes culled away are allowed when `allow_gaps`.
 bool is_valid_cut(const OctreeStore& store, const Cut& cut, bool allow_gaps = false);
 // The cut's triangles as one indexed Mesh; vertices shared between nodes are merged by key, so the
-// result is one connected surface. Normals, colours and texcoords as the input had them. `keys`, when
+// result is one connected surface. Normals, colours and texcoords as the input had them; with per-face
+// materials (layout.material) face_materials, and one default material per index (the asset stores
+// indices, not the list: a caller that has the input's materials puts them back). `keys`, when
 // given, receives each output vertex's key (input vertex index, or kRepresentativeKey | node).
 Mesh extract_mesh(OctreeStore& store, const Cut& cut, Progress* progress = nullptr,
                   std::vector<std::uint64_t>* keys = nullptr);
