@@ -30,6 +30,9 @@ printf 'mtllib fuzz.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 
 color="$data/color-open3d-small/color.ply"
 $lodforge convert "$data/tex-spot/spot_control_mesh.obj" "$work/spot.ply"  # small: seeds above -max_len are cut
 $lodforge octree build "$work/spot.ply" -o "$out/lfo/spot.lfo" --max-triangles 100
+# The same asset marked as version 2 (the layout before the container index): refused, never parsed.
+cp "$out/lfo/spot.lfo" "$out/lfo/spot-v2.lfo"
+printf '\x02' | dd of="$out/lfo/spot-v2.lfo" bs=1 seek=8 conv=notrunc status=none
 $lodforge mcoctree build "$data/morph-animated-morph-cube/AnimatedMorphCube.gltf" -o "$out/mco/cube.mco" --resolution 8
 $lodforge strips "$color" -o "$out/lodstrips/color.lodstrips"
 $lodforge morph build "$data/morph-animated-morph-cube/AnimatedMorphCube.gltf" -o "$out/lfmorph/cube.lfmorph" \

@@ -7,6 +7,7 @@
 #include "lodforge/simplify/simplify.h"
 
 #include "octree_test_util.h"
+#include "support/icosphere.h"
 #include "support/test_paths.h"
 
 #include <gtest/gtest.h>
@@ -345,6 +346,12 @@ TEST(OctreeBuild, TexcoordsSurvive) {
     EXPECT_LT(d.texcoord_rms, 0.2);
 }
 
+// The materials of every level: each triangle's, and which ones occur.
+std::set<std::uint32_t> level_materials(const Mesh& m) {
+    EXPECT_EQ(m.face_materials.size(), m.triangle_count());
+    return {m.face_materials.begin(), m.face_materials.end()};
+}
+
 // Border edges counted after welding equal positions: what a viewer sees as a crack.
 std::size_t welded_border_edges(const Mesh& m) {
     std::map<std::tuple<float, float, float>, std::uint32_t> ids;
@@ -630,7 +637,7 @@ TEST(OctreeBuild, CorruptInputAndAssetStopWithAClearError) {
     std::ofstream(cut, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size() - 100));
     EXPECT_THROW(OctreeStore{cut}, Error);
     std::vector<char> flipped = bytes;
-    flipped[128 + 8] ^= 0x7f;  // the first node chunk's triangle count
+    flipped[16 + 8] ^= 0x7f;  // the first node chunk's triangle count (after the 16-byte lead)
     const std::string damaged = dir.file("damaged.lfo");
     std::ofstream(damaged, std::ios::binary).write(flipped.data(), static_cast<std::streamsize>(flipped.size()));
     OctreeStore store(damaged);
@@ -650,7 +657,7 @@ TEST(OctreeBuild, CorruptInputAndAssetStopWithAClearError) {
 }
 
 // Before version 2 the asset had no checksum: 29 of 38 byte-flipped assets passed `octree info` and
-// 24 `extract`. Now a flipped byte anywhere (header, chunks, table, footer) stops the open or the load.
+// 24 `extract`. Now a flipped byte anywhere (lead, chunks, index, footer) stops the open or the load.
 TEST(OctreeBuild, EveryFlippedByteIsDetected) {
     ScratchDir dir("octree-flip");
     OctreeBuildParams p;
@@ -660,8 +667,14 @@ TEST(OctreeBuild, EveryFlippedByteIsDetected) {
     const std::vector<char> bytes((std::istreambuf_iterator<char>(in)), {});
     ASSERT_GT(bytes.size(), 1000u);
     std::vector<std::size_t> positions;
-    for (std::size_t i = 0; i < 128; i += 3) positions.push_back(i);  // the header, densely
-    for (std::size_t i = 128; i < bytes.size(); i += bytes.size() / 150) positions.push_back(i);
+    for (std::size_t i = 0; i < 16; ++i) positions.push_back(i);  // the lead: magic, version, byte order
+    for (std::size_t i = 16; i < bytes.size(); i += bytes.size() / 150) positions.push_back(i);
+    // The index (container header, header fields, node table) densely: the footer says where it starts.
+    std::uint64_t index_offset = 0;
+    std::memcpy(&index_offset, bytes.data() + bytes.size() - 16, 8);
+    ASSERT_LT(index_offset, bytes.size() - 16);
+    for (std::size_t i = index_offset; i < index_offset + 200 && i < bytes.size() - 16; ++i) positions.push_back(i);
+    for (std::size_t i = index_offset + 200; i < bytes.size() - 16; i += 7) positions.push_back(i);
     for (std::size_t i = bytes.size() - 16; i < bytes.size(); ++i) positions.push_back(i);  // the footer
     const std::string damaged = dir.file("damaged.lfo");
     std::size_t detected = 0;
@@ -687,23 +700,26 @@ TEST(OctreeBuild, EveryFlippedByteIsDetected) {
     for (std::uint32_t i = 0; i < good.nodes().size(); ++i) good.load(i, false);
 }
 
-TEST(OctreeBuild, VersionOneAssetIsRefusedWithARebuildHint) {
+// Versions 1 (no checksums) and 2 (header and table before the container index) are refused with a
+// message that says to rebuild; a newer version is refused as unknown.
+TEST(OctreeBuild, OlderAssetVersionsAreRefusedWithARebuildHint) {
     ScratchDir dir("octree-v1");
     build_octree(shared_data("color-open3d-small/color.ply"), dir.file("a.lfo"));
-    std::fstream f(dir.file("a.lfo"), std::ios::in | std::ios::out | std::ios::binary);
-    const std::uint32_t one = 1;
-    f.seekp(8);
-    f.write(reinterpret_cast<const char*>(&one), 4);
-    f.close();
-    try {
-        OctreeStore store(dir.file("a.lfo"));
-        FAIL() << "a version-1 asset opened";
-    } catch (const Error& e) {
-        EXPECT_EQ(e.kind(), Error::Kind::unsupported);
-        const std::string m = e.what();
-        EXPECT_NE(m.find("a.lfo"), std::string::npos) << m;
-        EXPECT_NE(m.find("version 1"), std::string::npos) << m;
-        EXPECT_NE(m.find("rebuild it"), std::string::npos) << m;
+    for (const std::uint32_t version : {1u, 2u, 4u}) {
+        std::fstream f(dir.file("a.lfo"), std::ios::in | std::ios::out | std::ios::binary);
+        f.seekp(8);
+        f.write(reinterpret_cast<const char*>(&version), 4);
+        f.close();
+        try {
+            OctreeStore store(dir.file("a.lfo"));
+            FAIL() << "a version-" << version << " asset opened";
+        } catch (const Error& e) {
+            EXPECT_EQ(e.kind(), Error::Kind::unsupported);
+            const std::string m = e.what();
+            EXPECT_NE(m.find("a.lfo"), std::string::npos) << m;
+            EXPECT_NE(m.find("version " + std::to_string(version)), std::string::npos) << m;
+            EXPECT_EQ(m.find("rebuild it") != std::string::npos, version < 3) << m;
+        }
     }
 }
 
@@ -873,6 +889,60 @@ TEST(OctreeBuild, FansStayNearTheSurfaceTheyReplace) {
                     level, lm.triangle_count(), 100 * octree.test_to_reference.max / octree.diagonal,
                     100 * octree.reference_to_test.max / octree.diagonal, 100 * reference / octree.diagonal);
         EXPECT_LE(octree.test_to_reference.max, 8 * reference) << "level " << level;
+    }
+}
+
+}  // namespace
+}  // namespace lodforge
+
+namespace lodforge {
+namespace {
+
+// Per-face materials (a PLY face `texnumber`) ride in the soup records and split vertices at material
+// borders: every level of the truck keeps each of its materials, and a sphere painted in two halves
+// keeps both halves, its border crack-free, at every level and at mixed levels.
+TEST(OctreeBuild, EveryMaterialSurvivesAtEveryLevel) {
+    ScratchDir dir("octree-materials");
+    WriteOptions w;
+    w.ply_face_materials = true;
+
+    const Mesh truck = read_mesh(shared_data("tex-cesium-milk-truck/CesiumMilkTruck.gltf"));
+    const std::set<std::uint32_t> truck_materials(truck.face_materials.begin(), truck.face_materials.end());
+    ASSERT_GT(truck_materials.size(), 1u);
+    write_mesh(truck, dir.file("truck.ply"), w);
+    OctreeBuildParams p;
+    p.max_triangles = 500;
+    build_octree(dir.file("truck.ply"), dir.file("truck.lfo"), p);
+    OctreeStore store(dir.file("truck.lfo"));
+    ASSERT_TRUE(store.header().layout.material);
+    ASSERT_GE(store.level_count(), 3);
+    for (int level = 0; level < store.level_count(); ++level) {
+        const Mesh m = extract_mesh(store, level_cut(store, level));
+        EXPECT_EQ(level_materials(m), truck_materials) << "level " << level;
+        ASSERT_EQ(m.texcoords.size(), 1u);
+    }
+    const std::size_t coarsest = extract_mesh(store, level_cut(store, store.level_count() - 1)).triangle_count();
+    EXPECT_LT(coarsest, truck.triangle_count());  // the levels do simplify
+
+    Mesh sphere = test::icosphere(5);
+    sphere.face_materials.resize(sphere.triangle_count());
+    for (std::size_t t = 0; t < sphere.triangle_count(); ++t)
+        sphere.face_materials[t] = sphere.positions[sphere.indices[3 * t]].z > 0 ? 1u : 0u;
+    write_mesh(sphere, dir.file("sphere.ply"), w);
+    p.max_triangles = 300;
+    build_octree(dir.file("sphere.ply"), dir.file("sphere.lfo"), p);
+    OctreeStore s(dir.file("sphere.lfo"));
+    ASSERT_GE(s.level_count(), 3);
+    for (int level = 0; level < s.level_count(); ++level) {
+        const Mesh m = extract_mesh(s, level_cut(s, level));
+        EXPECT_EQ(level_materials(m), (std::set<std::uint32_t>{0, 1})) << "level " << level;
+        EXPECT_EQ(welded_border_edges(m), 0u) << "level " << level;
+    }
+    std::mt19937 rng(7);
+    for (int i = 0; i < 4; ++i) {
+        const Mesh m = extract_mesh(s, random_cut(s, rng));
+        EXPECT_EQ(level_materials(m), (std::set<std::uint32_t>{0, 1}));
+        EXPECT_EQ(welded_border_edges(m), 0u);
     }
 }
 

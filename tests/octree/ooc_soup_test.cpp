@@ -298,6 +298,59 @@ TEST(OocSoup, WedgeTexcoordsTravelWithTheirCornerOnBothPaths) {
     EXPECT_EQ(file_text(e.path), file_text(r.path));
 }
 
+// A face `texnumber` (the pack's per-face material) goes into each of the face's corner records, on the
+// in-memory path and, with the faces first, on the external sort (corner references grow by 4 bytes):
+// the same bytes either way.
+TEST(OocSoup, FaceMaterialsTravelWithTheirTriangleOnBothPaths) {
+    ScratchDir dir("soup-material");
+    const Mesh truck = read_mesh(shared_data("tex-cesium-milk-truck/CesiumMilkTruck.gltf"));
+    ASSERT_EQ(truck.face_materials.size(), truck.triangle_count());
+    WriteOptions w;
+    w.ply_face_materials = true;
+    w.ply_encoding = PlyEncoding::ascii;
+    const std::string ply = dir.file("truck.ply");
+    write_mesh(truck, ply, w);
+    const SoupResult r = convert_to_soup(ply, dir.file("soup"));
+    EXPECT_FALSE(r.external);
+    ASSERT_TRUE(r.layout.material);
+    ASSERT_EQ(r.triangles, truck.triangle_count());
+    SoupReader reader(r.path);
+    EXPECT_TRUE(reader.layout().material);
+    std::vector<std::byte> buf;
+    ASSERT_EQ(reader.read(r.triangles, buf), r.triangles);
+    const std::size_t cb = soup_corner_bytes(r.layout);
+    std::size_t wrong = 0;
+    std::set<float> seen;
+    for (std::size_t c = 0; c < 3 * r.triangles; ++c) {
+        std::uint32_t id;
+        float material;
+        std::memcpy(&id, buf.data() + c * cb, 4);
+        std::memcpy(&material, buf.data() + c * cb + 4 + 4 * r.layout.material_offset(), 4);
+        wrong += id != truck.indices[c] || material != static_cast<float>(truck.face_materials[c / 3]);
+        seen.insert(material);
+    }
+    EXPECT_EQ(wrong, 0u);
+    EXPECT_EQ(seen.size(), 4u);
+
+    // Faces first: the external path.
+    const std::string text = file_text(ply);
+    const std::size_t vertex_at = text.find("element vertex"), face_at = text.find("element face"),
+                      end_at = text.find("end_header\n");
+    std::string reordered = text.substr(0, vertex_at) + text.substr(face_at, end_at - face_at) +
+                            text.substr(vertex_at, face_at - vertex_at) + "end_header\n";
+    std::size_t at = end_at + 11;
+    for (std::size_t v = 0; v < truck.vertex_count(); ++v) at = text.find('\n', at) + 1;
+    reordered += text.substr(at) + text.substr(end_at + 11, at - (end_at + 11));
+    {
+        std::ofstream f(dir.file("faces_first.ply"), std::ios::binary);
+        f << reordered;
+    }
+    const SoupResult e = convert_to_soup(dir.file("faces_first.ply"), dir.file("soup-external"));
+    EXPECT_TRUE(e.external);
+    EXPECT_TRUE(e.layout.material);
+    EXPECT_EQ(file_text(e.path), file_text(r.path));
+}
+
 // The soup's border list by brute force: index border edges (one use by a non-degenerate triangle,
 // degenerate triangles' edges counting as further uses) whose two positions no other such use joins.
 std::vector<std::uint64_t> expected_borders(const Mesh& m) {

@@ -1,8 +1,7 @@
 // The one byte writer, bounded byte reader, checksum and tagged section container of LodForge's own
-// binary formats (.mco, .lodstrips, .lfmorph, .lfmstrips; docs/formats/README.md, "Container").
+// binary formats (.lfo, .mco, .lodstrips, .lfmorph, .lfmstrips; docs/formats/README.md, "Container").
 // Little-endian throughout; the container and its CRC-32 are those of the engine runtime
 // (lodforge/runtime/lodstrips_runtime.h), so the core and the engines parse one layout with one parser.
-// The .lfo octree store (core/src/octree/) still has its own reader and moves onto this module next.
 #pragma once
 
 #include <bit>

@@ -149,6 +149,9 @@ void write_ply(const Mesh& mesh, const std::string& path, const WriteOptions& op
     const bool colors = options.write_colors && mesh.has_colors();
     const bool texcoords = options.write_texcoords && mesh.has_texcoords();
     const bool uchar_colors = options.ply_colors_as_uchar;
+    const bool texnumbers = options.ply_face_materials && !mesh.face_materials.empty();
+    if (texnumbers && mesh.face_materials.size() != mesh.triangle_count())
+        throw_error(Error::Kind::argument, path, "cannot write PLY: face_materials does not match the triangle count");
     // int indices as most readers expect; uint only when the count needs the 32nd bit.
     const bool uint_indices = mesh.positions.size() > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max());
     check_progress(progress, 0.0, kStage);
@@ -156,7 +159,7 @@ void write_ply(const Mesh& mesh, const std::string& path, const WriteOptions& op
     std::string header = "ply\nformat ";
     header += encoding_name(options.ply_encoding);
     header += " 1.0\ncomment written by LodForge\n";
-    if (!mesh.materials.empty() && !mesh.materials[0].base_color_texture.path.empty())
+    if (!texnumbers && !mesh.materials.empty() && !mesh.materials[0].base_color_texture.path.empty())
         header += "comment TextureFile " + one_line(mesh.materials[0].base_color_texture.path) + "\n";
     header += "element vertex " + std::to_string(mesh.positions.size()) + "\n";
     header += "property float x\nproperty float y\nproperty float z\n";
@@ -168,6 +171,7 @@ void write_ply(const Mesh& mesh, const std::string& path, const WriteOptions& op
     if (texcoords) header += "property float u\nproperty float v\n";
     header += "element face " + std::to_string(mesh.triangle_count()) + "\n";
     header += uint_indices ? "property list uchar uint vertex_indices\n" : "property list uchar int vertex_indices\n";
+    if (texnumbers) header += "property uint texnumber\n";
     header += "end_header\n";
 
     AtomicFile file(path, true);
@@ -199,6 +203,7 @@ void write_ply(const Mesh& mesh, const std::string& path, const WriteOptions& op
     for (std::size_t t = 0; t < mesh.indices.size(); t += 3) {
         w.u8(3);
         for (std::size_t k = 0; k < 3; ++k) w.u32(mesh.indices[t + k]);
+        if (texnumbers) w.u32(mesh.face_materials[t / 3]);
         w.end_record();
     }
     w.flush();

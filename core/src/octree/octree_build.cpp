@@ -124,8 +124,8 @@ public:
     }
 
     void run(OctreeBuildResult& result) {
-        const char zero[sizeof(ooc::AssetHeader)] = {};
-        write(zero, sizeof zero);
+        const std::vector<std::uint8_t> lead = ooc::asset_lead();
+        write(lead.data(), lead.size());
         nodes_.emplace_back();
         OctreeNode& root = nodes_[0];
         root.parent = ~0u;
@@ -148,36 +148,25 @@ public:
         } else {
             process_file(0, {{{soup_.path, 64, soup_.triangles, true}}, soup_.triangles}, 0);
         }
-        // Table, footer, then the header with the final numbers.
-        const std::uint64_t table = offset_;
-        write(nodes_.data(), nodes_.size() * sizeof(OctreeNode));
-        ooc::AssetFooter foot{};
-        foot.table_offset = table;
-        std::memcpy(foot.magic, ooc::kAssetEndMagic, 8);
-        write(&foot, sizeof foot);
-        ooc::AssetHeader h{};
-        std::memcpy(h.magic, ooc::kAssetMagic, 8);
-        h.version = ooc::kAssetVersion;
-        h.layout = layout_.flags() | (wedge_ ? 8u : 0u);
+        // The index (header fields and node table), then the footer that locates it.
+        OctreeHeader h;
+        h.layout = layout_;
+        h.wedge_texcoords = wedge_;
         h.input_vertices = soup_.vertices;
         h.input_triangles = soup_.triangles;
         h.max_triangles = static_cast<std::uint32_t>(std::min<std::size_t>(p_.max_triangles, 0xffffffffu));
         h.max_depth = static_cast<std::uint32_t>(p_.max_depth);
-        const Bounds& b = soup_.bounds;
-        const float bb[6] = {b.min.x, b.min.y, b.min.z, b.max.x, b.max.y, b.max.z};
-        std::memcpy(h.bounds, bb, sizeof bb);
+        h.bounds = soup_.bounds;
         std::copy(root_min_, root_min_ + 3, h.root_min);
         h.root_size = root_size_;
-        h.node_count = nodes_.size();
-        h.table_offset = table;
-        h.weights[0] = p_.weights.normal;
-        h.weights[1] = p_.weights.color;
-        h.weights[2] = p_.weights.texcoord_sets.empty() ? p_.weights.texcoord : p_.weights.texcoord_sets[0];
-        h.table_crc = ooc::chunk_crc({reinterpret_cast<const char*>(nodes_.data()), nodes_.size() * sizeof(OctreeNode)});
-        h.header_crc = ooc::chunk_crc({reinterpret_cast<const char*>(&h), sizeof h});
-        asset_.stream().seekp(0);
-        asset_.stream().write(reinterpret_cast<const char*>(&h), sizeof h);
-        asset_.stream().seekp(0, std::ios::end);
+        h.weights.normal = p_.weights.normal;
+        h.weights.color = p_.weights.color;
+        h.weights.texcoord = p_.weights.texcoord_sets.empty() ? p_.weights.texcoord : p_.weights.texcoord_sets[0];
+        const std::uint64_t index_offset = offset_;
+        const std::vector<std::uint8_t> index = encode_octree_index(h, nodes_);
+        write(index.data(), index.size());
+        write(&index_offset, sizeof index_offset);
+        write(ooc::kAssetEndMagic, sizeof ooc::kAssetEndMagic);
         result.split_passes = split_passes_;
         result.closed_components = closed_components_;
         result.degenerate_triangles = degenerate_;
@@ -200,6 +189,12 @@ private:
         std::memcpy(bits, uv, sizeof bits);
         const std::uint64_t h = ooc::mix64(std::uint64_t{bits[0]} << 32 | bits[1]) & 0x7fffffffu;
         return h << 32 | vid;
+    }
+    // Per-face materials split a vertex the same way: the material's hash goes into the same bits, so a
+    // material border is kept at every level like a UV seam.
+    static std::uint64_t material_key(std::uint64_t key, float material) {
+        const std::uint64_t h = ooc::mix64(static_cast<std::uint64_t>(material) + 0x9e3779b97f4a7c15ull) & 0x7fffffffu;
+        return ((key >> 32 ^ h) & 0x7fffffffu) << 32 | (key & 0xffffffffu);
     }
     int octant(const std::byte* tri, const double mid[3]) const { return ooc::centroid_octant(tri, corner_, mid); }
     void cell_mid(std::uint32_t id, double mid[3]) const {
@@ -390,7 +385,7 @@ private:
     // What computing one node yields besides its NodeResult: the encoded chunks to append to the asset
     // (raw leaf triangles, then the simplified mesh) and the counters, applied when it is committed.
     struct NodeOutput {
-        std::vector<char> raw, mesh;
+        std::vector<std::uint8_t> raw, mesh;
         std::uint64_t leaf_triangles = 0;  // raw triangles (leaves), for progress and oversized leaves
         std::uint64_t closed_components = 0, degenerate = 0;
         double simplify_seconds = 0;
@@ -403,13 +398,13 @@ private:
         if (!out.raw.empty()) {
             d.raw_offset = offset_;
             d.raw_bytes = out.raw.size();
-            d.raw_crc = ooc::chunk_crc(out.raw);
+            d.raw_crc = binary::checksum(out.raw.data(), out.raw.size());
             write(out.raw.data(), out.raw.size());
         }
         if (!out.mesh.empty()) {
             d.mesh_offset = offset_;
             d.mesh_bytes = out.mesh.size();
-            d.mesh_crc = ooc::chunk_crc(out.mesh);
+            d.mesh_crc = binary::checksum(out.mesh.data(), out.mesh.size());
             write(out.mesh.data(), out.mesh.size());
         }
         out.raw = {};
@@ -626,7 +621,8 @@ private:
                 std::uint32_t vid;
                 std::memcpy(&vid, c, 4);
                 v[k] = reinterpret_cast<const float*>(c + 4);
-                const std::uint64_t key = wedge_ ? wedge_key(vid, v[k] + uv_at_) : vid;
+                std::uint64_t key = wedge_ ? wedge_key(vid, v[k] + uv_at_) : vid;
+                if (layout_.material) key = material_key(key, v[k][layout_.material_offset()]);
                 bool inserted = false;
                 std::uint32_t& local = map.find_or_insert(key, static_cast<std::uint32_t>(raw.keys.size()), inserted);
                 if (inserted) {

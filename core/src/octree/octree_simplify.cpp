@@ -269,7 +269,10 @@ void cluster_closed(const NodeMesh& input, const std::vector<std::uint32_t>& clo
             if (len > 0)
                 for (int a = 0; a < 3; ++a) nrm[a] /= len;
         }
-        out.keys.push_back(representative_key | kClusterKey | (std::uint64_t{cell_id[v]} + 1) << 32);
+        // Closed components of different materials in one cell keep different cluster vertices (the
+        // material in bits 45-61, above the cell's 13 bits).
+        const std::uint64_t material = input.layout.material ? static_cast<std::uint64_t>(r[input.layout.material_offset()]) & 0x1ffff : 0;
+        out.keys.push_back(representative_key | kClusterKey | material << 45 | (std::uint64_t{cell_id[v]} + 1) << 32);
         out.vertices.insert(out.vertices.end(), r.begin(), r.end());
     }
     std::size_t emitted = 0;
@@ -424,6 +427,9 @@ std::vector<float> representative(const NodeQuadric& quadric, const NodeMesh& in
             for (int a = 0; a < 2; ++a) rep[r++] = static_cast<float>(s[j++] / w);
         }
     }
+    // A material is a label: the patch's own (a connected part has one, its vertices' keys split at
+    // material borders).
+    if (input.layout.material && !patch.empty()) rep[input.layout.material_offset()] = input.vertex(patch[0])[input.layout.material_offset()];
     error = quadric.geometry.weight > 0 ? std::sqrt(quadric.geometry.evaluate(p) / quadric.geometry.weight) * frame.scale : 0;
     return rep;
 }

@@ -5,7 +5,9 @@
 
 #include "lodforge/error.h"
 #include "lodforge/io/input_file.h"
+#include "lodforge/runtime/lodstrips_runtime.h"
 
+#include "io/binary_io.h"
 #include "octree/octree_format.h"
 #include "octree/ooc_internal.h"
 
@@ -18,20 +20,35 @@
 
 namespace lodforge {
 
-std::vector<char> encode_node_mesh(const NodeMesh& mesh) {
-    const std::size_t f = mesh.layout.floats();
-    ooc::NodeChunkHeader h{ooc::kNodeChunkMagic, static_cast<std::uint32_t>(mesh.vertex_count()),
-                           static_cast<std::uint32_t>(mesh.triangle_count()), static_cast<std::uint32_t>(f)};
-    std::vector<char> out(sizeof h + mesh.keys.size() * 8 + mesh.vertices.size() * 4 + mesh.indices.size() * 4);
-    char* p = out.data();
-    std::memcpy(p, &h, sizeof h);
-    p += sizeof h;
-    std::memcpy(p, mesh.keys.data(), mesh.keys.size() * 8);
-    p += mesh.keys.size() * 8;
-    std::memcpy(p, mesh.vertices.data(), mesh.vertices.size() * 4);
-    p += mesh.vertices.size() * 4;
-    std::memcpy(p, mesh.indices.data(), mesh.indices.size() * 4);
-    return out;
+std::vector<std::uint8_t> encode_node_mesh(const NodeMesh& mesh) {
+    binary::Writer out;
+    out.bytes.reserve(ooc::kNodeChunkHeaderBytes + mesh.keys.size() * 8 + (mesh.vertices.size() + mesh.indices.size()) * 4);
+    out.put(ooc::kNodeChunkMagic);
+    out.put(static_cast<std::uint32_t>(mesh.vertex_count()));
+    out.put(static_cast<std::uint32_t>(mesh.triangle_count()));
+    out.put(static_cast<std::uint32_t>(mesh.layout.floats()));
+    out.put_array(mesh.keys);
+    out.put_array(mesh.vertices);
+    out.put_array(mesh.indices);
+    return std::move(out.bytes);
+}
+
+std::vector<std::uint8_t> encode_octree_index(const OctreeHeader& header, const std::vector<OctreeNode>& nodes) {
+    binary::Writer head, table;
+    head.put(header.layout.flags() | (header.wedge_texcoords ? 8u : 0u));
+    head.put(header.input_vertices);
+    head.put(header.input_triangles);
+    head.put(header.max_triangles);
+    head.put(header.max_depth);
+    for (const Vec3f& v : {header.bounds.min, header.bounds.max}) head.put(v);
+    for (float v : header.root_min) head.put(v);
+    head.put(header.root_size);
+    head.put(static_cast<std::uint64_t>(nodes.size()));
+    head.put(header.weights.normal);
+    head.put(header.weights.color);
+    head.put(header.weights.texcoord);
+    table.put_array(nodes);
+    return binary::write_container(ooc::kAssetMagic, ooc::kAssetVersion, {{"HEAD", &head.bytes}, {"NODE", &table.bytes}});
 }
 
 namespace {
@@ -46,52 +63,67 @@ OctreeStore::OctreeStore(const std::string& path, std::size_t cache_bytes) : pat
     check_input_file(path, "an octree asset");
     ooc::File f(path, O_RDONLY);
     file_size_ = f.size();
-    ooc::AssetHeader h{};
-    if (file_size_ < sizeof h + sizeof(ooc::AssetFooter))
+    if (file_size_ < ooc::kAssetLeadBytes + ooc::kAssetFooterBytes)
         throw_error(Error::Kind::format, path, "not an octree asset (too short: " + std::to_string(file_size_) + " bytes)");
-    f.read_at(&h, sizeof h, 0);
-    if (std::memcmp(h.magic, ooc::kAssetMagic, 8) != 0) throw_error(Error::Kind::format, path, "not an octree asset (bad magic)");
-    if (h.version < ooc::kAssetVersion)
-        throw_error(Error::Kind::unsupported, path, "octree asset version " + std::to_string(h.version) +
-                                                        " was written by an older LodForge without checksums (this build reads "
-                                                        "version " + std::to_string(ooc::kAssetVersion) +
+    std::uint8_t lead[ooc::kAssetLeadBytes];
+    f.read_at(lead, sizeof lead, 0);
+    if (std::memcmp(lead, ooc::kAssetMagic, 8) != 0) throw_error(Error::Kind::format, path, "not an octree asset (bad magic)");
+    binary::Reader lead_in(lead + 8, sizeof lead - 8, path, 8);
+    const auto version = lead_in.get<std::uint32_t>("version");
+    if (version < ooc::kAssetVersion)
+        throw_error(Error::Kind::unsupported, path, "octree asset version " + std::to_string(version) +
+                                                        " was written by an older LodForge (this build reads version " +
+                                                        std::to_string(ooc::kAssetVersion) +
                                                         "); rebuild it with `lodforge octree build`");
-    if (h.version != ooc::kAssetVersion)
-        throw_error(Error::Kind::unsupported, path, "octree asset version " + std::to_string(h.version) +
+    if (version != ooc::kAssetVersion)
+        throw_error(Error::Kind::unsupported, path, "octree asset version " + std::to_string(version) +
                                                         " (this build reads version " + std::to_string(ooc::kAssetVersion) + ")");
-    {
-        ooc::AssetHeader zeroed = h;
-        zeroed.header_crc = 0;
-        if (ooc::chunk_crc({reinterpret_cast<const char*>(&zeroed), sizeof zeroed}) != h.header_crc)
-            corrupt(path, "header checksum mismatch");
-    }
-    ooc::AssetFooter foot{};
-    f.read_at(&foot, sizeof foot, file_size_ - sizeof foot);
-    if (std::memcmp(foot.magic, ooc::kAssetEndMagic, 8) != 0 || foot.table_offset != h.table_offset)
+    if (lead_in.get<std::uint32_t>("byte order") != lodstrips::endian_tag) corrupt(path, "bad byte-order tag");
+    // The footer locates the index (a binary_io container: HEAD, NODE) between the chunks and itself.
+    std::uint8_t foot[ooc::kAssetFooterBytes];
+    f.read_at(foot, sizeof foot, file_size_ - sizeof foot);
+    std::uint64_t index_offset = 0;
+    std::memcpy(&index_offset, foot, 8);
+    if (std::memcmp(foot + 8, ooc::kAssetEndMagic, 8) != 0 || index_offset < ooc::kAssetLeadBytes ||
+        index_offset > file_size_ - sizeof foot)
         corrupt(path, "truncated or unfinished (no end marker)");
-    if (h.node_count == 0 || h.node_count > (file_size_ / sizeof(OctreeNode)) ||
-        h.table_offset + h.node_count * sizeof(OctreeNode) + sizeof foot != file_size_)
-        corrupt(path, "node table does not fit the file");
-    header_.version = h.version;
-    header_.layout = VertexLayout::from_flags(h.layout);
-    header_.wedge_texcoords = (h.layout & 8u) != 0;
-    header_.input_vertices = h.input_vertices;
-    header_.input_triangles = h.input_triangles;
-    header_.max_triangles = h.max_triangles;
-    header_.max_depth = h.max_depth;
-    header_.bounds.add({h.bounds[0], h.bounds[1], h.bounds[2]});
-    header_.bounds.add({h.bounds[3], h.bounds[4], h.bounds[5]});
-    std::copy(h.root_min, h.root_min + 3, header_.root_min);
-    header_.root_size = h.root_size;
-    header_.node_count = h.node_count;
-    header_.table_offset = h.table_offset;
-    header_.weights.normal = h.weights[0];
-    header_.weights.color = h.weights[1];
-    header_.weights.texcoord = h.weights[2];
-    nodes_.resize(static_cast<std::size_t>(h.node_count));
-    f.read_at(nodes_.data(), nodes_.size() * sizeof(OctreeNode), h.table_offset);
-    if (ooc::chunk_crc({reinterpret_cast<const char*>(nodes_.data()), nodes_.size() * sizeof(OctreeNode)}) != h.table_crc)
-        corrupt(path, "node table checksum mismatch");
+    // The index's own size field must span exactly to the footer before the index is read whole.
+    const std::uint64_t index_bytes = file_size_ - sizeof foot - index_offset;
+    std::uint64_t declared = 0;
+    if (index_bytes >= 32) f.read_at(&declared, sizeof declared, index_offset + 24);
+    if (declared != index_bytes) corrupt(path, "the index does not end at the footer");
+    std::vector<std::uint8_t> index(static_cast<std::size_t>(index_bytes));
+    f.read_at(index.data(), index.size(), index_offset);
+    if (binary::peek_version(index, path, ooc::kAssetMagic, "octree asset index") != version)
+        corrupt(path, "the index's version differs from the file's");
+    const std::vector<binary::Section> sections =
+        binary::read_container(index, path, ooc::kAssetMagic, "octree asset index", {"HEAD", "NODE"});
+    // Section offsets are inside the index; messages name bytes of the file.
+    binary::Reader head(sections[0].data, sections[0].size, path, index_offset + sections[0].offset, "section HEAD");
+    binary::Reader table(sections[1].data, sections[1].size, path, index_offset + sections[1].offset, "section NODE");
+    header_.version = version;
+    const auto layout = head.get<std::uint32_t>("layout flags");
+    if (layout > 31u) head.fail("unknown layout flags " + std::to_string(layout));
+    header_.layout = VertexLayout::from_flags(layout);
+    header_.wedge_texcoords = (layout & 8u) != 0;
+    header_.input_vertices = head.get<std::uint64_t>("input vertices");
+    header_.input_triangles = head.get<std::uint64_t>("input triangles");
+    header_.max_triangles = head.get<std::uint32_t>("max triangles");
+    header_.max_depth = head.get<std::uint32_t>("max depth");
+    header_.bounds.add(head.get<Vec3f>("bounds"));
+    header_.bounds.add(head.get<Vec3f>("bounds"));
+    for (float& v : header_.root_min) v = head.get<float>("root cube");
+    header_.root_size = head.get<float>("root cube");
+    const auto node_count = head.get<std::uint64_t>("node count");
+    header_.node_count = node_count;
+    header_.table_offset = index_offset;
+    header_.weights.normal = head.get<float>("weights");
+    header_.weights.color = head.get<float>("weights");
+    header_.weights.texcoord = head.get<float>("weights");
+    head.expect_end("header fields");
+    if (node_count == 0) corrupt(path, "no nodes");
+    nodes_ = table.get_array<OctreeNode>(node_count, "node records");
+    table.expect_end("node records");
     // The table must describe a tree: children after their parent, inside the table, data in the file.
     const std::size_t n = nodes_.size();
     for (std::size_t i = 0; i < n; ++i) {
@@ -105,7 +137,10 @@ OctreeStore::OctreeStore(const std::string& path, std::size_t cache_bytes) : pat
         } else if (d.raw_bytes == 0 && d.raw_triangles != 0) {
             corrupt(path, at + " is a leaf without its triangles");
         }
-        if (d.raw_offset + d.raw_bytes > h.table_offset || d.mesh_offset + d.mesh_bytes > h.table_offset)
+        const auto inside = [&](std::uint64_t offset, std::uint64_t bytes) {
+            return bytes == 0 || (offset >= ooc::kAssetLeadBytes && offset <= index_offset && bytes <= index_offset - offset);
+        };
+        if (!inside(d.raw_offset, d.raw_bytes) || !inside(d.mesh_offset, d.mesh_bytes))
             corrupt(path, at + " points past the data section");
         if (!(std::isfinite(d.error) && d.error >= 0.f)) corrupt(path, at + " has an invalid error");
     }
@@ -187,28 +222,24 @@ std::shared_ptr<const NodeMesh> OctreeStore::load(std::uint32_t node, bool raw) 
     if (bytes == 0) {
         // An empty node mesh (a node whose input vanished entirely) is stored as nothing.
     } else {
-        std::vector<char> buf(static_cast<std::size_t>(bytes));
+        std::vector<std::uint8_t> buf(static_cast<std::size_t>(bytes));
         ooc::File::read_at_fd(fd_, path_, buf.data(), buf.size(), offset);
-        if (ooc::chunk_crc(buf) != (raw ? d.raw_crc : d.mesh_crc)) corrupt(path_, at + ": mesh chunk checksum mismatch");
-        ooc::NodeChunkHeader h{};
-        if (buf.size() < sizeof h) corrupt(path_, at + ": mesh chunk too short");
-        std::memcpy(&h, buf.data(), sizeof h);
+        if (binary::checksum(buf.data(), buf.size()) != (raw ? d.raw_crc : d.mesh_crc))
+            corrupt(path_, at + ": mesh chunk checksum mismatch");
+        binary::Reader in(buf.data(), buf.size(), path_, static_cast<std::size_t>(offset), at + (raw ? " raw chunk" : " mesh chunk"));
+        const auto magic = in.get<std::uint32_t>("chunk magic");
+        const auto vertices = in.get<std::uint32_t>("vertex count");
+        const auto triangles = in.get<std::uint32_t>("triangle count");
         const std::size_t f = header_.layout.floats();
-        if (h.magic != ooc::kNodeChunkMagic || h.floats != f ||
-            sizeof h + std::uint64_t{h.vertices} * (8 + 4 * f) + std::uint64_t{h.triangles} * 12 != bytes)
-            corrupt(path_, at + ": mesh chunk header does not match its size");
-        if (h.triangles != (raw ? d.raw_triangles : d.mesh_triangles)) corrupt(path_, at + ": triangle count mismatch");
-        const char* p = buf.data() + sizeof h;
-        mesh->keys.resize(h.vertices);
-        std::memcpy(mesh->keys.data(), p, mesh->keys.size() * 8);
-        p += mesh->keys.size() * 8;
-        mesh->vertices.resize(std::size_t{h.vertices} * f);
-        std::memcpy(mesh->vertices.data(), p, mesh->vertices.size() * 4);
-        p += mesh->vertices.size() * 4;
-        mesh->indices.resize(std::size_t{h.triangles} * 3);
-        std::memcpy(mesh->indices.data(), p, mesh->indices.size() * 4);
+        if (magic != ooc::kNodeChunkMagic || in.get<std::uint32_t>("floats per vertex") != f)
+            corrupt(path_, at + ": mesh chunk header does not match the asset");
+        if (triangles != (raw ? d.raw_triangles : d.mesh_triangles)) corrupt(path_, at + ": triangle count mismatch");
+        mesh->keys = in.get_array<std::uint64_t>(vertices, "vertex keys");
+        mesh->vertices = in.get_array<float>(std::uint64_t{vertices} * f, "vertex records");
+        mesh->indices = in.get_array<std::uint32_t>(std::uint64_t{triangles} * 3, "indices");
+        in.expect_end("indices");
         for (std::uint32_t i : mesh->indices)
-            if (i >= h.vertices) corrupt(path_, at + ": vertex index out of range");
+            if (i >= vertices) corrupt(path_, at + ": vertex index out of range");
         for (float v : mesh->vertices)
             if (!std::isfinite(v)) corrupt(path_, at + ": non-finite vertex data");
     }
@@ -306,7 +337,16 @@ Mesh extract_mesh(OctreeStore& store, const Cut& cut, Progress* progress, std::v
             local[i] = v;
         }
         for (std::uint32_t i : m->indices) out.indices.push_back(local[i]);
+        // Every corner of a triangle carries its face's material (a vertex key includes it).
+        if (L.material)
+            for (std::size_t t = 0; t < m->indices.size(); t += 3)
+                out.face_materials.push_back(static_cast<std::uint32_t>(m->vertex(m->indices[t])[L.material_offset()]));
     }
+    // The asset keeps material indices, not the material list: each index gets a default material so
+    // the mesh is valid as it is (the pack puts the input's list back).
+    if (!out.face_materials.empty())
+        out.materials.resize(*std::max_element(out.face_materials.begin(), out.face_materials.end()) + std::size_t{1});
+    for (std::size_t i = 0; i < out.materials.size(); ++i) out.materials[i].name = "material " + std::to_string(i);
     check_progress(progress, 1.0, "octree: extracting");
     return out;
 }

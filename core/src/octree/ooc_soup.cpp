@@ -23,6 +23,7 @@
 #include "lodforge/io/mesh_validate.h"
 #include "lodforge/io/ply.h"
 
+#include "io/ply_ascii_split.h"
 #include "octree/ooc_internal.h"
 
 #include <algorithm>
@@ -49,6 +50,9 @@ namespace lodforge {
 namespace fs = std::filesystem;
 using ooc::File;
 using ooc::SequentialWriter;
+using ply_detail::AsciiSegment;
+using ply_detail::parse_ascii_in_two;
+using ply_detail::Unit;
 
 namespace {
 
@@ -719,165 +723,6 @@ void drop_seam_borders(SoupResult& r, std::size_t budget) {
 }
 
 
-// ---- ASCII PLY on two threads -------------------------------------------------------------------------
-
-// ASCII PLY records are one per line (blank lines may separate them), so the rest of an element can be
-// cut into segments of whole lines by counting non-blank lines, which costs little next to parsing their
-// numbers. A helper thread counts ahead and parses every second segment with a reader of its own
-// (PlyReader::seek_ascii_record); this thread parses the others and consumes all of them in file order,
-// so everything downstream (soup, edge keys, asset) is the same as with one reader. The helper never
-// reports an error: where it cannot parse a segment, or the data ends early, this thread is left at the
-// start of that segment and reads on by itself, with the message and line number one reader gives.
-struct Unit {};  // a slot that carries nothing
-
-struct AsciiSegment {
-    std::uint64_t begin = 0, line = 0;  // byte offset of its first line and the newlines before it
-    std::uint64_t end = 0, end_line = 0;
-    std::uint64_t first = 0, count = 0;  // records
-};
-
-// Parses the rest of the reader's current element. `parse(reader, segment, slot)` reads the segment's
-// records into `slot` (either thread); `consume(slot, segment)` runs here, in file order. Returns with
-// the reader after the element, or at the first record it must read alone.
-template <class Slot, class Parse, class Consume>
-void parse_ascii_in_two(PlyReader& reader, const std::string& path, std::size_t segment_bytes, Parse parse, Consume consume) {
-    const PlyHeader& header = reader.header();
-    const std::size_t element = static_cast<std::size_t>(reader.current_element() - header.elements.data());
-    const std::uint64_t total = header.elements[element].count;
-    std::mutex mutex;
-    std::condition_variable changed;
-    std::vector<AsciiSegment> segments;                      // counted so far
-    std::size_t alone_from = std::numeric_limits<std::size_t>::max();  // segments this thread reads alone
-    bool counted_all = false;
-    std::optional<Slot> handed;  // the helper's parsed segment, not consumed yet
-    std::size_t handed_index = 0;
-    bool stop = false;
-    const std::uint64_t start = reader.position(), start_line = reader.line(), start_record = total - reader.remaining();
-
-    std::thread helper([&] {
-        std::size_t j = 0;
-        try {
-            File file(path, O_RDONLY);
-            const std::uint64_t size = file.size();
-            PlyReader own(path);
-            std::vector<char> buffer(std::size_t{1} << 20);
-            std::uint64_t pos = start, line = start_line, record = start_record;
-            std::uint64_t have = 0, at = start;  // buffer holds [at, at + have)
-            bool in_line_blank = true;           // the line being scanned has only blanks so far
-            while (record < total) {
-                AsciiSegment s{pos, line, 0, 0, record, 0};
-                bool ended = false;  // the data ended before `total` records
-                for (bool full = false; !full;) {
-                    if (pos == at + have) {
-                        if (pos >= size) {
-                            if (!in_line_blank) ++s.count, ++record, in_line_blank = true;  // a last line without '\n'
-                            ended = record < total;
-                            break;
-                        }
-                        at = pos;
-                        have = std::min<std::uint64_t>(buffer.size(), size - pos);
-                        file.read_at(buffer.data(), static_cast<std::size_t>(have), at);
-                    }
-                    // Line by line (memchr finds the ends); a line counts when it has a non-blank byte.
-                    const char* const lim = buffer.data() + have;
-                    for (const char* p = buffer.data() + (pos - at); p < lim;) {
-                        if (in_line_blank) {
-                            while (p < lim && (*p == ' ' || *p == '\t' || *p == '\r' || *p == '\f' || *p == '\v')) ++p;
-                            if (p == lim) break;
-                            if (*p != '\n') in_line_blank = false;
-                        }
-                        const char* nl = static_cast<const char*>(std::memchr(p, '\n', static_cast<std::size_t>(lim - p)));
-                        if (!nl) {
-                            p = lim;
-                            break;
-                        }
-                        p = nl + 1;
-                        ++line;
-                        if (!in_line_blank) {
-                            ++s.count;
-                            ++record;
-                            in_line_blank = true;
-                            if (record == total || static_cast<std::uint64_t>(p - buffer.data()) + at - s.begin >= segment_bytes) {
-                                pos = at + static_cast<std::uint64_t>(p - buffer.data());
-                                full = true;
-                                break;
-                            }
-                        }
-                    }
-                    if (!full) pos = at + have;
-                }
-                if (ended) break;  // this thread reads the short tail itself, and reports it
-                s.end = pos;
-                s.end_line = line;
-                {
-                    std::lock_guard lock(mutex);
-                    segments.push_back(s);
-                }
-                changed.notify_all();
-                if (j % 2 == 1) {
-                    Slot slot;
-                    own.seek_ascii_record(element, s.first, s.begin, s.line);
-                    parse(own, s, slot);
-                    std::unique_lock lock(mutex);
-                    changed.wait(lock, [&] { return !handed || stop; });
-                    if (stop) return;
-                    handed.emplace(std::move(slot));
-                    handed_index = j;
-                    changed.notify_all();
-                }
-                ++j;
-            }
-        } catch (...) {
-        }
-        std::lock_guard lock(mutex);
-        alone_from = std::min(alone_from, j);
-        counted_all = true;
-        changed.notify_all();
-    });
-    struct Join {
-        std::mutex& m;
-        std::condition_variable& c;
-        bool& stop;
-        std::thread& t;
-        ~Join() {
-            {
-                std::lock_guard lock(m);
-                stop = true;
-            }
-            c.notify_all();
-            t.join();
-        }
-    } join{mutex, changed, stop, helper};
-
-    for (std::size_t j = 0;; ++j) {
-        AsciiSegment s;
-        {
-            std::unique_lock lock(mutex);
-            changed.wait(lock, [&] { return segments.size() > j || counted_all; });
-            if (j >= alone_from || j >= segments.size()) return;  // read alone from here (or done)
-            s = segments[j];
-            if (j % 2 == 1) {
-                changed.wait(lock, [&] { return (handed && handed_index == j) || j >= alone_from; });
-                if (!handed || handed_index != j) return;
-            }
-        }
-        if (j % 2 == 0) {
-            Slot slot;
-            parse(reader, s, slot);
-            consume(slot, s);
-        } else {
-            Slot slot = std::move(*handed);
-            {
-                std::lock_guard lock(mutex);
-                handed.reset();
-            }
-            changed.notify_all();
-            reader.seek_ascii_record(element, s.first + s.count, s.end, s.end_line);
-            consume(slot, s);
-        }
-    }
-}
-
 // ---- External passes on two threads ---------------------------------------------------------------
 
 // Hands the right to write on in index order between the workers of run_workers.
@@ -919,7 +764,7 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
     SoupResult r;
     r.path = soup_path;
     r.wedge_texcoords = reader.has_corner_texcoords();
-    r.layout = {attrs.normals, attrs.colors, attrs.texcoords || r.wedge_texcoords};
+    r.layout = {attrs.normals, attrs.colors, attrs.texcoords || r.wedge_texcoords, reader.has_texnumbers()};
     r.vertices = reader.vertex_count();
     if (r.vertices == 0) throw_error(Error::Kind::invalid, ply_path, "no vertices");
     if (r.vertices >= 0xffffffffull)
@@ -948,6 +793,12 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
             record[uv_at + 1] = uv.y;
         }
     };
+    // A face's material index goes into every corner record (a float, exact below 2^24).
+    const std::size_t material_at = L.material_offset();
+    auto set_material = [&](float* record, std::int64_t texnumber) {
+        record[material_at] = static_cast<float>(std::clamp<std::int64_t>(texnumber, 0, std::int64_t{1} << 24));
+    };
+    const bool per_corner = r.wedge_texcoords || L.material;  // corner records differ from the vertex's
 
     const std::uint64_t expected_edges = 3 * std::max<std::uint64_t>(header.elements[face_element].count, 1);
     const std::string edges_path = (fs::path(soup_path).parent_path() / "edges.tmp").string();
@@ -1012,16 +863,18 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
                     std::memcpy(at, &id, 4);
                     std::memcpy(at + 4, &vertices[static_cast<std::size_t>(id) * floats], vrec);
                     if (r.wedge_texcoords) set_wedge(reinterpret_cast<float*>(at + 4), fc.corner_texcoords[c]);
+                    if (L.material) set_material(reinterpret_cast<float*>(at + 4), fc.texnumbers[c / 3]);
                     used.add(reinterpret_cast<const float*>(at + 4));
                 }
                 const std::size_t at = octant_of.size();
                 octant_of.resize(at + n);
                 octant_files->add(tris.data(), n, octant_of.data() + at);
-            } else if (r.wedge_texcoords) {
+            } else if (per_corner) {
                 for (std::size_t c = 0; c < fc.indices.size(); ++c) {
                     const std::uint32_t id = fc.indices[c];
                     std::memcpy(wedge.data(), &vertices[static_cast<std::size_t>(id) * floats], vrec);
-                    set_wedge(wedge.data(), fc.corner_texcoords[c]);
+                    if (r.wedge_texcoords) set_wedge(wedge.data(), fc.corner_texcoords[c]);
+                    if (L.material) set_material(wedge.data(), fc.texnumbers[c / 3]);
                     soup_file->corner(id, wedge.data());
                 }
             } else {
@@ -1189,7 +1042,9 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
         const std::uint64_t rounds = (r.vertices + widest * workers - 1) / (widest * workers);
         const std::uint64_t range = std::max<std::uint64_t>(1, (r.vertices + rounds * workers - 1) / (rounds * workers));
         const std::size_t ranges = static_cast<std::size_t>((r.vertices + range - 1) / range);
-        const std::size_t ref_bytes = r.wedge_texcoords ? 20 : 12;  // vertex, corner[, wedge u v]
+        // vertex, corner[, wedge u v][, material]
+        const std::size_t material_ref = r.wedge_texcoords ? 20 : 12;
+        const std::size_t ref_bytes = material_ref + (L.material ? 4 : 0);
         auto buffer_for = [&](std::size_t buckets) {
             return std::clamp<std::size_t>(static_cast<std::size_t>(0.25 * budget) / std::max<std::size_t>(buckets, 1),
                                            4096, std::size_t{1} << 20);
@@ -1211,13 +1066,18 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
                     reader.read_faces(kFaceChunk, faces);
                     r.skipped_faces += faces.skipped_faces;
                     edge_worker.push(faces.indices);
-                    char rec[20];
+                    char rec[24];
                     for (std::size_t c = 0; c < faces.indices.size(); ++c) {
                         const std::uint32_t id = faces.indices[c];
                         std::memcpy(rec, &id, 4);
                         std::memcpy(rec + 4, &tail, 8);
                         if (r.wedge_texcoords) std::memcpy(rec + 12, &faces.corner_texcoords[c], 8);
-                        if (r.wedge_texcoords) refs.add<20>(id / range, rec);
+                        if (L.material) {
+                            const std::int64_t m = faces.texnumbers[c / 3];
+                            std::memcpy(rec + material_ref, &m, 4);  // low half (little endian), set_material clamps
+                        }
+                        if (L.material) refs.add(id / range, rec);
+                        else if (r.wedge_texcoords) refs.add<20>(id / range, rec);
                         else refs.add<12>(id / range, rec);
                         ++tail;
                     }
@@ -1278,6 +1138,11 @@ SoupResult convert_to_soup(const std::string& ply_path, const std::string& soup_
                                 std::memcpy(&uv, data + o + 12, 8);
                                 float* record = reinterpret_cast<float*>(rec.data() + 8);
                                 set_wedge(record, uv);
+                            }
+                            if (L.material) {
+                                std::int32_t m;
+                                std::memcpy(&m, data + o + material_ref, 4);
+                                set_material(reinterpret_cast<float*>(rec.data() + 8), m);
                             }
                             placed[static_cast<std::size_t>(w)]->add(static_cast<std::size_t>(chunk), rec.data());
                         }

@@ -272,11 +272,14 @@ void octree_levels(const Mesh& mesh, const Preset& preset, const PresetLevelsPar
     const fs::path system_temp = fs::temp_directory_path(ec);
     if (ec) throw_error(Error::Kind::io, params.source_path, "no temporary directory (TMPDIR): " + ec.message());
     TempDirectory temp(system_temp.string());
-    // The octree streams a PLY from disk; other formats (already in memory here) are written as one.
+    // The octree streams a PLY from disk; other formats (already in memory here) are written as one,
+    // with each face's material as its `texnumber` (the soup carries it through every level).
     std::string ply = params.source_path;
     if (!is_ply(ply)) {
         ply = temp.file("input.ply");
-        write_mesh(mesh, ply);
+        WriteOptions w;
+        w.ply_face_materials = true;
+        write_mesh(mesh, ply, w);
     }
     OctreeBuildParams p;
     p.max_triangles = preset.octree.max_triangles_per_node;
@@ -296,6 +299,11 @@ void octree_levels(const Mesh& mesh, const Preset& preset, const PresetLevelsPar
         throw without_temporary_names(e, params.source_path);  // the asset is a temporary too
     }
     for (const std::string& w : built.warnings) out.notes.push_back(w);
+    // The out-of-core soup carries one UV set (docs/pack.md): what the levels lose is said, not left
+    // for the user to find in the pack.
+    if (mesh.texcoords.size() > 1)
+        out.notes.push_back("the octree carries texture coordinate set 0 only: its levels drop the other " +
+                            std::to_string(mesh.texcoords.size() - 1) + " set(s)");
 
     OctreeStore store(asset);
     out.octree_stats = store.stats();

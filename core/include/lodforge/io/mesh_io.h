@@ -36,6 +36,10 @@ struct WriteOptions {
     bool write_colors = true;
     bool write_texcoords = true;
     bool copy_textures = true;  // OBJ: copy/extract referenced textures next to the output
+    // PLY: each face's Mesh::face_materials entry as a face `texnumber` (no `TextureFile` comments then:
+    // the numbers index the mesh's materials, not a texture list). For the out-of-core octree, whose
+    // soup reads them; off by default, so `convert` writes what it always wrote.
+    bool ply_face_materials = false;
     // When set, receives what was left out without failing (.glb: a texture that could not be read is
     // not embedded), each message starting with the output path.
     std::vector<std::string>* warnings = nullptr;

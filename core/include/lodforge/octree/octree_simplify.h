@@ -57,7 +57,7 @@ struct QuadricFrame {
     VertexLayout layout;
     SimplifyWeights weights;
 
-    std::size_t attribute_dimension() const { return layout.floats() - 3; }
+    std::size_t attribute_dimension() const { return layout.floats() - 3 - (layout.material ? 1 : 0); }
     Vec3d to_frame(const float* vertex) const;
     // Weighted attribute vector of a vertex record (attribute_dimension() values).
     void attributes(const float* vertex, double* out) const;

@@ -1,4 +1,4 @@
-// The out-of-core octree LOD asset on disk (format: docs/formats/lfo.md, version 2) and its
+// The out-of-core octree LOD asset on disk (format: docs/formats/lfo.md, version 3) and its
 // reader with a bounded cache of node meshes, shared by `lodforge octree info/extract`, the run-time
 // selection (octree_select.h) and the studio.
 //
@@ -34,7 +34,7 @@ struct OctreeNode {
     std::uint8_t height = 0;        // leaf 0
     std::uint8_t flags = 0;         // bit 0: some component had no boundary edge (closed; clustered)
     std::uint32_t parent = 0;       // ~0 for the root
-    std::uint32_t raw_crc = 0;      // CRC-32 of the raw chunk (asset version 2)
+    std::uint32_t raw_crc = 0;      // CRC-32 of the raw chunk
     float cell_min[3] = {0, 0, 0};  // the node's cube (model units)
     float cell_size = 0;
     float bounds_min[3] = {0, 0, 0};  // bounds of the input triangles under the node (they may stick
@@ -65,7 +65,7 @@ struct OctreeHeader {
     float root_min[3] = {0, 0, 0};    // root cube
     float root_size = 0;
     std::uint64_t node_count = 0;
-    std::uint64_t table_offset = 0;
+    std::uint64_t table_offset = 0;   // where the index (these fields and the node table) starts
     SimplifyWeights weights;          // normal, color, texcoord used by the build
 };
 
@@ -151,12 +151,16 @@ Cut level_cut(const OctreeStore& store, int level);
 // is in the cut, raw only on leaves. Nodes culled away are allowed when `allow_gaps`.
 bool is_valid_cut(const OctreeStore& store, const Cut& cut, bool allow_gaps = false);
 // The cut's triangles as one indexed Mesh; vertices shared between nodes are merged by key, so the
-// result is one connected surface. Normals, colours and texcoords as the input had them. `keys`, when
+// result is one connected surface. Normals, colours and texcoords as the input had them; with per-face
+// materials (layout.material) face_materials, and one default material per index (the asset stores
+// indices, not the list: a caller that has the input's materials puts them back). `keys`, when
 // given, receives each output vertex's key (input vertex index, or kRepresentativeKey | node).
 Mesh extract_mesh(OctreeStore& store, const Cut& cut, Progress* progress = nullptr,
                   std::vector<std::uint64_t>* keys = nullptr);
 
-// Asset writing helpers used by the builder (octree_build.cpp): the byte layout of one node mesh.
-std::vector<char> encode_node_mesh(const NodeMesh& mesh);
+// Asset writing helpers used by the builder (octree_build.cpp): the bytes of one node mesh chunk, and
+// the index (header fields and node table) written after the chunks.
+std::vector<std::uint8_t> encode_node_mesh(const NodeMesh& mesh);
+std::vector<std::uint8_t> encode_octree_index(const OctreeHeader& header, const std::vector<OctreeNode>& nodes);
 
 }  // namespace lodforge

@@ -32,13 +32,21 @@ struct VertexLayout {
     bool normals = false;
     bool colors = false;
     bool texcoords = false;
+    // The face's material index (a PLY face `texnumber`), stored as a float after the texcoords: a
+    // label, never interpolated (not in the quadric attributes); vertices of different materials are
+    // different vertices, so a material border is kept like a UV seam (docs/octree.md).
+    bool material = false;
 
-    std::size_t floats() const { return 3 + (normals ? 3 : 0) + (colors ? 4 : 0) + (texcoords ? 2 : 0); }
+    std::size_t floats() const { return 3 + (normals ? 3 : 0) + (colors ? 4 : 0) + (texcoords ? 2 : 0) + (material ? 1 : 0); }
     std::size_t normal_offset() const { return 3; }
     std::size_t color_offset() const { return 3 + (normals ? 3 : 0); }
     std::size_t texcoord_offset() const { return color_offset() + (colors ? 4 : 0); }
-    std::uint32_t flags() const { return (normals ? 1u : 0u) | (colors ? 2u : 0u) | (texcoords ? 4u : 0u); }
-    static VertexLayout from_flags(std::uint32_t f) { return {(f & 1u) != 0, (f & 2u) != 0, (f & 4u) != 0}; }
+    std::size_t material_offset() const { return texcoord_offset() + (texcoords ? 2 : 0); }
+    // Bit 8 is taken by the wedge-texcoord flag of the soup and .lfo headers.
+    std::uint32_t flags() const {
+        return (normals ? 1u : 0u) | (colors ? 2u : 0u) | (texcoords ? 4u : 0u) | (material ? 16u : 0u);
+    }
+    static VertexLayout from_flags(std::uint32_t f) { return {(f & 1u) != 0, (f & 2u) != 0, (f & 4u) != 0, (f & 16u) != 0}; }
     friend bool operator==(const VertexLayout&, const VertexLayout&) = default;
 };
 
