@@ -7,6 +7,7 @@
 #include "lodforge/simplify/simplify.h"
 
 #include "octree_test_util.h"
+#include "support/own_format_seal.h"
 #include "support/test_paths.h"
 
 #include <gtest/gtest.h>
@@ -685,6 +686,35 @@ TEST(OctreeBuild, EveryFlippedByteIsDetected) {
     // The undamaged asset still opens and loads.
     OctreeStore good(dir.file("good.lfo"));
     for (std::uint32_t i = 0; i < good.nodes().size(); ++i) good.load(i, false);
+}
+
+// A crafted asset (checksums recomputed) whose node chunk offset is near 2^64: offset + bytes wrapped
+// below the table offset, passed the bounds check, and the chunk was then read into a buffer sized by
+// the lying byte count.
+TEST(OctreeBuild, ChunkOffsetThatWrapsAroundIsRefused) {
+    ScratchDir dir("octree-wrap");
+    build_octree(shared_data("color-open3d-small/color.ply"), dir.file("good.lfo"));
+    std::ifstream in(dir.file("good.lfo"), std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), {});
+    ooc::AssetHeader h{};
+    ASSERT_GT(bytes.size(), sizeof h);
+    std::memcpy(&h, bytes.data(), sizeof h);
+    OctreeNode root;
+    std::memcpy(&root, bytes.data() + h.table_offset, sizeof root);
+    root.mesh_bytes = std::uint64_t{1} << 40;
+    root.mesh_offset = ~std::uint64_t{0} - root.mesh_bytes + 17;  // the sum wraps to 16
+    std::memcpy(bytes.data() + h.table_offset, &root, sizeof root);
+    lodforge::test::seal_lfo(bytes);
+    std::ofstream(dir.file("wrap.lfo"), std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    try {
+        OctreeStore store(dir.file("wrap.lfo"));
+        (void)store.load(0, false);
+        ADD_FAILURE() << "the wrapped offset was accepted";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("wrap.lfo: damaged octree asset: node 0 points past the data section"),
+                  std::string::npos)
+            << e.what();
+    }
 }
 
 TEST(OctreeBuild, VersionOneAssetIsRefusedWithARebuildHint) {

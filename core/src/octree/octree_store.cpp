@@ -105,7 +105,12 @@ OctreeStore::OctreeStore(const std::string& path, std::size_t cache_bytes) : pat
         } else if (d.raw_bytes == 0 && d.raw_triangles != 0) {
             corrupt(path, at + " is a leaf without its triangles");
         }
-        if (d.raw_offset + d.raw_bytes > h.table_offset || d.mesh_offset + d.mesh_bytes > h.table_offset)
+        // Written so that no sum can wrap: offset + bytes did, and a chunk "ending" before the table was
+        // then read from an offset near 2^64 into a buffer of that many bytes.
+        const auto past = [&](std::uint64_t offset, std::uint64_t bytes) {
+            return bytes > h.table_offset || offset > h.table_offset - bytes;
+        };
+        if (past(d.raw_offset, d.raw_bytes) || past(d.mesh_offset, d.mesh_bytes))
             corrupt(path, at + " points past the data section");
         if (!(std::isfinite(d.error) && d.error >= 0.f)) corrupt(path, at + " has an invalid error");
     }
