@@ -5,9 +5,10 @@
 # their coverage. Prints one line per target (executions, exec/s, corpus inputs and bytes, finding or
 # not) and exits 1 when any target found something; the crashing inputs are kept in OUT/TARGET/ as
 # libFuzzer writes them (crash-*, leak-*, oom-*, timeout-*). Inputs are at most 32 KB (the largest seed).
-#   packaging/fuzz-long.sh [--runs N] [--seconds S] [--out DIR] [TARGET...]
+#   packaging/fuzz-long.sh [--runs N] [--seconds S] [--out DIR] [--no-build] [TARGET...]
 # Targets: ply gltf obj lfo mco lodstrips lodstrips_file preset landmarks lfmorph lfmstrips (default: all).
-# Needs a configured build/ (the fuzz targets and the seed corpora are built here when missing).
+# Needs a configured build/ (the fuzz targets and the seed corpora are built here; --no-build uses
+# them as they are, e.g. while another build runs in build/).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="$root/build"
@@ -15,12 +16,14 @@ runs=1000000
 seconds=0
 out="$build/fuzz-long"
 targets=()
+build_first=1
 while [ $# -gt 0 ]; do
   case "$1" in
     --runs) runs="$2"; shift 2 ;;
     --seconds) seconds="$2"; shift 2 ;;
     --out) out="$2"; shift 2 ;;
-    -h|--help) sed -n '2,11p' "${BASH_SOURCE[0]}"; exit 0 ;;
+    --no-build) build_first=0; shift ;;
+    -h|--help) sed -n '2,12p' "${BASH_SOURCE[0]}"; exit 0 ;;
     -*) echo "fuzz-long.sh: unknown option $1" >&2; exit 2 ;;
     *) targets+=("$1"); shift ;;
   esac
@@ -28,9 +31,11 @@ done
 [ ${#targets[@]} -gt 0 ] || targets=(ply gltf obj lfo mco lodstrips lodstrips_file preset landmarks lfmorph lfmstrips)
 
 # The seed corpora are written by ctest fixtures (they need the CLI and the shared meshes).
-cmake --build "$build" --target lodforge ply_fuzz_seeds $(for t in "${targets[@]}"; do echo "${t}_fuzz"; done) >/dev/null
-(cd "$build" && ctest -R fuzz_seed_corpus --output-on-failure >/dev/null) ||
-  { echo "fuzz-long.sh: writing the seed corpora failed (ctest -R fuzz_seed_corpus)" >&2; exit 1; }
+if [ $build_first = 1 ]; then
+  cmake --build "$build" --target lodforge ply_fuzz_seeds $(for t in "${targets[@]}"; do echo "${t}_fuzz"; done) >/dev/null
+  (cd "$build" && ctest -R fuzz_seed_corpus --output-on-failure >/dev/null) ||
+    { echo "fuzz-long.sh: writing the seed corpora failed (ctest -R fuzz_seed_corpus)" >&2; exit 1; }
+fi
 
 seeds_of() {
   case "$1" in
