@@ -3,14 +3,14 @@
 // it, never "internal error", never a path the user did not give (a temporary, an output), and no
 // output file left. The damages: empty, bytes of another kind, the first half of a good file (not for
 // OBJ), and for the own binary formats one flipped byte (their checksums must catch it).
+#include "io/io_test_util.h"
 #include "support/cli_run.h"
 #include "support/test_paths.h"
 
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <string>
 #include <vector>
 
@@ -21,14 +21,11 @@ using lodforge::test::quoted;
 using lodforge::test::run_cli;
 using lodforge::test::ScratchDir;
 using lodforge::test::shared_data;
+using lodforge::test::write_text;
 
 std::string bad_files_read(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    return {std::istreambuf_iterator<char>(in), {}};
-}
-
-void bad_files_write(const std::string& path, const std::string& bytes) {
-    std::ofstream(path, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    const std::vector<std::uint8_t> bytes = lodforge::test::read_bytes(path);
+    return {bytes.begin(), bytes.end()};
 }
 
 // One good file of a format, the commands that read it ("%" stands for the file), and whether one
@@ -77,9 +74,9 @@ TEST(CliBadFiles, EveryReaderNamesTheFileAndExitsOneOnDamagedInput) {
     const std::string cube = shared_data("morph-animated-morph-cube/AnimatedMorphCube.gltf");
     make("morph build " + quoted(cube) + " -o " + quoted(dir.file("good.lfmorph")) + " --frames 2 --levels 0.5 --strips " +
          quoted(dir.file("good.lfmstrips")));
-    bad_files_write(dir.file("good.gltf"), bad_files_read(cube));  // its .bin is not beside it: fine for damage
-    bad_files_write(dir.file("good-preset.json"), R"({"version": 1, "name": "p", "levels": [{"ratio": 0.5}]})");
-    bad_files_write(dir.file("good-landmarks.json"),
+    write_text(dir.file("good.gltf"), bad_files_read(cube));  // its .bin is not beside it: fine for damage
+    write_text(dir.file("good-preset.json"), R"({"version": 1, "name": "p", "levels": [{"ratio": 0.5}]})");
+    write_text(dir.file("good-landmarks.json"),
                     R"({"format": "lodforge-landmarks", "version": 1, "pairs": [[0, 5], [12, 7], [3, 3]]})");
     // The good files themselves pass the commands below (so a failure is the damage's).
     make("simplify " + quoted(ply) + " -o " + quoted(dir.file("ok.ply")) + " --preset " +
@@ -117,14 +114,16 @@ TEST(CliBadFiles, EveryReaderNamesTheFileAndExitsOneOnDamagedInput) {
         }
         for (const auto& [kind, content] : damaged) {
             const std::string file = dir.file(kind + "-" + fs::path(c.good).filename().string());
-            bad_files_write(file, content);
+            write_text(file, content);
             for (const std::string& command : c.commands) {
                 // `octree info` reads the header and node table only; a mesh chunk's damage is found when
                 // the chunk is loaded (extract), which is what the asset's lazy loading is for.
                 if (kind == "flipped" && command.rfind("octree info", 0) == 0) continue;
                 const std::string message = expect_clean_failure(command, file, dir);
                 // `morph info` picks its reader by the magic; a damaged .lfmstrips was called a bad .lfmorph.
-                if (ext == ".lfmstrips") EXPECT_EQ(message.find(".lfmorph"), std::string::npos) << message;
+                if (ext == ".lfmstrips") {
+                    EXPECT_EQ(message.find(".lfmorph"), std::string::npos) << message;
+                }
             }
         }
     }
