@@ -5,6 +5,8 @@
 
 #include "lodforge/mesh.h"
 
+#include <cerrno>
+#include <csignal>
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
@@ -46,6 +48,14 @@ inline const std::filesystem::path& scratch_dir() {
             parent = env;
         else if (fs::is_directory("/dev/shm", ec))
             parent = "/dev/shm";
+        // libFuzzer ends some runs through _Exit (merges, -runs limits), past atexit: remove what
+        // processes that no longer exist left behind.
+        for (const auto& entry : fs::directory_iterator(parent, ec)) {
+            const std::string name = entry.path().filename().string();
+            if (name.rfind("lodforge-fuzz-", 0) != 0) continue;
+            const long pid = std::strtol(name.c_str() + 14, nullptr, 10);
+            if (pid > 0 && ::kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH) fs::remove_all(entry.path(), ec);
+        }
         fs::path d = parent / ("lodforge-fuzz-" + std::to_string(::getpid()));
         fs::create_directories(d);
         std::atexit([] {
