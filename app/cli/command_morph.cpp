@@ -240,7 +240,9 @@ void add_morph_info(CLI::App& morph) {
     cmd->add_option("IN", o->input, "Morph LOD file (.lfmorph) or morph LODStrips file (.lfmstrips)")->required();
     cmd->add_flag("--json", o->json, "Print JSON");
     cmd->callback([o] {
-        if (is_morph_lodstrips_file(o->input)) {
+        // A damaged .lfmstrips has no magic to recognise it by: its name decides, so that its reader
+        // reports the problem (not the .lfmorph reader saying it is no .lfmorph file).
+        if (is_morph_lodstrips_file(o->input) || std::filesystem::path(o->input).extension() == ".lfmstrips") {
             print_strips_info(o->input, o->json);
             return;
         }

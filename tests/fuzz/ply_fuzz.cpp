@@ -12,10 +12,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
-#include <cstdlib>
-#include <filesystem>
 #include <string>
-#include <unistd.h>
 #include <vector>
 
 namespace {
@@ -24,11 +21,7 @@ using lodforge::fuzz::check;
 using lodforge::fuzz::check_mesh;
 
 const std::string& temp_path() {
-    static const std::string path =
-        (std::filesystem::temp_directory_path() / ("lodforge-ply-fuzz-" + std::to_string(::getpid()) + ".ply")).string();
-    // libFuzzer ends a timed run through exit(): remove the file then, or every run leaves one behind.
-    static const bool registered = (std::atexit([] { std::remove(path.c_str()); }), true);
-    (void)registered;
+    static const std::string path = (lodforge::fuzz::scratch_dir() / "fuzz.ply").string();
     return path;
 }
 
@@ -55,6 +48,11 @@ void read_streaming(const std::string& path) {
 }
 
 }  // namespace
+
+extern "C" int LLVMFuzzerInitialize(int*, char***) {
+    (void)temp_path();
+    return 0;
+}
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     try {

@@ -1,8 +1,9 @@
 // libFuzzer targets for the file readers other than PLY: one source, one target per reader, chosen by
 // LODFORGE_FUZZ_READER at compile time (tests/fuzz/CMakeLists.txt). Each input is written to a temporary
-// file with the reader's extension (the readers take paths) and read; a lodforge::Error is the expected
-// answer to bad bytes, anything else (a crash, a sanitizer report, another exception, a leak, a Mesh
-// breaking its contract) is a finding.
+// file with the reader's extension (the readers take paths) and read, the own formats with their
+// checksums recomputed first (tests/support/own_format_seal.h); a lodforge::Error is the expected answer
+// to bad bytes, anything else (a crash, a sanitizer report, another exception, a leak, a Mesh breaking
+// its contract) is a finding.
 //   gltf      .gltf, or .glb when the input starts with "glTF"
 //   obj       .obj; the bytes after a line "#--mtl--" are written as fuzz.mtl beside it
 //   lfo       .lfo octree asset: header, node table, and every node's mesh loaded
@@ -13,17 +14,15 @@
 //   preset    pack preset JSON
 //   landmarks morph landmark JSON
 #include "fuzz_check.h"
+#include "../support/own_format_seal.h"
 #include "lodforge/error.h"
 #include "lodforge/mesh.h"
 
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
-#include <cstdlib>
-#include <filesystem>
 #include <string>
 #include <string_view>
-#include <unistd.h>
 
 #define FUZZ_IS(name) (std::string_view(LODFORGE_FUZZ_READER) == name)
 
@@ -38,27 +37,12 @@
 #include "lodforge/strips/lodstrips.h"
 
 namespace {
-namespace fs = std::filesystem;
 
 using lodforge::fuzz::check;
 using lodforge::fuzz::check_mesh;
 
-// One directory per process, removed at exit (libFuzzer ends a timed run through exit()).
-const fs::path& work_dir() {
-    static const fs::path dir = [] {
-        fs::path d = fs::temp_directory_path() / ("lodforge-" LODFORGE_FUZZ_READER "-fuzz-" + std::to_string(::getpid()));
-        fs::create_directories(d);
-        std::atexit([] {
-            std::error_code ignored;
-            fs::remove_all(work_dir(), ignored);
-        });
-        return d;
-    }();
-    return dir;
-}
-
 std::string write(const std::string& name, std::string_view bytes) {
-    const std::string path = (work_dir() / name).string();
+    const std::string path = (lodforge::fuzz::scratch_dir() / name).string();
     if (std::FILE* f = std::fopen(path.c_str(), "wb")) {
         std::fwrite(bytes.data(), 1, bytes.size(), f);
         std::fclose(f);
@@ -77,7 +61,9 @@ void read(std::string_view bytes) {
         write("fuzz.mtl", at == std::string_view::npos ? std::string_view() : bytes.substr(at + kMarker.size()));
         check_mesh(read_obj(write("fuzz.obj", bytes.substr(0, at))));
     } else if constexpr (FUZZ_IS("lfo")) {
-        OctreeStore store(write("fuzz.lfo", bytes), std::size_t{1} << 20);
+        std::string sealed(bytes);
+        test::seal_lfo(sealed);
+        OctreeStore store(write("fuzz.lfo", sealed), std::size_t{1} << 20);
         (void)store.stats();
         for (std::uint32_t i = 0; i < store.nodes().size(); ++i) {
             const bool leaf = store.children(i).empty();
@@ -85,13 +71,21 @@ void read(std::string_view bytes) {
             if (leaf) (void)store.load(i, true);
         }
     } else if constexpr (FUZZ_IS("mco")) {
-        (void)read_mc_octree(write("fuzz.mco", bytes));
+        std::string sealed(bytes);
+        test::seal_own_format(sealed, 2, binary::fnv1a_basis);
+        (void)read_mc_octree(write("fuzz.mco", sealed));
     } else if constexpr (FUZZ_IS("lfmorph")) {
-        (void)read_morph_lod(write("fuzz.lfmorph", bytes));
+        std::string sealed(bytes);
+        test::seal_own_format(sealed, 1, binary::lfmorph1_fnv1a_basis);
+        (void)read_morph_lod(write("fuzz.lfmorph", sealed));
     } else if constexpr (FUZZ_IS("lfmstrips")) {
-        (void)read_morph_lodstrips(write("fuzz.lfmstrips", bytes));
+        std::string sealed(bytes);
+        test::seal_container(sealed);
+        (void)read_morph_lodstrips(write("fuzz.lfmstrips", sealed));
     } else if constexpr (FUZZ_IS("lodstrips")) {
-        (void)read_lodstrips(write("fuzz.lodstrips", bytes));
+        std::string sealed(bytes);
+        test::seal_container(sealed);
+        (void)read_lodstrips(write("fuzz.lodstrips", sealed));
     } else if constexpr (FUZZ_IS("preset")) {
         (void)load_preset(write("fuzz.json", bytes));
     } else if constexpr (FUZZ_IS("landmarks")) {
@@ -103,6 +97,11 @@ static_assert(FUZZ_IS("gltf") || FUZZ_IS("obj") || FUZZ_IS("lfo") || FUZZ_IS("mc
               "unknown LODFORGE_FUZZ_READER");
 
 }  // namespace
+
+extern "C" int LLVMFuzzerInitialize(int*, char***) {
+    (void)lodforge::fuzz::scratch_dir();
+    return 0;
+}
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     try {

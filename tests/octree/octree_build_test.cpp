@@ -8,6 +8,7 @@
 
 #include "octree_test_util.h"
 #include "support/icosphere.h"
+#include "support/own_format_seal.h"
 #include "support/test_paths.h"
 
 #include <gtest/gtest.h>
@@ -698,6 +699,39 @@ TEST(OctreeBuild, EveryFlippedByteIsDetected) {
     // The undamaged asset still opens and loads.
     OctreeStore good(dir.file("good.lfo"));
     for (std::uint32_t i = 0; i < good.nodes().size(); ++i) good.load(i, false);
+}
+
+// A crafted asset (checksums recomputed) whose node chunk offset is near 2^64: offset + bytes wrapped
+// below the table offset, passed the bounds check, and the chunk was then read into a buffer sized by
+// the lying byte count.
+TEST(OctreeBuild, ChunkOffsetThatWrapsAroundIsRefused) {
+    ScratchDir dir("octree-wrap");
+    build_octree(shared_data("color-open3d-small/color.ply"), dir.file("good.lfo"));
+    std::ifstream in(dir.file("good.lfo"), std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), {});
+    // Version 3: the footer locates the index; its NODE section (the second) holds the records.
+    ASSERT_GT(bytes.size(), ooc::kAssetLeadBytes + ooc::kAssetFooterBytes);
+    std::uint64_t index = 0;
+    std::memcpy(&index, bytes.data() + bytes.size() - ooc::kAssetFooterBytes, 8);
+    // Container: 32-byte header, then per section a tag, a length and a CRC (12 bytes) before the payload.
+    const std::size_t table = index + 32 + 12 + lodforge::test::seal_u32(bytes, index + 32 + 4) + 12;
+    ASSERT_EQ(std::string(bytes.data() + table - 12, 4), "NODE");
+    OctreeNode root;
+    std::memcpy(&root, bytes.data() + table, sizeof root);
+    root.mesh_bytes = std::uint64_t{1} << 40;
+    root.mesh_offset = ~std::uint64_t{0} - root.mesh_bytes + 17;  // the sum wraps to 16
+    std::memcpy(bytes.data() + table, &root, sizeof root);
+    lodforge::test::seal_lfo(bytes);
+    std::ofstream(dir.file("wrap.lfo"), std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    try {
+        OctreeStore store(dir.file("wrap.lfo"));
+        (void)store.load(0, false);
+        ADD_FAILURE() << "the wrapped offset was accepted";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("wrap.lfo: damaged octree asset: node 0 points past the data section"),
+                  std::string::npos)
+            << e.what();
+    }
 }
 
 // Versions 1 (no checksums) and 2 (header and table before the container index) are refused with a
