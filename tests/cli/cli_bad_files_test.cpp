@@ -109,16 +109,16 @@ TEST(CliBadFiles, EveryReaderNamesTheFileAndExitsOneOnDamagedInput) {
         if (ext != ".obj") damaged.emplace_back("half", bytes.substr(0, bytes.size() / 2));
         if (c.checksummed || ext == ".lfo") {
             std::string flipped = bytes;
-            flipped[bytes.size() / 3] ^= 0x10;
+            // An .lfo's mesh chunks are checked when loaded (OctreeBuild.EveryFlippedByteIsDetected), so
+            // whether a flip a third of the way in is seen depends on the level read; its index, just
+            // before the 16-byte footer, is read by every command.
+            flipped[ext == ".lfo" ? bytes.size() - 24 : bytes.size() / 3] ^= 0x10;
             damaged.emplace_back("flipped", flipped);
         }
         for (const auto& [kind, content] : damaged) {
             const std::string file = dir.file(kind + "-" + fs::path(c.good).filename().string());
             write_text(file, content);
             for (const std::string& command : c.commands) {
-                // `octree info` reads the header and node table only; a mesh chunk's damage is found when
-                // the chunk is loaded (extract), which is what the asset's lazy loading is for.
-                if (kind == "flipped" && command.rfind("octree info", 0) == 0) continue;
                 const std::string message = expect_clean_failure(command, file, dir);
                 // `morph info` picks its reader by the magic; a damaged .lfmstrips was called a bad .lfmorph.
                 if (ext == ".lfmstrips") {

@@ -557,6 +557,25 @@ TEST(LodPack, StructureMethodsReturnTheirCells) {
     EXPECT_TRUE(build_preset_levels(mesh, preset, unmeasured).cells.empty());
 }
 
+// Targets closer together than the octree's levels: each target takes the finest level at or below it,
+// levels stay in order (a larger target never gets a coarser level), and the surplus targets repeat the
+// finest ones, which the pack then drops as identical.
+TEST(LodPack, OctreeLevelsForCloseTargetsStayInOrder) {
+    const Mesh mesh = read_mesh(shared_data("tex-spot/spot_triangulated.obj"));
+    Preset preset;
+    preset.method = LodMethod::octree;
+    preset.octree.max_triangles_per_node = 1500;
+    preset.levels = lod_targets_from_ratios({0.5, 0.45, 0.4, 0.1});
+    PresetLevelsParams unmeasured;
+    unmeasured.source_path = "spot.obj";
+    unmeasured.measure = false;
+    const PresetLevels r = build_preset_levels(mesh, preset, unmeasured);
+    ASSERT_EQ(r.levels.size(), 4u);  // levels 1..4
+    for (std::size_t i = 1; i < r.levels.size(); ++i)
+        EXPECT_LE(r.levels[i].triangle_count(), r.levels[i - 1].triangle_count()) << "level " << i + 1;
+    EXPECT_LT(r.levels.back().triangle_count(), r.levels.front().triangle_count());
+}
+
 TEST(LodPack, ImageErrorsComeFromTheFrontEndsFunctionIntoPackJson) {
     ScratchDir dir("pack-image-error");
     PackParams params = spot_params(dir);

@@ -321,8 +321,10 @@ void octree_levels(const Mesh& mesh, const Preset& preset, const PresetLevelsPar
                 chosen[i] = l;
                 break;
             }
+    // Levels stay in order (a larger target never gets a coarser level); where the tree has too few
+    // levels the finest ones repeat, and the pack drops the repeats as identical.
     for (std::size_t i = chosen.size(); i-- > 1;)
-        if (chosen[i - 1] >= chosen[i] && chosen[i] > 1) chosen[i - 1] = chosen[i] - 1;
+        if (chosen[i - 1] >= chosen[i]) chosen[i - 1] = std::max(1, chosen[i] - 1);
     for (std::size_t i = 0; i < out.target_triangles.size(); ++i) {
         check_progress(progress, 0.8 + 0.2 * double(i) / double(out.target_triangles.size()), "Octree levels");
         const int level = chosen[i];
