@@ -357,6 +357,15 @@ void StudioWorkersTest::octreeCutFollowsACameraBurstOffTheGuiThread() {
     // tick. So at least ten cuts, and more (up to 60) until a tick is seen; a cut made on the GUI thread
     // would never show one. Each result is drawn before the next cut is asked for: drawing is the GUI
     // thread's (OpenGL), and on llvmpipe 200 k triangles take a while.
+    // The octree's levels are coarse enough that a 1 px cut from afar is a few ms: the finest error with
+    // the camera close in keeps every cut near full resolution.
+    panel->setScreenError(0.5);
+    {
+        VtkView::ViewCamera close = start;
+        for (int k = 0; k < 3; ++k) close.position[k] = close.focalPoint[k] + (start.position[k] - close.focalPoint[k]) * 0.3;
+        view->setViewCamera(close);
+    }
+    QVERIFY(lodforge::testing::cutSettled(panel));
     {
         LoopProbe probe([panel] { return panel->isCutWorkerBusy(); });
         for (int i = 0; i < 10 || (probe.busyTicks() < 1 && i < 60); ++i) {
@@ -380,7 +389,7 @@ void StudioWorkersTest::octreeCutFollowsACameraBurstOffTheGuiThread() {
     camera.viewport_width = std::max(1, int(view->width() * view->devicePixelRatioF()));
     camera.viewport_height = std::max(1, int(view->height() * view->devicePixelRatioF()));
     lodforge::SelectParams select;
-    select.screen_error_pixels = 1;
+    select.screen_error_pixels = panel->screenError();
     select.frustum_culling = false;
     lodforge::OctreeStore& store = *panel->store();
     const lodforge::Cut reference = lodforge::select_cut(store, camera, select).cut;
