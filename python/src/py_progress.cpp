@@ -45,22 +45,6 @@ void CallbackProgress::rethrow_callback_error() {
     }
 }
 
-namespace {
-
-const char* kind_name(Error::Kind kind) {
-    switch (kind) {
-    case Error::Kind::io: return "io";
-    case Error::Kind::format: return "format";
-    case Error::Kind::invalid: return "invalid";
-    case Error::Kind::unsupported: return "unsupported";
-    case Error::Kind::argument: return "argument";
-    case Error::Kind::cancelled: return "cancelled";
-    }
-    return "unknown";
-}
-
-}  // namespace
-
 void bind_errors(py::module_& m) {
     static py::exception<Error> error(m, "Error", PyExc_RuntimeError);
     error.doc() = "An error of the LodForge core: str(e) is its message (naming the file), e.kind one of "

@@ -39,18 +39,6 @@ inline CaughtError catch_error(const std::function<void()>& f) {
     return c;
 }
 
-inline const char* kind_name(Error::Kind k) {
-    switch (k) {
-        case Error::Kind::io: return "io";
-        case Error::Kind::format: return "format";
-        case Error::Kind::invalid: return "invalid";
-        case Error::Kind::unsupported: return "unsupported";
-        case Error::Kind::argument: return "argument";
-        case Error::Kind::cancelled: return "cancelled";
-    }
-    return "?";
-}
-
 inline void write_file(const std::string& path, const std::string& bytes) {
     std::ofstream out(path, std::ios::binary);
     out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));

@@ -26,6 +26,9 @@ private:
     Kind kind_;
 };
 
+// The kind's name in lower case ("io", "format", ...), as the Python module's Error.kind and tests show it.
+const char* kind_name(Error::Kind kind) noexcept;
+
 // Message helpers so every error names its file the same way: "<file>: <what>".
 [[noreturn]] void throw_error(Error::Kind kind, const std::string& file, const std::string& what);
 
