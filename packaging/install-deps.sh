@@ -19,6 +19,8 @@ packages=(
   pybind11-dev python3-dev python3-numpy python3-distributed python3-pytest
   # tests, benchmarks, packaging
   libgtest-dev libgmock-dev libbenchmark-dev xvfb xauth dpkg-dev file
+  # the studio's PDF report read back as text and pictures (pdftotext, pdftoppm)
+  poppler-utils
   # glTF validation in the tests (Khronos gltf-validator from npm)
   nodejs
   # engine tests: Babylon.js and three.js in headless Chromium (tests/engines)

@@ -36,6 +36,9 @@
 #include <QFileDialog>
 #include <QFileInfo>
 #include <QHeaderView>
+#include <QJsonArray>
+#include <QJsonDocument>
+#include <QJsonObject>
 #include <QKeyEvent>
 #include <QKeySequence>
 #include <QKeySequenceEdit>
@@ -90,6 +93,58 @@ lodforge::Preset levelParameters(lodforge::Preset preset) {
     preset.name.clear();
     preset.exports = {};
     return preset;
+}
+
+// A preset value as a reader writes it: numbers short, objects as "key value" pairs, lists comma-separated.
+QString parameterText(const QJsonValue& value) {
+    switch (value.type()) {
+    case QJsonValue::Bool: return value.toBool() ? QStringLiteral("yes") : QStringLiteral("no");
+    case QJsonValue::Double: return QString::number(value.toDouble(), 'g', 6);
+    case QJsonValue::String: return value.toString();
+    case QJsonValue::Array: {
+        QStringList items;
+        for (const QJsonValue& item : value.toArray()) items << parameterText(item);
+        return items.join(QStringLiteral(", "));
+    }
+    case QJsonValue::Object: {
+        QStringList items;
+        const QJsonObject object = value.toObject();
+        for (auto it = object.begin(); it != object.end(); ++it) items << it.key() + QLatin1Char(' ') + parameterText(it.value());
+        return items.join(QStringLiteral(", "));
+    }
+    default: return {};
+    }
+}
+
+// The parameters that made the levels, for the report: the preset's keys that `method` reads
+// (build_preset_levels, the rule the Parameters dock's visible knobs follow), one line per key, blocks
+// flattened to "block.key".
+QList<QPair<QString, QString>> reportParameters(const lodforge::Preset& preset) {
+    using lodforge::LodMethod;
+    const LodMethod m = preset.method;
+    const QJsonObject json = QJsonDocument::fromJson(QByteArray::fromStdString(lodforge::preset_to_json(preset))).object();
+    auto reads = [&](const QString& key) {
+        if (key == QLatin1String("version") || key == QLatin1String("name")) return false;
+        if (key == QLatin1String("weights")) return m != LodMethod::mcoctree;
+        if (key == QLatin1String("lock_border")) return m == LodMethod::collapse || m == LodMethod::lodstrips;
+        if (key == QLatin1String("octree")) return m == LodMethod::octree;
+        if (key == QLatin1String("mcoctree")) return m == LodMethod::mcoctree;
+        if (key == QLatin1String("strips")) return m == LodMethod::lodstrips;
+        if (key == QLatin1String("skin")) return preset.skin != lodforge::SkinOptions{};
+        return true;
+    };
+    QList<QPair<QString, QString>> out;
+    for (auto it = json.begin(); it != json.end(); ++it) {
+        if (!reads(it.key())) continue;
+        if (it.value().isObject()) {
+            const QJsonObject block = it.value().toObject();
+            for (auto b = block.begin(); b != block.end(); ++b)
+                out.append({it.key() + QLatin1Char('.') + b.key(), parameterText(b.value())});
+        } else {
+            out.append({it.key(), parameterText(it.value())});
+        }
+    }
+    return out;
 }
 
 // A field where letters are text: single-key shortcuts must type there. Spin boxes are not (their line
@@ -258,6 +313,9 @@ void MainWindow::createDocks() {
     }, this);
     connect(imageErrors_, &widgets::LatestJob::failed, this,
             [this](const QString& error) { appendLog(tr("Image error failed: %1").arg(error)); });
+    connect(imageErrors_, &widgets::LatestJob::changed, this, [this] {
+        if (!imageErrors_->isBusy()) emit imageErrorsSettled();
+    });
     report_->setObjectName(QStringLiteral("report"));
     // All docks tabbed on the right by default, so the views keep the window's full height.
     reportDock_ = dock(tr("Report"), QStringLiteral("reportDock"), report_, Qt::RightDockWidgetArea);
@@ -1073,11 +1131,23 @@ void MainWindow::showLoadPresetDialog() {
 
 bool MainWindow::exportReport(const QString& path, QString* error) {
     QDir().mkpath(QFileInfo(path).absolutePath());  // a new folder typed with the name
-    QList<QImage> thumbnails;
-    for (int i = 0; i < levels_->levelCount() && !report_->isEmpty(); ++i)
-        thumbnails << levels_->levelImage(i, QSize(240, 180));
+    // Each level shaded and, once the heat maps were computed, as its heat map; the view's state is
+    // put back afterwards.
+    widgets::ReportImages images;
+    if (!report_->isEmpty()) {
+        const bool heatmap = levels_->heatmapVisible();
+        const bool both = levels_->hasHeatmaps();
+        levels_->setHeatmapVisible(false);
+        for (int i = 0; i < levels_->levelCount(); ++i) images.shaded << levels_->levelImage(i, QSize(240, 180));
+        if (both) {
+            levels_->setHeatmapVisible(true);
+            for (int i = 0; i < levels_->levelCount(); ++i) images.heatmap << levels_->levelImage(i, QSize(240, 180));
+        }
+        levels_->setHeatmapVisible(heatmap);
+    }
+    report_->setParameters(builtPreset_ ? reportParameters(*builtPreset_) : QList<QPair<QString, QString>>{});
     QString message;
-    if (!report_->exportTo(path, thumbnails, &message)) {
+    if (!report_->exportTo(path, images, &message)) {
         if (error) *error = message;
         appendLog(tr("error: %1").arg(message));
         showError(tr("Cannot export report"), tr("Could not export the report."), message);
@@ -1086,6 +1156,8 @@ bool MainWindow::exportReport(const QString& path, QString* error) {
     appendLog(tr("Report exported to %1").arg(path));
     return true;
 }
+
+bool MainWindow::isComputingImageErrors() const { return imageErrors_->isBusy(); }
 
 void MainWindow::showExportReportDialog() {
     // Qt's own dialog (the same on every desktop, and driven by the GUI tests; New Folder included), in

@@ -104,9 +104,11 @@ public:
     // Files of the last pack written (relative to its directory), empty before.
     QStringList lastPackFiles() const { return lastPackFiles_; }
 
-    // The report of the last LOD chain with a thumbnail per level: HTML, or PDF for a .pdf path. A
-    // missing folder in `path` is created.
+    // The report of the last LOD chain with the parameters and per level its picture and, once computed, its
+    // heat map: HTML, or PDF for a .pdf path. A missing folder in `path` is created.
     bool exportReport(const QString& path, QString* error = nullptr);
+    // The levels' image-space errors are being computed in the background (imageErrorsSettled at the end).
+    bool isComputingImageErrors() const;
 
     // Side by side (all levels in synchronised views) or one level with the slider.
     void setSideBySide(bool sideBySide);
@@ -152,6 +154,8 @@ signals:
     // measureLevels: after each level (in level order), and once at the end (ok false: cancelled).
     void levelMeasured(int level);
     void measuringFinished(bool ok);
+    // The background image-error job went idle (done, failed or cancelled).
+    void imageErrorsSettled();
 
 protected:
     // Single-letter shortcuts work whatever has focus in this window (spin boxes, sliders, lists),

@@ -49,6 +49,7 @@ struct StartupPlan {
     QString screenshot;  // empty: stay open
     QString report;      // --export-report: the report written headless (empty: none)
     bool reportMeasured = false;  // the levels were measured at full precision for the report
+    bool reportHeatmaps = false;  // the heat maps were computed for the report's thumbnails
     bool headless() const { return !screenshot.isEmpty() || !report.isEmpty(); }
 };
 
@@ -69,6 +70,26 @@ void finishStartup(lodforge::studio::MainWindow& window, const StartupPlan& plan
         }, Qt::SingleShotConnection);
         window.measureLevels(true);
         if (!window.isMeasuring()) quitWithError(plan, QStringLiteral("--export-report: no levels to report"), exitJobFailed);
+        return;
+    }
+    if (!plan.report.isEmpty() && window.isComputingImageErrors()) {
+        // The report's image-error column, filled in by the background job.
+        QObject::connect(&window, &MainWindow::imageErrorsSettled, &window, [&window, plan] { finishStartup(window, plan); },
+                         Qt::SingleShotConnection);
+        return;
+    }
+    if (!plan.report.isEmpty() && !plan.reportHeatmaps && !window.levelViews()->hasHeatmaps()) {
+        // The report shows each level beside its heat map; the view keeps the heat map only when asked
+        // (--heatmap). runStartupPlan's handler leaves this job to this one.
+        StartupPlan next = plan;
+        next.reportHeatmaps = true;
+        QObject::connect(&window, &MainWindow::jobFinished, &window,
+                         [&window, next](const QString& name, bool ok, const QString& message) {
+                             if (!ok) return quitWithError(next, QStringLiteral("%1: %2").arg(name, message), exitJobFailed);
+                             window.setHeatmapVisible(next.heatmap);
+                             finishStartup(window, next);
+                         }, Qt::SingleShotConnection);
+        window.computeHeatmaps();
         return;
     }
     if (!plan.screenshot.isEmpty() && window.isMeasuring()) {
@@ -123,6 +144,7 @@ void runStartupPlan(lodforge::studio::MainWindow& window, const StartupPlan& pla
     });
     QObject::connect(&window, &MainWindow::jobFinished, &window,
                      [&window, plan](const QString& name, bool ok, const QString& message) {
+        if (name == MainWindow::heatmapJobName() && !plan.heatmap) return;  // the report's: finishStartup's own
         if (!ok) {
             quitWithError(plan, QStringLiteral("%1: %2").arg(name, message.isEmpty() ? QStringLiteral("cancelled") : message),
                           exitJobFailed);

@@ -552,9 +552,14 @@ void LodStudioTest::reportShowsImageErrorsComputedInTheBackground() {
 }
 
 void LodStudioTest::reportExportsHtmlAndPdf() {
-    QVERIFY(buildSpotChain({0.5, 0.1, 0.02}));
+    // Enough levels for the PDF's table to go over a page, with heat maps (a second picture per level).
+    const std::vector<double> ratios = {0.7, 0.5, 0.35, 0.25, 0.15, 0.1, 0.05, 0.02};
+    QVERIFY(buildSpotChain(ratios));
+    QString message;
+    QVERIFY2(runJob(true, &message), qPrintable(message));
     auto* report = window_->reportPanel();
-    QCOMPARE(report->table()->rowCount(), 4);
+    const int rows = int(ratios.size()) + 1;
+    QCOMPARE(report->table()->rowCount(), rows);
     QCOMPARE(report->table()->item(0, 1)->text(), triangles(5856));
     QTemporaryDir dir;
     const QString html = dir.filePath(QStringLiteral("spot_report.html"));
@@ -562,23 +567,69 @@ void LodStudioTest::reportExportsHtmlAndPdf() {
     QString error;
     QVERIFY2(window_->exportReport(html, &error), qPrintable(error));
     QVERIFY2(window_->exportReport(pdf, &error), qPrintable(error));
+    QVERIFY(window_->levelViews()->heatmapVisible());  // the view is as it was
 
     QFile h(html);
     QVERIFY(h.open(QIODevice::ReadOnly));
     const QString text = QString::fromUtf8(h.readAll());
-    QCOMPARE(text.count(QStringLiteral("<tr class=\"level\">")), 4);
+    QCOMPARE(text.count(QStringLiteral("<tr class=\"level\">")), rows);
     for (const auto& level : window_->levelViews()->levels())
         QVERIFY2(text.contains(QStringLiteral(">%1<").arg(triangles(level.triangles))), qPrintable(triangles(level.triangles)));
-    // A thumbnail per level plus the chart, embedded.
-    QCOMPARE(text.count(QStringLiteral("data:image/png;base64,")), 5);
+    // Per level the shaded level and its heat map, plus the chart, embedded; the parameters listed.
+    QCOMPARE(text.count(QStringLiteral("data:image/png;base64,")), 2 * rows + 1);
+    QVERIFY(text.contains(QStringLiteral("<td>weights.normal</td>")));
 
     QFile p(pdf);
     QVERIFY(p.open(QIODevice::ReadOnly));
-    const QByteArray bytes = p.readAll();
-    qInfo("html %lld bytes, pdf %lld bytes", qint64(text.size()), qint64(bytes.size()));
-    QVERIFY(bytes.startsWith("%PDF-"));
-    QVERIFY(bytes.size() > 20000);  // images inside
-    QVERIFY(bytes.contains("/Image"));
+    QVERIFY(p.readAll().startsWith("%PDF-"));
+    auto run = [](const QString& program, const QStringList& arguments) {
+        QProcess process;
+        process.start(program, arguments);
+        if (!process.waitForFinished(60000) || process.exitCode() != 0) return QString();
+        return QString::fromUtf8(process.readAllStandardOutput());
+    };
+    // Read back as text with its layout (poppler): every row of the table on one line, its numbers whole.
+    const QStringList pages = run(QStringLiteral(LODFORGE_PDFTOTEXT), {QStringLiteral("-layout"), pdf, QStringLiteral("-")})
+                                  .split(QLatin1Char('\f'));
+    QVERIFY2(pages.size() >= 3, qPrintable(QString::number(pages.size())));  // at least two pages and the end
+    QVERIFY(pages[0].contains(QStringLiteral("weights.normal")));
+    std::vector<int> rowsOnPage(std::size_t(pages.size()), 0);
+    for (int r = 0; r < rows; ++r) {
+        QStringList tokens;
+        for (int c = 0; c <= 5; ++c)
+            tokens += report->table()->item(r, c)->text().remove(QStringLiteral("≈")).split(QLatin1Char(' '), Qt::SkipEmptyParts);
+        int found = -1;
+        for (int page = 0; page < int(pages.size()) && found < 0; ++page)
+            for (const QString& line : pages[page].split(QLatin1Char('\n'))) {
+                const QStringList words = line.split(QLatin1Char(' '), Qt::SkipEmptyParts);
+                if (!words.isEmpty() && words.front() == tokens.front() &&
+                    std::all_of(tokens.begin(), tokens.end(), [&](const QString& t) { return words.contains(t); })) {
+                    found = page;
+                    break;
+                }
+            }
+        QVERIFY2(found >= 0, qPrintable(tokens.join(QLatin1Char(' '))));
+        ++rowsOnPage[std::size_t(found)];
+        // The header is repeated on every page that has rows.
+        QVERIFY2(pages[found].contains(QStringLiteral("Triangles")), qPrintable(pages[found]));
+    }
+    // Pictures (poppler's image list): a row's two pictures on its own page, the chart last.
+    const QStringList images = run(QStringLiteral(LODFORGE_PDFIMAGES), {QStringLiteral("-list"), pdf}).split(QLatin1Char('\n'));
+    std::vector<int> imagesOnPage(std::size_t(pages.size()), 0);
+    int total = 0;
+    for (const QString& line : images.mid(2)) {
+        bool ok = false;
+        const int page = line.section(QLatin1Char(' '), 0, 0, QString::SectionSkipEmpty).toInt(&ok);
+        if (!ok || page < 1 || page > int(pages.size())) continue;
+        ++imagesOnPage[std::size_t(page - 1)];
+        ++total;
+    }
+    QCOMPARE(total, 2 * rows + 1);
+    for (std::size_t page = 0; page < rowsOnPage.size(); ++page) {
+        const int extra = imagesOnPage[page] - 2 * rowsOnPage[page];
+        QVERIFY2(extra == 0 || extra == 1, qPrintable(QStringLiteral("page %1: %2 pictures for %3 rows")
+                                                          .arg(page + 1).arg(imagesOnPage[page]).arg(rowsOnPage[page])));
+    }
 
     // A missing folder is created (the export dialogs create folders); one that cannot be, because a file
     // holds its name: an error naming the report, nothing written.

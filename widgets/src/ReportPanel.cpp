@@ -1,5 +1,7 @@
 #include "lodforge/widgets/ReportPanel.h"
 
+#include "ReportPdf.h"
+
 #include <QBuffer>
 #include <QChart>
 #include <QChartView>
@@ -10,14 +12,11 @@
 #include <QLineSeries>
 #include <QLocale>
 #include <QLogValueAxis>
-#include <QPageSize>
 #include <QPainter>
-#include <QPdfWriter>
 #include <QSaveFile>
 #include <QScatterSeries>
 #include <QSplitter>
 #include <QTableWidget>
-#include <QTextDocument>
 #include <QValueAxis>
 #include <QVBoxLayout>
 
@@ -212,26 +211,45 @@ QImage ReportPanel::chartImage(QSize size) const {
     return image;
 }
 
-QString ReportPanel::toHtml(const QList<QImage>& thumbnails) const { return html(thumbnails, true); }
+QString ReportPanel::toHtml(const ReportImages& images) const { return html(images, true); }
 
-QString ReportPanel::html(const QList<QImage>& thumbnails, bool embedImages) const {
-    auto imageSource = [embedImages](const QImage& image, const QString& name) {
-        return embedImages ? QStringLiteral("data:image/png;base64,") + QString::fromLatin1(pngBytes(image).toBase64())
-                           : name;
+QString ReportPanel::introduction() const {
+    return QStringLiteral("Preset “%1”, method %2. Generated %3 by LodForge Studio.")
+        .arg(presetName_, method_, QDateTime::currentDateTime().toString(Qt::ISODate));
+}
+
+QString ReportPanel::html(const ReportImages& images, bool embedImages) const {
+    auto imageCell = [embedImages](const QList<QImage>& list, std::size_t i, const QString& name) {
+        const QImage image = i < std::size_t(list.size()) ? list[qsizetype(i)] : QImage();
+        if (image.isNull()) return QStringLiteral("<td></td>");
+        const QString source = embedImages
+                                   ? QStringLiteral("data:image/png;base64,") + QString::fromLatin1(pngBytes(image).toBase64())
+                                   : name;
+        return QStringLiteral("<td><img src=\"%1\" width=\"%2\" height=\"%3\"></td>")
+            .arg(source)
+            .arg(image.width())
+            .arg(image.height());
     };
     QString out;
     out += QStringLiteral("<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>LodForge report: %1</title>\n")
                .arg(meshName_.toHtmlEscaped());
     out += QStringLiteral("<style>body{font-family:sans-serif} table{border-collapse:collapse} "
-                          "td,th{border:1px solid #999;padding:3px 8px} td.n{text-align:right}</style></head><body>\n");
+                          "td,th{border:1px solid #999;padding:3px 8px} td.n{text-align:right;white-space:nowrap} "
+                          "table.parameters td{border:none;padding:1px 8px}</style></head><body>\n");
     out += QStringLiteral("<h1>LOD report: %1</h1>\n").arg(meshName_.toHtmlEscaped());
-    out += QStringLiteral("<p>Preset “%1”, method %2. Generated %3 by LodForge Studio.</p>\n")
-               .arg(presetName_.toHtmlEscaped(), method_.toHtmlEscaped(),
-                    QDateTime::currentDateTime().toString(Qt::ISODate));
+    out += QStringLiteral("<p>%1</p>\n").arg(introduction().toHtmlEscaped());
     if (!structure_.isEmpty()) out += QStringLiteral("<p>%1</p>\n").arg(structure_.toHtmlEscaped());
+    if (!parameters_.isEmpty()) {
+        out += QStringLiteral("<h2>Parameters</h2>\n<table class=\"parameters\">\n");
+        for (const auto& [name, value] : parameters_)
+            out += QStringLiteral("<tr class=\"parameter\"><td>%1</td><td>%2</td></tr>\n")
+                       .arg(name.toHtmlEscaped(), value.toHtmlEscaped());
+        out += QStringLiteral("</table>\n<h2>Levels</h2>\n");
+    }
     out += QStringLiteral("<table border=\"1\" cellpadding=\"4\" cellspacing=\"0\">\n<tr>");
     for (const QString& title : columnTitles) out += QStringLiteral("<th>%1</th>").arg(title.toHtmlEscaped());
-    if (!thumbnails.isEmpty()) out += QStringLiteral("<th>View</th>");
+    if (!images.shaded.isEmpty()) out += QStringLiteral("<th>Level</th>");
+    if (!images.heatmap.isEmpty()) out += QStringLiteral("<th>Heat map</th>");
     out += QStringLiteral("</tr>\n");
     for (std::size_t i = 0; i < rows_.size(); ++i) {
         out += QStringLiteral("<tr class=\"level\">");
@@ -240,25 +258,22 @@ QString ReportPanel::html(const QList<QImage>& thumbnails, bool embedImages) con
             out += (isNumberColumn(c) ? QStringLiteral("<td class=\"n\" align=\"right\">%1</td>")
                                      : QStringLiteral("<td>%1</td>"))
                        .arg(cells[c].toHtmlEscaped());
-        if (!thumbnails.isEmpty()) {
-            const QImage& thumb = i < std::size_t(thumbnails.size()) ? thumbnails[qsizetype(i)] : QImage();
-            out += thumb.isNull() ? QStringLiteral("<td></td>")
-                                  : QStringLiteral("<td><img src=\"%1\" width=\"%2\" height=\"%3\"></td>")
-                                        .arg(imageSource(thumb, QStringLiteral("thumb%1.png").arg(i)))
-                                        .arg(thumb.width())
-                                        .arg(thumb.height());
-        }
+        if (!images.shaded.isEmpty()) out += imageCell(images.shaded, i, QStringLiteral("shaded%1.png").arg(i));
+        if (!images.heatmap.isEmpty()) out += imageCell(images.heatmap, i, QStringLiteral("heat%1.png").arg(i));
         out += QStringLiteral("</tr>\n");
     }
     out += QStringLiteral("</table>\n");
-    if (rows_.size() > 1)
+    if (rows_.size() > 1) {
+        const QImage chart = chartImage(QSize(640, 360));
         out += QStringLiteral("<h2>Error against triangle count</h2>\n<p><img src=\"%1\" width=\"640\" height=\"360\"></p>\n")
-                   .arg(imageSource(chartImage(QSize(640, 360)), QStringLiteral("chart.png")));
+                   .arg(embedImages ? QStringLiteral("data:image/png;base64,") + QString::fromLatin1(pngBytes(chart).toBase64())
+                                    : QStringLiteral("chart.png"));
+    }
     out += QStringLiteral("</body></html>\n");
     return out;
 }
 
-bool ReportPanel::exportTo(const QString& path, const QList<QImage>& thumbnails, QString* error) const {
+bool ReportPanel::exportTo(const QString& path, const ReportImages& images, QString* error) const {
     auto fail = [&](const QString& why) {
         if (error) *error = QStringLiteral("%1: %2").arg(path, why);
         return false;
@@ -268,21 +283,33 @@ bool ReportPanel::exportTo(const QString& path, const QList<QImage>& thumbnails,
     QSaveFile file(path);
     if (!file.open(QIODevice::WriteOnly)) return fail(file.errorString());
     if (pdf) {
-        // QTextDocument lays the same HTML out on A4 pages; images come from its resources.
-        QTextDocument document;
-        for (int i = 0; i < thumbnails.size(); ++i)
-            document.addResource(QTextDocument::ImageResource, QUrl(QStringLiteral("thumb%1.png").arg(i)), thumbnails[i]);
-        document.addResource(QTextDocument::ImageResource, QUrl(QStringLiteral("chart.png")),
-                             chartImage(QSize(640, 360)));
-        document.setHtml(html(thumbnails, false));
-        QPdfWriter writer(&file);
-        writer.setPageSize(QPageSize(QPageSize::A4));
-        writer.setResolution(150);
-        writer.setTitle(QStringLiteral("LodForge report: %1").arg(meshName_));
-        writer.setCreator(QStringLiteral("LodForge Studio"));
-        document.print(&writer);  // paginates
+        ReportDocument document;
+        document.title = QStringLiteral("LOD report: %1").arg(meshName_);
+        document.paragraphs << introduction();
+        if (!structure_.isEmpty()) document.paragraphs << structure_;
+        document.parameters = parameters_;
+        document.columns = columnTitles;
+        for (int c = 0; c < int(columnTitles.size()); ++c) {
+            document.wraps << (c == stoppedColumn);
+            document.rightAligned << isNumberColumn(c);
+        }
+        for (const ReportRow& row : rows_) document.rows << cellsOf(row);
+        if (!images.shaded.isEmpty()) document.imageColumns << QStringLiteral("Level");
+        if (!images.heatmap.isEmpty()) document.imageColumns << QStringLiteral("Heat map");
+        for (qsizetype i = 0; i < qsizetype(rows_.size()); ++i) {
+            QList<QImage> pictures;
+            if (!images.shaded.isEmpty()) pictures << images.shaded.value(i);
+            if (!images.heatmap.isEmpty()) pictures << images.heatmap.value(i);
+            document.rowImages << pictures;
+        }
+        if (rows_.size() > 1) {
+            document.chartTitle = QStringLiteral("Error against triangle count");
+            document.chart = chartImage(QSize(960, 540));
+        }
+        QString why;
+        if (!writeReportPdf(file, document, QStringLiteral("LodForge report: %1").arg(meshName_), &why)) return fail(why);
     } else {
-        const QByteArray bytes = toHtml(thumbnails).toUtf8();
+        const QByteArray bytes = toHtml(images).toUtf8();
         if (file.write(bytes) != bytes.size()) return fail(file.errorString());
     }
     if (!file.commit()) return fail(file.errorString());

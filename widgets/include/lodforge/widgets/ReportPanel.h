@@ -1,7 +1,7 @@
 // The report of a LOD chain: a table per level (triangles against the target, vertices, error, time,
 // why it stopped, flagged when the target was missed or the level repeats an earlier one) and a plot of error
-// against triangle count (Qt Charts); exported as one self-contained HTML file or a PDF, with a
-// thumbnail of every level.
+// against triangle count (Qt Charts); exported as one self-contained HTML file or a PDF, with the
+// parameters and thumbnails of every level (shaded, and its heat map when there is one).
 #pragma once
 
 #include "lodforge/metrics/image_error.h"
@@ -9,6 +9,7 @@
 
 #include <QImage>
 #include <QList>
+#include <QPair>
 #include <QString>
 #include <QWidget>
 
@@ -39,6 +40,12 @@ struct ReportRow {
     std::optional<double> imageSilhouette;
 };
 
+// Pictures of the levels for an exported report, index = level; either list may be empty or shorter.
+struct ReportImages {
+    QList<QImage> shaded;
+    QList<QImage> heatmap;
+};
+
 class ReportPanel : public QWidget {
     Q_OBJECT
 
@@ -48,6 +55,9 @@ public:
     void setReport(const QString& meshName, const QString& presetName, const QString& method,
                    const std::vector<LevelData>& levels);
     void clear();
+    // The parameters that made the levels (name, value), listed in exported reports.
+    void setParameters(QList<QPair<QString, QString>> parameters) { parameters_ = std::move(parameters); }
+    const QList<QPair<QString, QString>>& parameters() const { return parameters_; }
     // A level's error measured after setReport (measureLevels): its row and the chart follow.
     void setLevelMeasure(const LevelMeasure& measure);
     // Every level besides the original is measured (at least with the quick budget).
@@ -66,13 +76,15 @@ public:
     QImage chartImage(QSize size) const;
 
     // HTML with the thumbnails and the chart embedded (data: URLs), so the file stands alone.
-    QString toHtml(const QList<QImage>& thumbnails) const;
-    // By the suffix of `path`: .pdf writes a PDF, anything else HTML. Atomic (temporary, then rename);
-    // on failure returns false with the reason in `error` (naming the file).
-    bool exportTo(const QString& path, const QList<QImage>& thumbnails, QString* error) const;
+    QString toHtml(const ReportImages& images) const;
+    // By the suffix of `path`: .pdf writes a PDF (landscape A4, laid out so that no number, word or table
+    // row is split), anything else HTML. Atomic (temporary, then rename); on failure returns false with the
+    // reason in `error` (naming the file).
+    bool exportTo(const QString& path, const ReportImages& images, QString* error) const;
 
 private:
-    QString html(const QList<QImage>& thumbnails, bool embedImages) const;
+    QString html(const ReportImages& images, bool embedImages) const;
+    QString introduction() const;  // the line under the title
     void updateChart();
     void fillTable();
 
@@ -82,6 +94,7 @@ private:
     QTableWidget* table_ = nullptr;
     QChartView* chart_ = nullptr;
     QString meshName_, presetName_, method_;
+    QList<QPair<QString, QString>> parameters_;
     std::vector<ReportRow> rows_;
 };
 
