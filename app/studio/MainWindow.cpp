@@ -458,6 +458,13 @@ void MainWindow::createActions() {
                                      tr("Colour each point by its shading normal"));
     uvCheckerAction_ = viewToggle(tr("&UV checker"), QStringLiteral("actionUvChecker"), QKeySequence(Qt::Key_U),
                                   defaults.uvChecker, tr("A checker texture on the texture coordinates"));
+    // The checker's density: squares per UV unit doubled or halved (2..128), so small charts show theirs.
+    uvFinerAction_ = action(tr("UV checker &finer"), QStringLiteral("actionUvFiner"), QKeySequence(Qt::SHIFT | Qt::Key_U),
+                            tr("Twice as many UV checker squares per texture unit"));
+    connect(uvFinerAction_, &QAction::triggered, this, [this] { setUvCheckerCells(uvCheckerCells_ * 2); });
+    uvCoarserAction_ = action(tr("UV checker c&oarser"), QStringLiteral("actionUvCoarser"), QKeySequence(Qt::ALT | Qt::Key_U),
+                              tr("Half as many UV checker squares per texture unit"));
+    connect(uvCoarserAction_, &QAction::triggered, this, [this] { setUvCheckerCells(uvCheckerCells_ / 2); });
     cellsAction_ = viewToggle(tr("&Octree cells"), QStringLiteral("actionCells"), QKeySequence(Qt::Key_O),
                               defaults.cells,
                               tr("The cells of the octree the levels were cut from, as wireframe boxes"));
@@ -539,7 +546,7 @@ void MainWindow::createMenus() {
     viewMenu->addAction(compareAction_);
     viewMenu->addSeparator();
     for (QAction* a : {wireframeAction_, edgesAction_, flatShadingAction_, texturesAction_, uvCheckerAction_,
-                       vertexColorsAction_, normalColorsAction_})
+                       uvFinerAction_, uvCoarserAction_, vertexColorsAction_, normalColorsAction_})
         viewMenu->addAction(a);
     viewMenu->addSeparator();
     viewMenu->addAction(cellsAction_);
@@ -630,6 +637,8 @@ void MainWindow::restoreSettings() {
     const widgets::ViewOptions defaults;
     widgets::ViewOptions options;
     for (const ViewToggle& t : viewToggles_) options.*t.option = settings.value(viewKey + t.key, defaults.*t.option).toBool();
+    options.uvCheckerCells = std::clamp(settings.value(viewKey + QStringLiteral("uvCheckerCells"), defaults.uvCheckerCells).toInt(),
+                                        widgets::minUvCheckerCells, widgets::maxUvCheckerCells);
     setViewOptions(options);
     sideBySideAction_->setChecked(settings.value(viewKey + QStringLiteral("sideBySide"), false).toBool());
     autoRebuildAction_->setChecked(settings.value(autoRebuildKey, false).toBool());
@@ -651,6 +660,7 @@ void MainWindow::saveSettings() {
     settings.setValue(stateKey, saveState());
     const widgets::ViewOptions o = viewOptions();
     for (const ViewToggle& t : viewToggles_) settings.setValue(viewKey + t.key, o.*t.option);
+    settings.setValue(viewKey + QStringLiteral("uvCheckerCells"), o.uvCheckerCells);
     settings.setValue(viewKey + QStringLiteral("sideBySide"), sideBySideAction_->isChecked());
     if (!presetPath_.isEmpty()) settings.setValue(lastPresetKey, presetPath_);
 }
@@ -1218,6 +1228,7 @@ void MainWindow::setViewOptions(const widgets::ViewOptions& options) {
         const QSignalBlocker block(t.action);
         t.action->setChecked(options.*t.option);
     }
+    uvCheckerCells_ = options.uvCheckerCells;
     levels_->setViewOptions(options);
 }
 
@@ -1226,8 +1237,20 @@ widgets::ViewOptions MainWindow::viewOptions() const { return levels_->viewOptio
 void MainWindow::applyViewActions() {
     widgets::ViewOptions options;
     for (const ViewToggle& t : viewToggles_) options.*t.option = t.action->isChecked();
+    options.uvCheckerCells = uvCheckerCells_;
     levels_->setViewOptions(options);
     explainMissingCells();
+}
+
+void MainWindow::setUvCheckerCells(int cells) {
+    uvCheckerCells_ = std::clamp(cells, widgets::minUvCheckerCells, widgets::maxUvCheckerCells);
+    if (uvCheckerAction_->isChecked()) {
+        applyViewActions();
+        morph_->setViewOptions(viewOptions());
+    } else {
+        uvCheckerAction_->setChecked(true);  // applies through toggled
+    }
+    statusBar()->showMessage(tr("UV checker: %1 × %1 squares per texture unit").arg(uvCheckerCells_), 4000);
 }
 
 void MainWindow::explainMissingCells() {

@@ -245,6 +245,10 @@ private:
     QAction* edgesAction_ = nullptr;
     QAction* normalColorsAction_ = nullptr;
     QAction* uvCheckerAction_ = nullptr;
+    QAction* uvFinerAction_ = nullptr;
+    QAction* uvCoarserAction_ = nullptr;
+    int uvCheckerCells_ = widgets::ViewOptions{}.uvCheckerCells;
+    void setUvCheckerCells(int cells);  // turns the checker on; the status bar says the density
     QAction* cellsAction_ = nullptr;
     QAction* cellsByTrianglesAction_ = nullptr;
     QAction* resetViewAction_ = nullptr;

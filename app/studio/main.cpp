@@ -1,5 +1,5 @@
 // lodforge-studio [FILE] [--screenshot OUT.png [--size WxH]] [--export-report OUT.html|OUT.pdf] [--wireframe] [--flat] [--no-texture]
-//                 [--no-colors] [--edges] [--normals] [--uv-checker] [--cells [--cells-by-triangles]]
+//                 [--no-colors] [--edges] [--normals] [--uv-checker] [--uv-checker-cells N] [--cells [--cells-by-triangles]]
 //                 [--preset NAME|P.json] [--lod-chain R1,R2,..] [--heatmap] [--side-by-side] [--level N] [--compare]
 #include "MainWindow.h"
 
@@ -192,6 +192,10 @@ struct CommandLine {
     QCommandLineOption edges{QStringLiteral("edges"), QStringLiteral("Start with edges drawn over the shading.")};
     QCommandLineOption normals{QStringLiteral("normals"), QStringLiteral("Start with normals shown as colours.")};
     QCommandLineOption uvChecker{QStringLiteral("uv-checker"), QStringLiteral("Start with the UV checker texture.")};
+    QCommandLineOption uvCheckerCells{QStringLiteral("uv-checker-cells"),
+                                      QStringLiteral("The UV checker's squares per texture unit, each way (2-128; "
+                                                     "default 8). Implies --uv-checker."),
+                                      QStringLiteral("N")};
     QCommandLineOption cells{QStringLiteral("cells"),
                              QStringLiteral("Start with the octree cells drawn over the levels (octree methods).")};
     QCommandLineOption cellsByTriangles{QStringLiteral("cells-by-triangles"),
@@ -221,7 +225,7 @@ struct CommandLine {
         parser.addVersionOption();
         parser.addPositionalArgument(QStringLiteral("file"),
                                      QStringLiteral("Mesh to open (PLY, OBJ, glTF, GLB)."), QStringLiteral("[FILE]"));
-        parser.addOptions({screenshot, exportReport, size, wireframe, flat, noTexture, noColors, edges, normals, uvChecker, cells,
+        parser.addOptions({screenshot, exportReport, size, wireframe, flat, noTexture, noColors, edges, normals, uvChecker, uvCheckerCells, cells,
                            cellsByTriangles, preset, lodChain, heatmap, sideBySide, level, compare});
     }
 };
@@ -298,6 +302,19 @@ int main(int argc, char* argv[]) {
     options.uvChecker = parser.isSet(commandLine.uvChecker);
     options.cells = parser.isSet(commandLine.cells);
     options.cellsByTriangles = parser.isSet(commandLine.cellsByTriangles);
+    if (parser.isSet(commandLine.uvCheckerCells)) {
+        bool ok = false;
+        const int cells = parser.value(commandLine.uvCheckerCells).toInt(&ok);
+        if (!ok || cells < lodforge::widgets::minUvCheckerCells || cells > lodforge::widgets::maxUvCheckerCells) {
+            printError(QStringLiteral("--uv-checker-cells expects a whole number from %1 to %2, got '%3'")
+                           .arg(lodforge::widgets::minUvCheckerCells)
+                           .arg(lodforge::widgets::maxUvCheckerCells)
+                           .arg(parser.value(commandLine.uvCheckerCells)));
+            return exitUsage;
+        }
+        options.uvChecker = true;
+        options.uvCheckerCells = cells;
+    }
     const bool viewFlags = options != lodforge::widgets::ViewOptions{};
 
     StartupPlan plan;

@@ -3,7 +3,7 @@
 // original's dense wireframe left of the split), and the heat map, drawn on each level's own surface,
 // keeps side by side and the split on; its scale bar's labels stay inside small tiles. The Parameters
 // dock, driven by keys, shows only the knobs the method and the mesh use and previews each target's
-// triangle count.
+// triangle count. The UV checker's density follows Shift+U (finer) and Alt+U (coarser).
 #include "PixelStats.h"
 #include "StudioSession.h"
 
@@ -22,6 +22,7 @@
 #include <QSignalSpy>
 #include <QTest>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 
@@ -50,7 +51,35 @@ private slots:
 
     void splitCompareAndHeatmapComposeWithSideBySide();
     void parametersShowWhatTheMethodAndMeshUse();
+    void uvCheckerDensityFollowsTheKeys();
 };
+
+namespace {
+
+// Changes between the checker's grey and tinted squares along every row of the model's pixels: the squares
+// crossed. Pixels are told apart by chroma, which shading does not change much; the blend at an edge is
+// skipped.
+long checkerEdges(const QImage& image) {
+    long edges = 0;
+    for (int y = 0; y < image.height(); ++y) {
+        int previous = -1;
+        for (int x = 0; x < image.width(); ++x) {
+            const QRgb p = image.pixel(x, y);
+            if (lodforge::testing::nearColor(p, viewBackgroundColor(), 2)) {
+                previous = -1;
+                continue;
+            }
+            const int chroma = std::max({qRed(p), qGreen(p), qBlue(p)}) - std::min({qRed(p), qGreen(p), qBlue(p)});
+            if (chroma > 25 && chroma < 60) continue;
+            const int tinted = chroma >= 60 ? 1 : 0;
+            if (previous >= 0 && tinted != previous) ++edges;
+            previous = tinted;
+        }
+    }
+    return edges;
+}
+
+}  // namespace
 
 void StudioModesTest::splitCompareAndHeatmapComposeWithSideBySide() {
     auto window = lodforge::testing::openStudioWindow();
@@ -198,6 +227,35 @@ void StudioModesTest::parametersShowWhatTheMethodAndMeshUse() {
     QVERIFY(lodforge::testing::loadInStudio(*window, spotPath));
     QVERIFY(shown("uvWeight") && !shown("colorWeight"));
     QCOMPARE(levels->item(0, 2)->text(), QLocale().toString(qulonglong(std::floor(0.1 * 5856.0))));
+}
+
+void StudioModesTest::uvCheckerDensityFollowsTheKeys() {
+    auto window = lodforge::testing::openStudioWindow();
+    QVERIFY(window);
+    window->activateWindow();
+    QVERIFY(QTest::qWaitForWindowActive(window.get()));
+    QVERIFY(lodforge::testing::loadInStudio(*window, spotPath));
+    VtkView* view = window->view();
+    QTest::keyClick(window.get(), Qt::Key_U);
+    QVERIFY(window->viewOptions().uvChecker);
+    QCOMPARE(window->viewOptions().uvCheckerCells, 8);
+    const long coarse = checkerEdges(lodforge::testing::freshFrame(view));
+    // Shift+U twice: 32 squares per unit, four times as many squares across the same charts (at least twice
+    // the edges: rows also end at the silhouette).
+    QTest::keyClick(window.get(), Qt::Key_U, Qt::ShiftModifier);
+    QTest::keyClick(window.get(), Qt::Key_U, Qt::ShiftModifier);
+    QCOMPARE(window->viewOptions().uvCheckerCells, 32);
+    const long fine = checkerEdges(lodforge::testing::freshFrame(view));
+    qInfo("checker edges: %ld at 8 squares per unit, %ld at 32", coarse, fine);
+    QVERIFY2(fine > 2 * coarse, qPrintable(QStringLiteral("%1 -> %2").arg(coarse).arg(fine)));
+    // Alt+U at the coarsest stays there; the checker turned off keeps its density for next time.
+    for (int i = 0; i < 8; ++i) QTest::keyClick(window.get(), Qt::Key_U, Qt::AltModifier);
+    QCOMPARE(window->viewOptions().uvCheckerCells, lodforge::widgets::minUvCheckerCells);
+    QTest::keyClick(window.get(), Qt::Key_U);
+    QVERIFY(!window->viewOptions().uvChecker);
+    QTest::keyClick(window.get(), Qt::Key_U, Qt::ShiftModifier);  // turns it back on, one step finer
+    QVERIFY(window->viewOptions().uvChecker);
+    QCOMPARE(window->viewOptions().uvCheckerCells, 2 * lodforge::widgets::minUvCheckerCells);
 }
 
 int main(int argc, char* argv[]) {

@@ -51,10 +51,12 @@ namespace {
 
 const char* const normalColorsName = "NormalColors";
 
-// A checker on the texture coordinates: 8x8 cells, the dark ones tinted red along u and blue along v, so
-// both the scale and the orientation of the UV layout show.
-vtkSmartPointer<vtkImageData> makeCheckerImage() {
-    constexpr int size = 512, cells = 8, cell = size / cells;
+// A checker on the texture coordinates: `cells` x `cells` squares per UV unit, the dark ones tinted red
+// along u and blue along v, so both the scale and the orientation of the UV layout show. At least 16
+// texels a square, so the squares stay sharp at any density.
+vtkSmartPointer<vtkImageData> makeCheckerImage(int cells) {
+    cells = std::clamp(cells, minUvCheckerCells, maxUvCheckerCells);
+    const int cell = std::max(16, 512 / cells), size = cell * cells;
     auto image = vtkSmartPointer<vtkImageData>::New();
     image->SetDimensions(size, size, 1);
     image->AllocateScalars(VTK_UNSIGNED_CHAR, 4);
@@ -171,6 +173,7 @@ struct VtkView::Private {
 
     vtkSmartPointer<vtkCamera> ownCamera;
     vtkSmartPointer<vtkTexture> checker;
+    int checkerCells = ViewOptions{}.uvCheckerCells;  // the checker image's density
     vtkNew<vtkLookupTable> lut;
     vtkNew<vtkScalarBarActor> scalarBar;
     bool scalarBarVisible = true;
@@ -255,7 +258,7 @@ VtkView::VtkView(QWidget* parent) : QOpenGLWidget(parent), d(std::make_unique<Pr
     d->renderer->AddActor2D(d->scalarBar);
 
     auto checker = vtkSmartPointer<vtkTexture>::New();
-    checker->SetInputData(makeCheckerImage());
+    checker->SetInputData(makeCheckerImage(d->checkerCells));
     checker->InterpolateOn();
     checker->RepeatOn();
     checker->SetColorModeToDirectScalars();
@@ -672,6 +675,10 @@ void VtkView::Private::applyOptions(std::vector<Actor>& list, vtkPlane* clip) {
         }
         // Texture first (the UV checker replaces it); vertex colours where no texture shows; else the
         // material colour or neutral grey.
+        if (o.uvChecker && o.uvCheckerCells != checkerCells) {
+            checkerCells = o.uvCheckerCells;
+            checker->SetInputData(makeCheckerImage(checkerCells));
+        }
         vtkTexture* texture = a.hasTcoords && o.uvChecker ? checker.Get() : (o.textures ? a.texture.Get() : nullptr);
         render::applySurfaceLook(a, texture, o.vertexColors, texture && texture == checker.Get());
     }

@@ -16,11 +16,14 @@ struct ViewOptions {
     bool edges = false;         // triangle edges drawn over the shaded surface
     bool normalColors = false;  // colour = normal (x, y, z -> r, g, b), unlit: shows the shading normals
     bool uvChecker = false;     // a checker texture on the texture coordinates instead of the mesh's texture
+    int uvCheckerCells = 8;     // the checker's squares per unit of texture coordinate, each way (2..128)
     bool cells = false;         // the structure's cells (octree, MC octree) as wireframe boxes over the mesh
     bool cellsByTriangles = false;  // colour the cells by their triangle count instead of their depth
 
     friend bool operator==(const ViewOptions&, const ViewOptions&) = default;
 };
+
+inline constexpr int minUvCheckerCells = 2, maxUvCheckerCells = 128;
 
 // The view's solid background. Tests and the screenshot checker use it to tell the model's pixels from
 // the background, so it is one constant rather than a setting.
