@@ -458,6 +458,9 @@ void MainWindow::createActions() {
                                      tr("Colour each point by its shading normal"));
     uvCheckerAction_ = viewToggle(tr("&UV checker"), QStringLiteral("actionUvChecker"), QKeySequence(Qt::Key_U),
                                   defaults.uvChecker, tr("A checker texture on the texture coordinates"));
+    heatmapOutlineAction_ = viewToggle(tr("Original's &outline over heat map"), QStringLiteral("actionHeatmapOutline"),
+                                       QKeySequence(Qt::SHIFT | Qt::Key_H), defaults.heatmapOutline,
+                                       tr("Draw the original's silhouette over each level's heat map"));
     // The checker's density: squares per UV unit doubled or halved (2..128), so small charts show theirs.
     uvFinerAction_ = action(tr("UV checker &finer"), QStringLiteral("actionUvFiner"), QKeySequence(Qt::SHIFT | Qt::Key_U),
                             tr("Twice as many UV checker squares per texture unit"));
@@ -482,6 +485,7 @@ void MainWindow::createActions() {
                     {edgesAction_, &ViewOptions::edges, QStringLiteral("edges")},
                     {normalColorsAction_, &ViewOptions::normalColors, QStringLiteral("normalColors")},
                     {uvCheckerAction_, &ViewOptions::uvChecker, QStringLiteral("uvChecker")},
+                    {heatmapOutlineAction_, &ViewOptions::heatmapOutline, QStringLiteral("heatmapOutline")},
                     {cellsAction_, &ViewOptions::cells, QStringLiteral("cells")},
                     {cellsByTrianglesAction_, &ViewOptions::cellsByTriangles, QStringLiteral("cellsByTriangles")}};
 
@@ -543,6 +547,7 @@ void MainWindow::createMenus() {
     viewMenu->setObjectName(QStringLiteral("menuView"));
     viewMenu->addAction(sideBySideAction_);
     viewMenu->addAction(heatmapAction_);
+    viewMenu->addAction(heatmapOutlineAction_);
     viewMenu->addAction(compareAction_);
     viewMenu->addSeparator();
     for (QAction* a : {wireframeAction_, edgesAction_, flatShadingAction_, texturesAction_, uvCheckerAction_,

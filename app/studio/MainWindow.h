@@ -245,6 +245,7 @@ private:
     QAction* edgesAction_ = nullptr;
     QAction* normalColorsAction_ = nullptr;
     QAction* uvCheckerAction_ = nullptr;
+    QAction* heatmapOutlineAction_ = nullptr;
     QAction* uvFinerAction_ = nullptr;
     QAction* uvCoarserAction_ = nullptr;
     int uvCheckerCells_ = widgets::ViewOptions{}.uvCheckerCells;

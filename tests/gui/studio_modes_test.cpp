@@ -3,7 +3,8 @@
 // original's dense wireframe left of the split), and the heat map, drawn on each level's own surface,
 // keeps side by side and the split on; its scale bar's labels stay inside small tiles. The Parameters
 // dock, driven by keys, shows only the knobs the method and the mesh use and previews each target's
-// triangle count. The UV checker's density follows Shift+U (finer) and Alt+U (coarser).
+// triangle count. The UV checker's density follows Shift+U (finer) and Alt+U (coarser); Shift+H draws the
+// original's silhouette over a level's heat map.
 #include "PixelStats.h"
 #include "StudioSession.h"
 
@@ -52,6 +53,7 @@ private slots:
     void splitCompareAndHeatmapComposeWithSideBySide();
     void parametersShowWhatTheMethodAndMeshUse();
     void uvCheckerDensityFollowsTheKeys();
+    void heatmapOutlineShowsTheOriginalsSilhouette();
 };
 
 namespace {
@@ -256,6 +258,47 @@ void StudioModesTest::uvCheckerDensityFollowsTheKeys() {
     QTest::keyClick(window.get(), Qt::Key_U, Qt::ShiftModifier);  // turns it back on, one step finer
     QVERIFY(window->viewOptions().uvChecker);
     QCOMPARE(window->viewOptions().uvCheckerCells, 2 * lodforge::widgets::minUvCheckerCells);
+}
+
+void StudioModesTest::heatmapOutlineShowsTheOriginalsSilhouette() {
+    auto window = lodforge::testing::openStudioWindow();
+    QVERIFY(window);
+    window->activateWindow();
+    QVERIFY(QTest::qWaitForWindowActive(window.get()));
+    QVERIFY(lodforge::testing::loadInStudio(*window, spotPath));
+    lodforge::Preset preset = window->preset();
+    preset.levels = lodforge::lod_targets_from_ratios({0.02});
+    QString message;
+    QVERIFY2(lodforge::testing::buildInStudio(*window, preset, &message), qPrintable(message));
+    LevelViews* levels = window->levelViews();
+    levels->setCurrentLevel(1);
+    QSignalSpy finished(window.get(), &MainWindow::jobFinished);
+    QTest::keyClick(window.get(), Qt::Key_H);
+    QVERIFY(finished.wait(60000) && finished.at(0).at(1).toBool());
+    VtkView* view = window->view();
+    // White: on no heat map colour, nor the background.
+    auto outlinePixels = [](const QImage& image) {
+        long n = 0;
+        for (int y = 0; y < image.height(); ++y)
+            for (int x = 0; x < image.width(); ++x)
+                if (lodforge::testing::nearColor(image.pixel(x, y), QColor(255, 255, 255), 12)) ++n;
+        return n;
+    };
+    const long without = outlinePixels(lodforge::testing::freshFrame(view));
+    QVERIFY(view->outlineScene() == nullptr);
+    QTest::keyClick(window.get(), Qt::Key_H, Qt::ShiftModifier);
+    QVERIFY(window->viewOptions().heatmapOutline);
+    QVERIFY(view->outlineScene() == levels->levels().front().scene);
+    const long with = outlinePixels(lodforge::testing::freshFrame(view));
+    qInfo("white pixels: %ld without the outline, %ld with it", without, with);
+    QVERIFY2(with > without + 500, qPrintable(QStringLiteral("%1 -> %2").arg(without).arg(with)));
+    // The original itself (level 0) and the heat map off: no outline.
+    levels->setCurrentLevel(0);
+    QVERIFY(view->outlineScene() == nullptr);
+    levels->setCurrentLevel(1);
+    QTest::keyClick(window.get(), Qt::Key_H);
+    QVERIFY(!levels->heatmapVisible());
+    QVERIFY(view->outlineScene() == nullptr);
 }
 
 int main(int argc, char* argv[]) {

@@ -429,6 +429,7 @@ void LevelViews::refreshSingle() {
     showLevelIn(single_, current_);
     // The original as loaded (textured), also beside a heat map: the swipe shows what the error field covers.
     single_->setCompareScene(compareVisible_ && current_ > 0 ? levels_.front().scene : nullptr);
+    single_->setOutlineScene(outlineFor(current_));
     refreshSingleLabel();
 }
 
@@ -473,6 +474,7 @@ void LevelViews::refreshTiles() {
         // Split compare in every tile but the original's: the original left of the split, the level right.
         std::shared_ptr<const MeshScene> reference = compareVisible_ && i > 0 ? levels_.front().scene : nullptr;
         if (tiles_[i].view->compareScene() != reference) tiles_[i].view->setCompareScene(std::move(reference));
+        tiles_[i].view->setOutlineScene(outlineFor(i));
         tiles_[i].label->setText(levelLabelText(i));
     }
 }
@@ -538,10 +540,20 @@ void LevelViews::setSplitPosition(double fraction) {
 }
 
 void LevelViews::setViewOptions(const ViewOptions& options) {
+    const bool outline = options.heatmapOutline != options_.heatmapOutline;
     options_ = options;
     single_->setViewOptions(options);
     for (const Tile& t : tiles_) t.view->setViewOptions(options);
+    if (outline) {
+        single_->setOutlineScene(outlineFor(current_));
+        for (int i = 0; i < int(tiles_.size()); ++i) tiles_[i].view->setOutlineScene(outlineFor(i));
+    }
     emit viewOptionsChanged(options);
+}
+
+std::shared_ptr<const MeshScene> LevelViews::outlineFor(int level) const {
+    if (!heatmapVisible_ || !options_.heatmapOutline || level <= 0 || levels_.empty()) return nullptr;
+    return levels_.front().scene;
 }
 
 void LevelViews::resetView() {

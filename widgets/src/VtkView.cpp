@@ -25,6 +25,7 @@
 #include <vtkPoints.h>
 #include <vtkPointData.h>
 #include <vtkPolyDataMapper.h>
+#include <vtkPolyDataSilhouette.h>
 #include <vtkProperty.h>
 #include <vtkRenderer.h>
 #include <vtkScalarBarActor.h>
@@ -167,6 +168,10 @@ struct VtkView::Private {
     vtkSmartPointer<vtkPolyDataMapper> overlayMapper;
     void applyOverlayOptions();
     void placeScalarBar(int width, int height);
+
+    std::shared_ptr<const MeshScene> outlineScene;
+    std::vector<vtkSmartPointer<vtkActor>> outlineActors;
+    std::vector<vtkSmartPointer<vtkPolyDataSilhouette>> silhouettes;  // follow the active camera
 
     vtkSmartPointer<vtkActor> markerActor;
     std::vector<vtkSmartPointer<vtkBillboardTextActor3D>> markerLabels;
@@ -441,8 +446,44 @@ void VtkView::updateSplitPlanes() {
 void VtkView::setSharedCamera(VtkView* source) {
     vtkCamera* camera = source ? source->d->renderer->GetActiveCamera() : d->ownCamera.Get();
     d->renderer->SetActiveCamera(camera);
+    for (const auto& s : d->silhouettes) s->SetCamera(camera);
     update();
 }
+
+void VtkView::setOutlineScene(std::shared_ptr<const MeshScene> outline) {
+    if (outline == d->outlineScene) return;
+    for (const auto& actor : d->outlineActors) d->renderer->RemoveActor(actor);
+    d->outlineActors.clear();
+    d->silhouettes.clear();
+    d->outlineScene = std::move(outline);
+    if (d->outlineScene) {
+        for (const MeshScene::Part& part : d->outlineScene->parts) {
+            auto silhouette = vtkSmartPointer<vtkPolyDataSilhouette>::New();
+            silhouette->SetInputData(part.polyData);
+            silhouette->SetCamera(d->renderer->GetActiveCamera());
+            silhouette->SetEnableFeatureAngle(0);  // the outline only, not the creases
+            silhouette->BorderEdgesOn();           // open scans end at their border
+            auto mapper = vtkSmartPointer<vtkPolyDataMapper>::New();
+            mapper->SetInputConnection(silhouette->GetOutputPort());
+            mapper->ScalarVisibilityOff();
+            // Lines pulled towards the camera, so the outline stays visible where the surfaces coincide.
+            mapper->SetRelativeCoincidentTopologyLineOffsetParameters(0, -66000);
+            auto actor = vtkSmartPointer<vtkActor>::New();
+            actor->SetMapper(mapper);
+            actor->PickableOff();
+            vtkProperty* property = actor->GetProperty();
+            property->SetLighting(false);
+            property->SetColor(1.0, 1.0, 1.0);
+            property->SetLineWidth(2.0f);
+            d->renderer->AddActor(actor);
+            d->outlineActors.push_back(actor);
+            d->silhouettes.push_back(silhouette);
+        }
+    }
+    update();
+}
+
+const std::shared_ptr<const MeshScene>& VtkView::outlineScene() const { return d->outlineScene; }
 
 void VtkView::setScalarRange(double maximum) {
     d->scalarRange = std::isfinite(maximum) && maximum > 0 ? maximum : 0.0;

@@ -140,6 +140,8 @@ private:
     };
 
     std::shared_ptr<const MeshScene> sceneOf(int level) const;
+    // The original, for a level's heat map with ViewOptions::heatmapOutline; nullptr otherwise.
+    std::shared_ptr<const MeshScene> outlineFor(int level) const;
     void showLevelIn(VtkView* view, int level);
     void rebuildTiles();
     void refreshSingle();

@@ -16,6 +16,7 @@ struct ViewOptions {
     bool edges = false;         // triangle edges drawn over the shaded surface
     bool normalColors = false;  // colour = normal (x, y, z -> r, g, b), unlit: shows the shading normals
     bool uvChecker = false;     // a checker texture on the texture coordinates instead of the mesh's texture
+    bool heatmapOutline = false;  // the original's silhouette drawn over a level's heat map
     int uvCheckerCells = 8;     // the checker's squares per unit of texture coordinate, each way (2..128)
     bool cells = false;         // the structure's cells (octree, MC octree) as wireframe boxes over the mesh
     bool cellsByTriangles = false;  // colour the cells by their triangle count instead of their depth

@@ -83,6 +83,12 @@ public:
     // Whether an overlay is drawn now (a scene is set and the options show cells).
     bool overlayVisible() const;
 
+    // The silhouette of `outline` (the original, for a level's heat map; nullptr: none) as lines over the
+    // scene, seen from the current camera: where the level's outline left the original's shows. Not
+    // picked, not framed.
+    void setOutlineScene(std::shared_ptr<const MeshScene> outline);
+    const std::shared_ptr<const MeshScene>& outlineScene() const;
+
     // The camera (shared or own) in model units; setViewCamera moves it and emits cameraChanged.
     struct ViewCamera {
         std::array<double, 3> position{0, 0, 1};
