@@ -8,6 +8,7 @@
 #include "lodforge/io/mesh_io.h"
 #include "lodforge/metrics/image_error.h"
 #include "lodforge/metrics/metrics.h"
+#include "lodforge/metrics/pose_error.h"
 #ifdef LODFORGE_HAVE_RENDER
 #include "lodforge/render/image_compare.h"
 #endif
@@ -25,6 +26,7 @@ void add_compare_command(CLI::App& app, const GlobalOptions& global) {
         std::string reference, test, heatmap;
         bool json = false;
         long long samples = 0;
+        long long poses = 0, animation = 0;
         double range = 0;
         std::string heatmap_on = "test";
         bool render = false;
@@ -45,6 +47,10 @@ void add_compare_command(CLI::App& app, const GlobalOptions& global) {
         ->capture_default_str();
     cmd->add_option("--range", options->range, "Heat map: distance at the top of the colour map (default: the largest)");
     cmd->add_option("--samples", options->samples, "Area-weighted samples per surface (0 = automatic)");
+    cmd->add_option("--poses", options->poses,
+                    "Skinned meshes: also the error in N poses sampled evenly over the animation, each mesh posed "
+                    "by its own skeleton (worst and mean over the poses; docs/skinning.md)");
+    cmd->add_option("--animation", options->animation, "--poses: which animation (index, default 0)");
     cmd->add_flag("--render", options->render,
                   "Also the image-space error: both meshes rendered as the studio draws them from 14 views "
                   "(docs/image-compare.md)");
@@ -58,6 +64,9 @@ void add_compare_command(CLI::App& app, const GlobalOptions& global) {
     cmd->callback([options, &global, size, threshold, out] {
         const Options& o = *options;
         if (o.samples < 0) throw Error(Error::Kind::argument, "compare: --samples must be >= 0");
+        if (o.poses < 0) throw Error(Error::Kind::argument, "compare: --poses must be >= 0");
+        if (o.animation < 0) throw Error(Error::Kind::argument, "compare: --animation must be >= 0");
+        if (o.animation > 0 && o.poses == 0) throw Error(Error::Kind::argument, "compare: --animation needs --poses");
         if (!(o.range >= 0) || !std::isfinite(o.range))
             throw Error(Error::Kind::argument, "compare: --range must be >= 0");
         if (!o.heatmap.empty() && format_from_extension(o.heatmap) != FileFormat::ply)
@@ -75,7 +84,15 @@ void add_compare_command(CLI::App& app, const GlobalOptions& global) {
         const bool on_reference = o.heatmap_on == "reference";
         params.vertex_errors = false;
         params.region_errors = !o.heatmap.empty() && !on_reference;
-        const DistanceResult d = compare(reference, test, params, &progress);
+        PoseErrorResult poses;
+        if (o.poses > 0) {
+            PoseErrorParams pp;
+            pp.poses = static_cast<std::size_t>(o.poses);
+            pp.animation = static_cast<std::size_t>(o.animation);
+            pp.distance = params;
+            poses = compare_poses(reference, test, pp, o.reference, o.test, &progress);
+        }
+        const DistanceResult d = o.poses > 0 ? poses.bind : compare(reference, test, params, &progress);
         float heat_max = 0.f;
         if (!o.heatmap.empty()) {
             const std::vector<float>* field = &d.region_errors;
@@ -105,6 +122,20 @@ void add_compare_command(CLI::App& app, const GlobalOptions& global) {
             j.update(nlohmann::ordered_json::parse(distance_json(d, true)));
             j["triangles"] = {{"reference", reference.triangle_count()}, {"test", test.triangle_count()}};
             if (!o.heatmap.empty()) j["heatmap"] = {{"file", o.heatmap}, {"mesh", o.heatmap_on}, {"max", heat_max}};
+            if (o.poses > 0) {
+                nlohmann::ordered_json frames = nlohmann::ordered_json::array();
+                for (const PoseFrameError& f : poses.frames)
+                    frames.push_back({{"time", f.time}, {"hausdorff", f.distance.hausdorff}, {"mean", f.distance.mean}});
+                j["poses"] = {{"animation", o.animation},
+                              {"count", poses.frames.size()},
+                              {"worst_hausdorff", poses.worst_hausdorff},
+                              {"worst_mean", poses.worst_mean},
+                              {"mean_mean", poses.mean_mean},
+                              {"worst_hausdorff_relative", poses.worst_hausdorff_relative},
+                              {"worst_mean_relative", poses.worst_mean_relative},
+                              {"mean_mean_relative", poses.mean_mean_relative},
+                              {"frames", frames}};
+            }
             if (o.render) j["image"] = nlohmann::ordered_json::parse(image_error_json(image, true));
             std::printf("%s\n", j.dump(2).c_str());
             return;
@@ -116,6 +147,11 @@ void add_compare_command(CLI::App& app, const GlobalOptions& global) {
         std::printf("rms:       %.6g (%.3g)\n", d.rms, d.rms_relative);
         std::printf("test -> reference: max %.6g, mean %.6g; reference -> test: max %.6g, mean %.6g\n",
                     d.test_to_reference.max, d.test_to_reference.mean, d.reference_to_test.max, d.reference_to_test.mean);
+        if (o.poses > 0)
+            std::printf("poses (%zu over animation %lld): hausdorff worst %.6g (%.3g); mean worst %.6g (%.3g), "
+                        "average %.6g (%.3g); bind pose mean %.6g\n",
+                        poses.frames.size(), o.animation, poses.worst_hausdorff, poses.worst_hausdorff_relative,
+                        poses.worst_mean, poses.worst_mean_relative, poses.mean_mean, poses.mean_mean_relative, d.mean);
         if (d.has_color_error) std::printf("colour RMS: %.4g (0-255)\n", d.color_rms);
         if (d.has_texcoord_error) std::printf("texcoord RMS: %.4g (UV units)\n", d.texcoord_rms);
         if (!o.heatmap.empty()) std::printf("heat map: %s (on the %s, largest value %.6g)\n", o.heatmap.c_str(), o.heatmap_on.c_str(), double(heat_max));

@@ -7,6 +7,7 @@
 #include "lodforge/io/mesh_io.h"
 #include "lodforge/simplify/simplify.h"
 #include "lodforge/simplify/simplify_cluster.h"
+#include "lodforge/simplify/skin_cost.h"
 
 #include <cmath>
 #include <cstdio>
@@ -49,6 +50,8 @@ void add_simplify_command(CLI::App& app, const GlobalOptions& global) {
         // Optimal by default: lower geometric, UV and normal error than half-edge on every asset measured
         // (docs/bench-fidelity.md); `lod` and `pack` keep half-edge, their levels share one vertex buffer.
         std::string placement = "optimal";
+        long long pose_samples = 0;
+        double pose_weight = SkinCostParams{}.weight;
     };
     auto options = std::make_shared<Options>();
     CLI::App* cmd = app.add_subcommand("simplify", "Simplify a mesh to a triangle ratio, count or error bound");
@@ -79,7 +82,15 @@ void add_simplify_command(CLI::App& app, const GlobalOptions& global) {
                         "position and their UVs, normals and colours are re-solved there (collapse mode)")
             ->check(CLI::IsMember({"half-edge", "optimal"}))
             ->capture_default_str();
-    cmd->callback([options, ratio, triangles, max_error, lock, mode, area_weight, height_weight, placement, &global] {
+    CLI::Option* pose_samples = cmd->add_option(
+        "--pose-samples", options->pose_samples,
+        "Skinned meshes: also weigh each collapse in this many poses sampled from the animation (collapse mode, "
+        "half-edge placement; docs/skinning.md)");
+    CLI::Option* pose_weight = cmd->add_option("--pose-weight", options->pose_weight,
+                                               "--pose-samples: weight of the poses' cost against the bind pose's, >= 0")
+                                   ->capture_default_str();
+    cmd->callback([options, ratio, triangles, max_error, lock, mode, area_weight, height_weight, placement,
+                   pose_samples, pose_weight, &global] {
         Options o = *options;
         const int targets = static_cast<int>(ratio->count() > 0) + static_cast<int>(triangles->count() > 0) +
                             static_cast<int>(max_error->count() > 0);
@@ -95,6 +106,8 @@ void add_simplify_command(CLI::App& app, const GlobalOptions& global) {
                 o.mode = std::string(to_string(preset->method));
             }
             weights = preset->weights;
+            if (!pose_samples->count()) o.pose_samples = preset->skin.pose_samples;
+            if (!pose_weight->count()) o.pose_weight = preset->skin.weight;
             if (o.mode == "collapse") o.lock_border = o.lock_border || preset->lock_border;
             if (targets == 0) {
                 if (preset->levels.empty())
@@ -127,6 +140,19 @@ void add_simplify_command(CLI::App& app, const GlobalOptions& global) {
             throw Error(Error::Kind::argument, "simplify: --height-weight needs --placement half-edge (it orders half-edge collapses)");
         if (!(o.height_weight >= 0 && std::isfinite(o.height_weight)))
             throw Error(Error::Kind::argument, "simplify: --height-weight must be finite and >= 0");
+        if (o.pose_samples < 0 || o.pose_samples > 64)
+            throw Error(Error::Kind::argument, "simplify: --pose-samples must be from 0 to 64");
+        if (!(o.pose_weight >= 0 && std::isfinite(o.pose_weight)))
+            throw Error(Error::Kind::argument, "simplify: --pose-weight must be finite and >= 0");
+        if (pose_weight->count() && o.pose_samples == 0)
+            throw Error(Error::Kind::argument, "simplify: --pose-weight needs --pose-samples");
+        if (o.pose_samples > 0) {
+            if (cluster) throw Error(Error::Kind::argument, "simplify: --pose-samples needs --mode collapse");
+            // The poses' cost is the multi-frame cost, which moves no vertex: half-edge placement.
+            if (placement->count() && o.placement != "half-edge")
+                throw Error(Error::Kind::argument, "simplify: --pose-samples needs --placement half-edge");
+            o.placement = "half-edge";
+        }
         check_mesh_output("simplify", o.output);
         if (!o.weights.empty()) parse_weights(o.weights, weights);
 
@@ -158,6 +184,13 @@ void add_simplify_command(CLI::App& app, const GlobalOptions& global) {
             p.area_weight = o.area_weight == "area" ? SimplifyParams::AreaWeight::area : SimplifyParams::AreaWeight::sqrt_area;
             p.height_weight = static_cast<float>(o.height_weight);
             p.placement = o.placement == "optimal" ? Placement::optimal : Placement::half_edge;
+            SkinCostParams skin;
+            skin.pose_samples = static_cast<std::size_t>(o.pose_samples);
+            skin.weight = static_cast<float>(o.pose_weight);
+            const SkinPoseFrames poses = skin_pose_frames(mesh, skin);
+            if (o.pose_samples > 0 && poses.frames.empty())
+                throw_error(Error::Kind::invalid, o.input, "--pose-samples needs a skinned mesh with an animation");
+            poses.attach(p);
             SimplifyResult r = simplify(mesh, p, &progress);
             target = r.target_triangles;
             dropped = r.dropped_faces;
@@ -173,6 +206,7 @@ void add_simplify_command(CLI::App& app, const GlobalOptions& global) {
         std::printf(", %zu vertices\n", out.point_count());
         std::printf("mode: %s\n", cluster ? "cluster" : "collapse");
         if (!cluster) std::printf("placement: %s\n", o.placement.c_str());
+        if (o.pose_samples > 0) std::printf("poses: %lld sampled, weight %g\n", o.pose_samples, o.pose_weight);
         std::printf("error: %.6g (%.3g of the diagonal %.6g)\n", static_cast<double>(error),
                     static_cast<double>(error_relative), diagonal);
         std::printf("stop: %s\n", reason.c_str());

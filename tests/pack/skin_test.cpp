@@ -314,6 +314,25 @@ TEST(Skin, PackPresetLimitsInfluencesPerLevel) {
     EXPECT_EQ(c.most_influences[3], 1u);
 }
 
+// A pack whose collapse levels weigh sampled poses (skin.pose_samples) is as valid and as limited.
+TEST(Skin, PackWithPoseSamplesIsValidAndLimited) {
+    ScratchDir dir("skin-pack-poses");
+    {
+        std::ofstream preset(dir.file("poses.json"));
+        preset << R"({"levels": [{"ratio": 0.5}, {"ratio": 0.25}, {"ratio": 0.1}],
+                      "skin": {"max_influences": [4, 2], "pose_samples": 4, "weight": 2}})";
+    }
+    const std::string out = dir.file("pack");
+    const CliRun r = run_cli("-q pack " + quoted(shared_data(kCesiumMan)) + " --preset " + quoted(dir.file("poses.json")) +
+                             " -o " + quoted(out));
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    const PackCheck c = check_skinned_pack(out + "/CesiumMan.glb");
+    ASSERT_EQ(c.levels, 4u);
+    EXPECT_EQ(c.most_influences[1], 4u);
+    EXPECT_EQ(c.most_influences[2], 2u);
+    EXPECT_EQ(c.most_influences[3], 2u) << "the last limit repeats";
+}
+
 TEST(Skin, LodStripsPackIsSkinned) {
     ScratchDir dir("skin-pack-strips");
     {

@@ -234,6 +234,8 @@ Preset parse_preset(std::string_view json_text, const std::string& source) {
                 p.skin.max_influences.push_back(v.get<std::uint32_t>());
             }
         }
+        p.skin.pose_samples = kr.count("pose_samples", p.skin.pose_samples, 0, 64);
+        p.skin.weight = kr.number("weight", p.skin.weight, 0, 100);
         kr.finish();
     }
     if (const auto* o = r.find("export")) {
@@ -276,7 +278,9 @@ std::string preset_to_json(const Preset& p) {
                    {"memory_mb", p.octree.memory_mb}};
     j["mcoctree"] = {{"resolution", p.mcoctree.resolution}};
     j["strips"] = {{"primitive_restart", p.strips.primitive_restart}};
-    j["skin"] = {{"max_influences", p.skin.max_influences}};
+    j["skin"] = {{"max_influences", p.skin.max_influences},
+                 {"pose_samples", p.skin.pose_samples},
+                 {"weight", p.skin.weight}};
     j["export"] = {{"glb", p.exports.glb}, {"ply", p.exports.ply}, {"obj", p.exports.obj},
                    {"lodstrips", p.exports.lodstrips}, {"image_error", p.exports.image_error}};
     return j.dump(2) + "\n";

@@ -20,6 +20,7 @@
 #include "lodforge/octree/ooc_soup.h"
 #include "lodforge/progress_range.h"
 #include "lodforge/runtime/lodstrips_runtime.h"
+#include "lodforge/simplify/skin_cost.h"
 #include "lodforge/simplify/simplify_cluster.h"
 #include "lodforge/strips/lodstrips.h"
 
@@ -134,6 +135,11 @@ void collapse_levels(const Mesh& mesh, const Preset& preset, const PresetLevelsP
     }
     p.simplify.weights = preset.weights;
     p.simplify.lock_border = preset.lock_border;
+    SkinCostParams skin;
+    skin.pose_samples = preset.skin.pose_samples;
+    skin.weight = static_cast<float>(preset.skin.weight);
+    const SkinPoseFrames poses = skin_pose_frames(mesh, skin);
+    poses.attach(p.simplify);
     p.measure = params.measure;
     p.distance = measurement(params);
     LevelClock clock(progress, p.levels.size());

@@ -180,6 +180,13 @@ LodChainResult build_lod_chain(const Mesh& mesh, const LodChainParams& params, P
             const double step_diagonal = prev.mesh.bounds().diagonal();
             sp.max_error = step_diagonal > 0 ? static_cast<float>(t.max_error * diagonal / step_diagonal) : t.max_error;
         }
+        // Extra frames (skinned poses, morph frames) follow the step's vertices.
+        std::vector<std::vector<Vec3f>> step_frames(params.simplify.extra_frames.size());
+        for (std::size_t f = 0; f < step_frames.size(); ++f) {
+            step_frames[f].reserve(prev.input_vertex.size());
+            for (std::uint32_t iv : prev.input_vertex) step_frames[f].push_back((*params.simplify.extra_frames[f])[iv]);
+            sp.extra_frames[f] = &step_frames[f];
+        }
         ProgressRange step_progress(progress, begin, begin + per_level * simplify_share);
         SimplifyResult r = simplify(prev.mesh, sp, &step_progress);
 

@@ -75,7 +75,7 @@ double Simplifier::frames_cost(std::uint32_t u, std::uint32_t v, double geometri
         else excess += d;
     }
     if (params_.frame_cost == SimplifyParams::FrameCost::sum) excess /= double(frames_ + 1);
-    return combine(geometric, attribute, weight) + excess;
+    return combine(geometric, attribute, weight) + double(params_.frame_weight) * excess;
 }
 
 // No face around u flips or becomes a needle in any extra frame when u moves onto v. Other frames only

@@ -62,8 +62,13 @@ struct StripOptions {
 // Skinned inputs (docs/skinning.md): the most joints a vertex of each level may follow, one value per
 // preset level (the last repeats for further levels), 1..8; the heaviest are kept and renormalised.
 // Level 0 (the input) keeps all its influences, renormalised.
+// pose_samples (0..64): collapse levels weigh their cost in that many poses sampled from the animation
+// besides the bind pose (0: the bind pose alone), `weight` (0..100; 2 measured best, docs/skinning.md)
+// times as much (SkinCostParams).
 struct SkinOptions {
     std::vector<std::uint32_t> max_influences{4};
+    std::uint32_t pose_samples = 0;
+    double weight = 2.0;
     bool operator==(const SkinOptions&) const = default;
 };
 

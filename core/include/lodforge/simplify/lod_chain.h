@@ -42,6 +42,8 @@ struct LodChainParams {
     std::vector<LodLevelTarget> levels;
     // Weights, border locking, seams, welding and the normal limit of every step. Its targets are
     // ignored (each level sets its own); placement must be Placement::half_edge (levels share vertices).
+    // Its extra_frames, when given, hold positions of the chain's input vertices; each step gets them
+    // for its own vertices.
     SimplifyParams simplify;
     bool measure = true;        // measure every level against the input with compare()
     DistanceParams distance;    // sampling of those measurements (vertex_errors is not filled)

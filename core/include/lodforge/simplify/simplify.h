@@ -88,6 +88,9 @@ struct SimplifyParams {
         sum,  // the sum over frames, divided by the frame count (so max_error keeps its meaning)
     };
     FrameCost frame_cost = FrameCost::max;
+    // Factor on the extra frames' excess cost over frame 0 (finite, >= 0): 0 lets only their flip checks
+    // act, 1 counts them as much as frame 0 (skinned poses, SkinCostParams::weight).
+    float frame_weight = 1.f;
 };
 
 // One point collapse: every vertex (wedge) of point `from_point` moves onto a vertex of `to_point`.
