@@ -374,6 +374,16 @@ private:
         }
         return ring_stamp_;
     }
+    // Artist control (SimplifyParams::importance, lock), per point; empty when not given.
+    std::vector<float> importance_;
+    std::vector<std::uint8_t> pinned_;
+    bool pinned(std::uint32_t p) const { return !pinned_.empty() && pinned_[p]; }
+    // The factor of a collapse u -> v's cost (1 without importance).
+    double importance_factor(std::uint32_t u, std::uint32_t v) const {
+        if (importance_.empty()) return 1.0;
+        const float i = params_.placement == Placement::half_edge ? importance_[u] : std::max(importance_[u], importance_[v]);
+        return 1.0 + double(params_.importance_scale) * double(i);
+    }
     std::vector<std::pair<double, std::uint32_t>> options_;
     std::size_t frames_ = 0;                  // extra frames
     std::vector<Quadric> frame_geo_;
