@@ -124,4 +124,11 @@ void add_level_options(CLI::App* cmd, std::string& ratios, std::string& triangle
                     "Error bounds per step (fraction of the diagonal), increasing, e.g. 0.001,0.004");
 }
 
+void add_paint_options(CLI::App* cmd, std::string& importance, std::string& lock) {
+    cmd->add_option("--importance", importance,
+                    "Per-vertex importance in [0, 1]: a paint file, or color:r|g|b|a (a vertex-colour channel) "
+                    "(collapse method)");
+    cmd->add_option("--lock", lock, "Paint file whose locked vertices never move or disappear (collapse method)");
+}
+
 }  // namespace lodforge::cli

@@ -12,6 +12,7 @@
 #include "lodforge/pack/preset_levels.h"
 
 #include "lodforge/error.h"
+#include "lodforge/io/vertex_paint.h"
 #include "lodforge/io/mesh_io.h"
 #include "lodforge/mcoctree/mc_octree.h"
 #include "lodforge/octree/octree_build.h"
@@ -134,6 +135,7 @@ void collapse_levels(const Mesh& mesh, const Preset& preset, const PresetLevelsP
     }
     p.simplify.weights = preset.weights;
     p.simplify.lock_border = preset.lock_border;
+    read_paint_sources(preset.importance, preset.lock, mesh, params.source_path, p.simplify.importance, p.simplify.lock);
     p.measure = params.measure;
     p.distance = measurement(params);
     LevelClock clock(progress, p.levels.size());
@@ -350,6 +352,10 @@ PresetLevels build_preset_levels(const Mesh& mesh, const Preset& preset, const P
     if (preset.levels.empty()) throw_error(Error::Kind::argument, params.source_path, "the preset has no LOD levels");
     if (stats) stats->level_seconds.clear();
     PresetLevels out;
+    if (preset.method != LodMethod::collapse && (!preset.importance.empty() || !preset.lock.empty()))
+        throw_error(Error::Kind::argument, params.source_path,
+                    "importance and lock paint need the collapse method (the preset's is " +
+                        std::string(to_string(preset.method)) + ")");
     if (preset.method == LodMethod::collapse) {
         collapse_levels(mesh, preset, params, out, progress, stats);
         return out;
