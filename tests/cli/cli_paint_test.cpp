@@ -4,6 +4,7 @@
 #include "lodforge/io/file_hash.h"
 #include "lodforge/io/mesh_io.h"
 #include "lodforge/io/vertex_paint.h"
+#include "lodforge/simplify/seams.h"
 
 #include "support/cli_run.h"
 #include "support/test_paths.h"
@@ -157,4 +158,19 @@ TEST(CliPaint, BadPaintIsAClearError) {
     const CliRun r = run_cli("simplify " + quoted(spot_path()) + " -o " + quoted(dir.file("out.ply")) +
                              " --ratio 0.5 --importance " + quoted(dir.file("missing.json")));
     EXPECT_EQ(r.exit_code, 1) << r.out;
+}
+
+TEST(CliSeams, InfoPrintsTheCountsPerClass) {
+    const CliRun r = run_cli("info --seams --json " + quoted(spot_path()), false);
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    const nlohmann::json j = nlohmann::json::parse(r.out);
+    const lodforge::SeamReport expected = lodforge::classify_seams(spot());
+    EXPECT_EQ(j["edges"].get<std::size_t>(), expected.edge_count);
+    for (int c = 0; c < lodforge::kSeamClasses; ++c) {
+        const std::string name(lodforge::to_string(static_cast<lodforge::SeamClass>(c)));
+        EXPECT_EQ(j[name].get<std::size_t>(), expected.edges[c].size()) << name;
+    }
+    EXPECT_GT(j["uv"].get<std::size_t>(), 0u);
+    const CliRun text = run_cli("info --seams " + quoted(spot_path()));
+    EXPECT_TRUE(contains(text.out, "uv: " + std::to_string(expected.edges[0].size()))) << text.out;
 }
