@@ -174,3 +174,26 @@ TEST(CliSeams, InfoPrintsTheCountsPerClass) {
     const CliRun text = run_cli("info --seams " + quoted(spot_path()));
     EXPECT_TRUE(contains(text.out, "uv: " + std::to_string(expected.edges[0].size()))) << text.out;
 }
+
+TEST(CliSeams, SeamWeightsReachTheSimplifier) {
+    lodforge::test::ScratchDir dir("cli-seams");
+    const std::string bunny = lodforge::test::shared_data("scan-bunny/bun_zipper.ply");
+    CliRun r = run_cli("simplify " + quoted(bunny) + " -o " + quoted(dir.file("plain.ply")) + " --ratio 0.05");
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    r = run_cli("simplify " + quoted(bunny) + " -o " + quoted(dir.file("weighted.ply")) +
+                " --ratio 0.05 --seams weight=border:20");
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    auto borders = [&](const std::string& file) {
+        return lodforge::classify_seams(lodforge::read_mesh(file)).edges[static_cast<int>(lodforge::SeamClass::border)].size();
+    };
+    EXPECT_GT(borders(dir.file("weighted.ply")), borders(dir.file("plain.ply")));
+    // The same through a preset and `lod`.
+    const std::string preset = dir.file("seams.json");
+    write_text(preset, "{\"version\": 1, \"levels\": [{\"ratio\": 0.05}], \"seams\": \"weight=border:20\"}");
+    r = run_cli("lod " + quoted(bunny) + " --preset " + quoted(preset) + " --no-measure -o " + quoted(dir.file("lods")));
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    EXPECT_GT(borders(dir.file("lods/lod1.ply")), borders(dir.file("plain.ply")));
+    r = run_cli("simplify " + quoted(bunny) + " -o " + quoted(dir.file("x.ply")) + " --ratio 0.5 --seams protect=uv");
+    EXPECT_EQ(r.exit_code, 2) << r.out;
+    EXPECT_TRUE(contains(r.out, "protect=uv")) << r.out;
+}

@@ -1,6 +1,7 @@
 // Seam classes (issue 31, docs/artist-control.md): each class is found where it is built into a mesh and
 // nowhere else, real assets have the classes they should, and the collapse simplifier never moves a point
 // off a seam of a protected class (a point on such a seam only collapses onto a point of the same class).
+#include "lodforge/error.h"
 #include "lodforge/io/mesh_io.h"
 #include "lodforge/simplify/seams.h"
 #include "lodforge/simplify/simplify.h"
@@ -10,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <set>
 #include <string>
 
@@ -140,4 +142,43 @@ TEST(Seams, ProtectedSeamsAreNeverCrossed) {
     expect_never_crossed(split_grid("material"), SeamClass::material, 0.1f);
     expect_never_crossed(read_mesh(test::sample("spot/spot_triangulated.obj")), SeamClass::uv, 0.05f);
     expect_never_crossed(read_mesh(test::shared_data("scan-bunny/bun_zipper.ply")), SeamClass::border, 0.05f);
+}
+
+// A weight on a class makes its seams dearer to simplify: at the same triangle count the output keeps
+// more of them (the bunny's hole borders; Spot's UV seams).
+TEST(Seams, WeightedClassesKeepMoreOfTheirEdges) {
+    struct Case {
+        std::string mesh;
+        SeamClass cls;
+    };
+    for (const Case& c : {Case{test::shared_data("scan-bunny/bun_zipper.ply"), SeamClass::border},
+                          Case{test::sample("spot/spot_triangulated.obj"), SeamClass::uv}}) {
+        SCOPED_TRACE(std::string(to_string(c.cls)));
+        const Mesh in = read_mesh(c.mesh);
+        SimplifyParams p;
+        p.target_ratio = 0.05f;
+        const SimplifyResult plain = simplify(in, p);
+        p.seam_weights = parse_seam_weights("weight=" + std::string(to_string(c.cls)) + ":20");
+        ASSERT_EQ(p.seam_weights.size(), std::size_t(kSeamClasses));
+        const SimplifyResult weighted = simplify(in, p);
+        const std::size_t before = count(classify_seams(plain.mesh), c.cls), after = count(classify_seams(weighted.mesh), c.cls);
+        std::printf("%s at 5%%: %zu %s edges unweighted, %zu with weight 20 (%zu and %zu triangles)\n", c.mesh.c_str(),
+                    before, std::string(to_string(c.cls)).c_str(), after, plain.triangles, weighted.triangles);
+        EXPECT_GT(after, before + before / 4);
+        EXPECT_NEAR(double(weighted.triangles), double(plain.triangles), 0.01 * double(plain.triangles));
+    }
+}
+
+TEST(Seams, SeamWeightTextIsChecked) {
+    const std::vector<float> w = parse_seam_weights("weight=crease:4,border:2.5");
+    EXPECT_EQ(w[static_cast<int>(SeamClass::crease)], 4.f);
+    EXPECT_EQ(w[static_cast<int>(SeamClass::border)], 2.5f);
+    EXPECT_EQ(w[static_cast<int>(SeamClass::uv)], 1.f);
+    for (const char* bad : {"protect=uv", "weight=creases:4", "weight=crease:0", "weight=crease:x", "weight=crease",
+                            "weight=crease:nan"})
+        EXPECT_THROW(parse_seam_weights(bad), Error) << bad;
+    SimplifyParams p;
+    p.target_ratio = 0.5f;
+    p.seam_weights = {1.f, -1.f};
+    EXPECT_THROW(simplify(split_grid("uv"), p), Error);
 }

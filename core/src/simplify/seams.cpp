@@ -3,11 +3,14 @@
 // differs.
 #include "lodforge/simplify/seams.h"
 
+#include "lodforge/error.h"
 #include "simplify/simplify_weld.h"
 
 #include <algorithm>
 #include <cmath>
+#include <charconv>
 #include <numbers>
+#include <string>
 
 namespace lodforge {
 
@@ -94,6 +97,35 @@ SeamReport classify_seams(const Mesh& mesh, const SeamParams& params) {
         i = j;
     }
     return r;
+}
+
+std::vector<float> parse_seam_weights(std::string_view text) {
+    auto fail = [&](const std::string& why) -> void {
+        throw Error(Error::Kind::argument, "seams '" + std::string(text) + "': " + why);
+    };
+    constexpr std::string_view prefix = "weight=";
+    if (text.substr(0, prefix.size()) != prefix) fail("give weight=CLASS:W,...; per-class protect and allow are not supported");
+    std::vector<float> weights(kSeamClasses, 1.f);
+    std::string_view rest = text.substr(prefix.size());
+    while (true) {
+        const std::size_t comma = rest.find(',');
+        const std::string_view item = rest.substr(0, comma);
+        const std::size_t colon = item.find(':');
+        if (colon == std::string_view::npos) fail("'" + std::string(item) + "' is not CLASS:W");
+        const std::string_view name = item.substr(0, colon), number = item.substr(colon + 1);
+        int c = 0;
+        while (c < kSeamClasses && to_string(SeamClass(c)) != name) ++c;
+        if (c == kSeamClasses)
+            fail("unknown seam class '" + std::string(name) + "' (uv, uv_mirror, crease, material, color, border, non_manifold)");
+        float w = 0;
+        const auto [end, ec] = std::from_chars(number.data(), number.data() + number.size(), w);
+        if (ec != std::errc() || end != number.data() + number.size() || !(w > 0.f) || !std::isfinite(w))
+            fail("the weight of " + std::string(name) + " must be a finite number > 0");
+        weights[std::size_t(c)] = w;
+        if (comma == std::string_view::npos) break;
+        rest = rest.substr(comma + 1);
+    }
+    return weights;
 }
 
 }  // namespace lodforge

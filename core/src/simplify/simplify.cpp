@@ -22,6 +22,7 @@
 
 #include "lodforge/error.h"
 #include "lodforge/simplify/quadric.h"
+#include "lodforge/simplify/seams.h"
 #include "simplify/simplify_internal.h"
 #include "simplify/simplify_weld.h"
 
@@ -182,6 +183,15 @@ void Simplifier::setup() {
     if (!params_.importance.empty()) {
         importance_.assign(points_, 0.f);
         for (std::size_t i = 0; i < nv; ++i) importance_[pid_[i]] = std::max(importance_[pid_[i]], params_.importance[i]);
+        fusable_ = plain_ = false;
+    }
+    if (std::any_of(params_.seam_weights.begin(), params_.seam_weights.end(), [](float x) { return x != 1.f; })) {
+        // Per point, the largest weight of the seam classes it lies on.
+        seam_factor_.assign(points_, 1.f);
+        const SeamReport seams = classify_seams(mesh_);
+        for (std::size_t c = 0; c < params_.seam_weights.size(); ++c)
+            for (const auto& [e0, e1] : seams.edges[c])
+                for (const std::uint32_t p : {pid_[e0], pid_[e1]}) seam_factor_[p] = std::max(seam_factor_[p], params_.seam_weights[c]);
         fusable_ = plain_ = false;
     }
     if (!params_.lock.empty()) {
@@ -1406,6 +1416,11 @@ void check_artist_masks(const Mesh& mesh, const SimplifyParams& params) {
                                                    std::to_string(params.importance[v]) + ", outside [0, 1]");
     if (!(params.importance_scale >= 0.f) || !std::isfinite(params.importance_scale))
         throw Error(Error::Kind::argument, "simplify: importance_scale must be finite and >= 0");
+    if (params.seam_weights.size() > std::size_t(kSeamClasses))
+        throw Error(Error::Kind::argument, "simplify: seam_weights has " + std::to_string(params.seam_weights.size()) +
+                                               " values for " + std::to_string(kSeamClasses) + " seam classes");
+    for (float w : params.seam_weights)
+        if (!(w > 0.f) || !std::isfinite(w)) throw Error(Error::Kind::argument, "simplify: seam weights must be finite and > 0");
     if (!params.lock.empty() && params.lock.size() != mesh.vertex_count())
         throw Error(Error::Kind::argument, "simplify: lock has " + std::to_string(params.lock.size()) + " values for " +
                                                std::to_string(mesh.vertex_count()) + " vertices");

@@ -89,6 +89,9 @@ struct Preset {
     // the importance, a paint file for the lock; paths relative to the working directory; "" = none.
     std::string importance;
     std::string lock;
+    // Seam class weights for the collapse method, as the CLI's --seams ("weight=crease:4,border:2";
+    // parse_seam_weights()); "" = none.
+    std::string seams;
     OctreeOptions octree;
     McOctreeOptions mcoctree;
     StripOptions strips;

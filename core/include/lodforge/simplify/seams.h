@@ -11,6 +11,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <string>
 #include <string_view>
 #include <utility>
 #include <vector>
@@ -43,5 +44,10 @@ struct SeamReport {
 };
 
 SeamReport classify_seams(const Mesh& mesh, const SeamParams& params = {});
+
+// The CLI's --seams and the preset key "seams": "weight=CLASS:W[,CLASS:W...]" (W finite, > 0) as
+// SimplifyParams::seam_weights (1 for the classes not named). Throws Error(argument) naming the text for
+// anything else (an unknown class, a bad number; protect and allow per class are not built).
+std::vector<float> parse_seam_weights(std::string_view text);
 
 }  // namespace lodforge

@@ -100,6 +100,10 @@ struct SimplifyParams {
     // Nonzero: the vertex's point is never removed and never moves (optimal placement puts an edge with a
     // locked end at that end); its vertices keep their input position and attributes bit for bit.
     std::vector<std::uint8_t> lock;
+    // Cost factor per seam class (index: SeamClass, lodforge/simplify/seams.h; empty or 1 = none): removing
+    // a point on a seam of a class costs that many times more (the largest factor of its classes), as
+    // importance does; parse_seam_weights() reads them from the CLI's --seams.
+    std::vector<float> seam_weights;
 };
 
 // One point collapse: every vertex (wedge) of point `from_point` moves onto a vertex of `to_point`.
