@@ -43,7 +43,7 @@ void add_lod_command(CLI::App& app, const GlobalOptions& global) {
         std::string input, output_dir, preset;
         std::string levels, level_triangles, level_errors;
         std::string format = "ply";
-        std::string weights;
+        std::string weights, importance, lock, seams;
         bool lock_border = false;
         bool no_measure = false;
         long long samples = 0;
@@ -59,6 +59,7 @@ void add_lod_command(CLI::App& app, const GlobalOptions& global) {
         ->capture_default_str();
     cmd->add_option("--weights", options->weights, kWeightsHelp);
     cmd->add_flag("--lock-border", options->lock_border, "Never move border vertices");
+    add_paint_options(cmd, options->importance, options->lock, options->seams);
     cmd->add_flag("--no-measure", options->no_measure, "Skip measuring each level against the input");
     cmd->add_option("--samples", options->samples, "Samples per surface for the measurements (0 = automatic)");
     cmd->callback([options, &global] {
@@ -72,6 +73,9 @@ void add_lod_command(CLI::App& app, const GlobalOptions& global) {
             throw Error(Error::Kind::argument, "lod: give one of --levels, --level-triangles and --level-errors (or --preset)");
         if (!o.weights.empty()) parse_weights(o.weights, preset.weights);
         preset.lock_border = preset.lock_border || o.lock_border;
+        if (!o.importance.empty()) preset.importance = o.importance;
+        if (!o.lock.empty()) preset.lock = o.lock;
+        if (!o.seams.empty()) preset.seams = o.seams;
         if (o.samples < 0) throw Error(Error::Kind::argument, "lod: --samples must be >= 0");
         PresetLevelsParams params;
         params.source_path = o.input;

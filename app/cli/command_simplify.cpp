@@ -5,6 +5,8 @@
 
 #include "lodforge/error.h"
 #include "lodforge/io/mesh_io.h"
+#include "lodforge/io/vertex_paint.h"
+#include "lodforge/simplify/seams.h"
 #include "lodforge/simplify/simplify.h"
 #include "lodforge/simplify/simplify_cluster.h"
 #include "lodforge/simplify/skin_cost.h"
@@ -42,7 +44,7 @@ void add_simplify_command(CLI::App& app, const GlobalOptions& global) {
         std::string input, output, preset;
         double ratio = 0, max_error = 0;
         long long triangles = 0;
-        std::string weights;
+        std::string weights, importance, lock, seams;
         bool lock_border = false;
         std::string mode = "collapse";
         std::string area_weight = "area";
@@ -64,6 +66,7 @@ void add_simplify_command(CLI::App& app, const GlobalOptions& global) {
         "--max-error", options->max_error, "Simplify until the error estimate reaches this fraction of the bounding-box diagonal");
     cmd->add_option("--weights", options->weights, kWeightsHelp);
     CLI::Option* lock = cmd->add_flag("--lock-border", options->lock_border, "Never move border vertices (collapse mode)");
+    add_paint_options(cmd, options->importance, options->lock, options->seams);
     CLI::Option* mode = cmd->add_option("--mode", options->mode, "collapse: quadric edge collapse; cluster: vertex clustering (faster, coarser)")
         ->check(CLI::IsMember({"collapse", "cluster"}))
         ->capture_default_str();
@@ -109,6 +112,9 @@ void add_simplify_command(CLI::App& app, const GlobalOptions& global) {
             if (!pose_samples->count()) o.pose_samples = preset->skin.pose_samples;
             if (!pose_weight->count()) o.pose_weight = preset->skin.weight;
             if (o.mode == "collapse") o.lock_border = o.lock_border || preset->lock_border;
+            if (o.importance.empty()) o.importance = preset->importance;
+            if (o.lock.empty()) o.lock = preset->lock;
+            if (o.seams.empty()) o.seams = preset->seams;
             if (targets == 0) {
                 if (preset->levels.empty())
                     throw Error(Error::Kind::argument, "simplify: the preset has no levels; give --ratio, --triangles or --max-error");
@@ -132,6 +138,8 @@ void add_simplify_command(CLI::App& app, const GlobalOptions& global) {
         const bool cluster = o.mode == "cluster";
         if (cluster && has_max_error)
             throw Error(Error::Kind::argument, "simplify: --max-error needs --mode collapse (clustering targets a triangle count)");
+        if (cluster && (!o.importance.empty() || !o.lock.empty() || !o.seams.empty()))
+            throw Error(Error::Kind::argument, "simplify: --importance, --lock and --seams need --mode collapse");
         if (cluster && lock->count())
             throw Error(Error::Kind::argument, "simplify: --lock-border needs --mode collapse");
         if (cluster && (area_weight->count() || height_weight->count() || placement->count()))
@@ -191,6 +199,8 @@ void add_simplify_command(CLI::App& app, const GlobalOptions& global) {
             if (o.pose_samples > 0 && poses.frames.empty())
                 throw_error(Error::Kind::invalid, o.input, "--pose-samples needs a skinned mesh with an animation");
             poses.attach(p);
+            read_paint_sources(o.importance, o.lock, mesh, o.input, p.importance, p.lock);
+            if (!o.seams.empty()) p.seam_weights = parse_seam_weights(o.seams);
             SimplifyResult r = simplify(mesh, p, &progress);
             target = r.target_triangles;
             dropped = r.dropped_faces;

@@ -124,4 +124,14 @@ void add_level_options(CLI::App* cmd, std::string& ratios, std::string& triangle
                     "Error bounds per step (fraction of the diagonal), increasing, e.g. 0.001,0.004");
 }
 
+void add_paint_options(CLI::App* cmd, std::string& importance, std::string& lock, std::string& seams) {
+    cmd->add_option("--importance", importance,
+                    "Per-vertex importance in [0, 1]: a paint file, or color:r|g|b|a (a vertex-colour channel) "
+                    "(collapse method)");
+    cmd->add_option("--lock", lock, "Paint file whose locked vertices never move or disappear (collapse method)");
+    cmd->add_option("--seams", seams,
+                    "Cost factors per seam class, e.g. weight=crease:4,border:2 (classes: uv, uv_mirror, crease, "
+                    "material, color, border, non_manifold; collapse method)");
+}
+
 }  // namespace lodforge::cli

@@ -39,6 +39,10 @@ std::optional<Preset> preset_from_option(const std::string& value);
 // names the command).
 std::vector<LodTarget> parse_level_targets(const std::string& ratios, const std::string& triangles,
                                            const std::string& errors, const std::string& command);
+// Adds --importance FILE|color:CHANNEL, --lock FILE and --seams weight=CLASS:W,... (artist control,
+// docs/artist-control.md) to `cmd`.
+void add_paint_options(CLI::App* cmd, std::string& importance, std::string& lock, std::string& seams);
+
 // Adds those three options to `cmd`.
 void add_level_options(CLI::App* cmd, std::string& ratios, std::string& triangles, std::string& errors);
 

@@ -205,6 +205,9 @@ Preset parse_preset(std::string_view json_text, const std::string& source) {
         wr.finish();
     }
     p.lock_border = r.flag("lock_border", p.lock_border);
+    p.importance = r.text("importance", p.importance);
+    p.lock = r.text("lock", p.lock);
+    p.seams = r.text("seams", p.seams);
     if (const auto* o = r.find("octree")) {
         ObjectReader orr(*o, "octree", source);
         p.octree.max_triangles_per_node =
@@ -273,6 +276,10 @@ std::string preset_to_json(const Preset& p) {
     j["weights"] = {{"normal", p.weights.normal}, {"color", p.weights.color}, {"uv", p.weights.texcoord}};
     if (!p.weights.texcoord_sets.empty()) j["weights"]["uv_sets"] = p.weights.texcoord_sets;
     j["lock_border"] = p.lock_border;
+    // Paint is written only when set: presets without it stay as they were.
+    if (!p.importance.empty()) j["importance"] = p.importance;
+    if (!p.lock.empty()) j["lock"] = p.lock;
+    if (!p.seams.empty()) j["seams"] = p.seams;
     j["octree"] = {{"max_triangles_per_node", p.octree.max_triangles_per_node},
                    {"max_depth", p.octree.max_depth},
                    {"memory_mb", p.octree.memory_mb}};

@@ -12,6 +12,8 @@
 #include "lodforge/pack/preset_levels.h"
 
 #include "lodforge/error.h"
+#include "lodforge/io/vertex_paint.h"
+#include "lodforge/simplify/seams.h"
 #include "lodforge/io/mesh_io.h"
 #include "lodforge/mcoctree/mc_octree.h"
 #include "lodforge/octree/octree_build.h"
@@ -140,6 +142,8 @@ void collapse_levels(const Mesh& mesh, const Preset& preset, const PresetLevelsP
     skin.weight = static_cast<float>(preset.skin.weight);
     const SkinPoseFrames poses = skin_pose_frames(mesh, skin);
     poses.attach(p.simplify);
+    read_paint_sources(preset.importance, preset.lock, mesh, params.source_path, p.simplify.importance, p.simplify.lock);
+    if (!preset.seams.empty()) p.simplify.seam_weights = parse_seam_weights(preset.seams);
     p.measure = params.measure;
     p.distance = measurement(params);
     LevelClock clock(progress, p.levels.size());
@@ -356,6 +360,10 @@ PresetLevels build_preset_levels(const Mesh& mesh, const Preset& preset, const P
     if (preset.levels.empty()) throw_error(Error::Kind::argument, params.source_path, "the preset has no LOD levels");
     if (stats) stats->level_seconds.clear();
     PresetLevels out;
+    if (preset.method != LodMethod::collapse && (!preset.importance.empty() || !preset.lock.empty() || !preset.seams.empty()))
+        throw_error(Error::Kind::argument, params.source_path,
+                    "importance, lock and seams need the collapse method (the preset's is " +
+                        std::string(to_string(preset.method)) + ")");
     if (preset.method == LodMethod::collapse) {
         collapse_levels(mesh, preset, params, out, progress, stats);
         return out;

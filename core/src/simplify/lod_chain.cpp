@@ -175,6 +175,16 @@ LodChainResult build_lod_chain(const Mesh& mesh, const LodChainParams& params, P
         sp.target_ratio = 0.f;
         sp.target_triangles = targets[i];
         sp.max_error = std::numeric_limits<float>::infinity();
+        if (i > 0) {
+            // Artist masks are per input vertex: each step reads them through its level's vertices.
+            const std::vector<std::uint32_t>& iv = prev.input_vertex;
+            if (params.simplify.importance.size() == mesh.vertex_count())
+                for (std::size_t v = 0; v < iv.size(); ++v) sp.importance[v] = params.simplify.importance[iv[v]];
+            if (params.simplify.lock.size() == mesh.vertex_count())
+                for (std::size_t v = 0; v < iv.size(); ++v) sp.lock[v] = params.simplify.lock[iv[v]];
+            if (!sp.importance.empty()) sp.importance.resize(iv.size());
+            if (!sp.lock.empty()) sp.lock.resize(iv.size());
+        }
         if (!is_count(t)) {
             // The step's limit is relative to its own input's diagonal; the level's to the chain input's.
             const double step_diagonal = prev.mesh.bounds().diagonal();

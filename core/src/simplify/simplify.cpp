@@ -22,6 +22,7 @@
 
 #include "lodforge/error.h"
 #include "lodforge/simplify/quadric.h"
+#include "lodforge/simplify/seams.h"
 #include "simplify/simplify_internal.h"
 #include "simplify/simplify_weld.h"
 
@@ -177,6 +178,26 @@ void Simplifier::setup() {
                                                  std::not_equal_to<>()) == mesh_.face_materials.end();
     fusable_ = one_material_ && params_.extra_frames.empty() && params_.placement == Placement::half_edge;
     plain_ = dims_ == 0 && fusable_;
+    // Artist control: per point, the largest importance of its vertices and locked if any is. The
+    // fused and plain paths cost without the importance factor, so importance takes the general path.
+    if (!params_.importance.empty()) {
+        importance_.assign(points_, 0.f);
+        for (std::size_t i = 0; i < nv; ++i) importance_[pid_[i]] = std::max(importance_[pid_[i]], params_.importance[i]);
+        fusable_ = plain_ = false;
+    }
+    if (std::any_of(params_.seam_weights.begin(), params_.seam_weights.end(), [](float x) { return x != 1.f; })) {
+        // Per point, the largest weight of the seam classes it lies on.
+        seam_factor_.assign(points_, 1.f);
+        const SeamReport seams = classify_seams(mesh_);
+        for (std::size_t c = 0; c < params_.seam_weights.size(); ++c)
+            for (const auto& [e0, e1] : seams.edges[c])
+                for (const std::uint32_t p : {pid_[e0], pid_[e1]}) seam_factor_[p] = std::max(seam_factor_[p], params_.seam_weights[c]);
+        fusable_ = plain_ = false;
+    }
+    if (!params_.lock.empty()) {
+        pinned_.assign(points_, 0);
+        for (std::size_t i = 0; i < nv; ++i) pinned_[pid_[i]] |= params_.lock[i] != 0;
+    }
     if (greedy_) heap_.reset(points_);  // the pass schedule has no heap (28 bytes a point, set or reserved)
     if (!params_.extra_frames.empty()) setup_frames();
 }
@@ -287,7 +308,7 @@ void Simplifier::classify_points() {
         // A point with many (wedge, material) classes (a corner of several seams) stays.
         int classes = 0;
         for (std::uint32_t i = wedge_begin_[p]; i < wedge_begin_[p + 1]; ++i) ++classes;
-        if (classes > kMaxClasses / 2) pts_[p].kind = Kind::locked;
+        if (classes > kMaxClasses / 2 || pinned(p)) pts_[p].kind = Kind::locked;
     }
 }
 
@@ -392,6 +413,7 @@ double Simplifier::plan_cost(std::uint32_t u, std::uint32_t v, Plan& plan) {
             if (dotd(d, d) <= 4 * dotd(e, e)) plan.position = p;
         }
         if (q.evaluate(pts_[u].pos) < q.evaluate(plan.position) && pts_[v].kind == Kind::interior) plan.position = pts_[u].pos;
+        if (pinned(v)) plan.position = pts_[v].pos;  // a locked point never moves
     }
     const double geometric = q.evaluate(plan.position);
     double cost = 0;  // attributes
@@ -404,8 +426,9 @@ double Simplifier::plan_cost(std::uint32_t u, std::uint32_t v, Plan& plan) {
             if (first) cost += aq_.evaluate(plan.wedge[i], plan.position, attr(plan.target[i]));
         }
     }
-    if (frames_ > 0) return frames_cost(u, v, geometric, cost, q.weight);
-    return combine(geometric, cost, q.weight);
+    const double factor = importance_factor(u, v);
+    if (frames_ > 0) return factor * frames_cost(u, v, geometric, cost, q.weight);
+    return factor * combine(geometric, cost, q.weight);
 }
 
 // Optimal placement re-solves every wedge's attributes at the new position (run() writes them out), so a
@@ -763,6 +786,7 @@ void Simplifier::collapse(std::uint32_t u, std::uint32_t v, const Plan& plan) {
     rec.moves_end = static_cast<std::uint32_t>(result_.moves.size());
     result_.collapses.push_back(rec);
     pts_[v].pos = plan.position;
+    if (!importance_.empty()) importance_[v] = std::max(importance_[v], importance_[u]);  // v stands for u's region
     point_alive_[u] = 0;
 }
 
@@ -1316,8 +1340,10 @@ SimplifyResult Simplifier::run() {
     if (p.placement == Placement::optimal) {
         moved.resize(points_);
         for (std::size_t i = 0; i < points_; ++i)
-            moved[i] = {static_cast<float>(pts_[i].pos.x * scale_ + centre_.x), static_cast<float>(pts_[i].pos.y * scale_ + centre_.y),
-                        static_cast<float>(pts_[i].pos.z * scale_ + centre_.z)};
+            moved[i] = pinned(static_cast<std::uint32_t>(i))
+                           ? mesh_.positions[representative_[i]]  // bit for bit, not through the normalisation
+                           : Vec3f{static_cast<float>(pts_[i].pos.x * scale_ + centre_.x), static_cast<float>(pts_[i].pos.y * scale_ + centre_.y),
+                                   static_cast<float>(pts_[i].pos.z * scale_ + centre_.z)};
     }
     result_.mesh = build_mesh(mesh_, pid_, moved.empty() ? nullptr : &moved, corners, sources, result_.vertex_map);
     if (p.placement == Placement::optimal) write_solved_attributes(result_.mesh, result_.vertex_map);
@@ -1343,6 +1369,7 @@ void Simplifier::write_solved_attributes(Mesh& out, const std::vector<std::uint3
     std::vector<double> s(dims_);
     for (std::size_t i = 0; i < vertex_map.size(); ++i) {
         const std::uint32_t w = vertex_map[i];
+        if (pinned(pid_[w])) continue;  // a locked point keeps its attributes
         if (!aq_.optimal_attributes(w, pts_[pid_[w]].pos, s.data())) continue;
         for (std::size_t j = 0; j < dims_; ++j)
             if (attr_lo_[w * dims_ + j] <= attr_hi_[w * dims_ + j])
@@ -1376,11 +1403,51 @@ void Simplifier::write_solved_attributes(Mesh& out, const std::vector<std::uint3
 
 using namespace simplify_detail;
 
+namespace {
+
+// SimplifyParams::importance and lock against the mesh they are given for (before any re-indexing).
+void check_artist_masks(const Mesh& mesh, const SimplifyParams& params) {
+    if (!params.importance.empty() && params.importance.size() != mesh.vertex_count())
+        throw Error(Error::Kind::argument, "simplify: importance has " + std::to_string(params.importance.size()) +
+                                               " values for " + std::to_string(mesh.vertex_count()) + " vertices");
+    for (std::size_t v = 0; v < params.importance.size(); ++v)
+        if (!(params.importance[v] >= 0.f && params.importance[v] <= 1.f))
+            throw Error(Error::Kind::argument, "simplify: importance of vertex " + std::to_string(v) + " is " +
+                                                   std::to_string(params.importance[v]) + ", outside [0, 1]");
+    if (!(params.importance_scale >= 0.f) || !std::isfinite(params.importance_scale))
+        throw Error(Error::Kind::argument, "simplify: importance_scale must be finite and >= 0");
+    if (params.seam_weights.size() > std::size_t(kSeamClasses))
+        throw Error(Error::Kind::argument, "simplify: seam_weights has " + std::to_string(params.seam_weights.size()) +
+                                               " values for " + std::to_string(kSeamClasses) + " seam classes");
+    for (float w : params.seam_weights)
+        if (!(w > 0.f) || !std::isfinite(w)) throw Error(Error::Kind::argument, "simplify: seam weights must be finite and > 0");
+    if (!params.lock.empty() && params.lock.size() != mesh.vertex_count())
+        throw Error(Error::Kind::argument, "simplify: lock has " + std::to_string(params.lock.size()) + " values for " +
+                                               std::to_string(mesh.vertex_count()) + " vertices");
+}
+
+}  // namespace
+
 SimplifyResult simplify(const Mesh& mesh, const SimplifyParams& params, Progress* progress) {
+    check_artist_masks(mesh, params);
     IdenticalVertices iv;
     if (soup_worth_merging(mesh, params, iv)) {
         const Mesh merged = iv.merged(mesh);
-        Simplifier s(merged, params, progress);
+        // Artist masks follow the vertices onto the merged ones (largest importance, locked if any).
+        const bool masks = !params.importance.empty() || !params.lock.empty();
+        SimplifyParams mp;
+        if (masks) {
+            mp = params;
+            const std::size_t n = merged.vertex_count();
+            if (!params.importance.empty()) mp.importance.assign(n, 0.f);
+            if (!params.lock.empty()) mp.lock.assign(n, 0);
+            for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
+                const std::uint32_t m = iv.merged_of[v];
+                if (!params.importance.empty()) mp.importance[m] = std::max(mp.importance[m], params.importance[v]);
+                if (!params.lock.empty()) mp.lock[m] |= params.lock[v] != 0;
+            }
+        }
+        Simplifier s(merged, masks ? mp : params, progress);
         SimplifyResult r = s.run();
         to_input_numbering(r, iv);
         return r;

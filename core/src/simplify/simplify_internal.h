@@ -374,6 +374,20 @@ private:
         }
         return ring_stamp_;
     }
+    // Artist control (SimplifyParams::importance, lock), per point; empty when not given.
+    std::vector<float> importance_;
+    std::vector<std::uint8_t> pinned_;
+    bool pinned(std::uint32_t p) const { return !pinned_.empty() && pinned_[p]; }
+    std::vector<float> seam_factor_;  // SimplifyParams::seam_weights per point; empty when none
+    // The factor of a collapse u -> v's cost (1 without importance or seam weights).
+    double importance_factor(std::uint32_t u, std::uint32_t v) const {
+        const bool half_edge = params_.placement == Placement::half_edge;
+        double f = 1.0;
+        if (!importance_.empty())
+            f = 1.0 + double(params_.importance_scale) * double(half_edge ? importance_[u] : std::max(importance_[u], importance_[v]));
+        if (!seam_factor_.empty()) f *= double(half_edge ? seam_factor_[u] : std::max(seam_factor_[u], seam_factor_[v]));
+        return f;
+    }
     std::vector<std::pair<double, std::uint32_t>> options_;
     std::size_t frames_ = 0;                  // extra frames
     std::vector<Quadric> frame_geo_;

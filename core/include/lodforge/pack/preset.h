@@ -90,6 +90,13 @@ struct Preset {
     std::vector<LodTarget> levels = lod_targets_from_ratios({0.5, 0.25, 0.1, 0.03});
     SimplifyWeights weights;
     bool lock_border = false;
+    // Artist paint (docs/artist-control.md), method collapse only: a paint file or "color:r|g|b|a" for
+    // the importance, a paint file for the lock; paths relative to the working directory; "" = none.
+    std::string importance;
+    std::string lock;
+    // Seam class weights for the collapse method, as the CLI's --seams ("weight=crease:4,border:2";
+    // parse_seam_weights()); "" = none.
+    std::string seams;
     OctreeOptions octree;
     McOctreeOptions mcoctree;
     StripOptions strips;

@@ -91,6 +91,22 @@ struct SimplifyParams {
     // Factor on the extra frames' excess cost over frame 0 (finite, >= 0): 0 lets only their flip checks
     // act, 1 counts them as much as frame 0 (skinned poses, SkinCostParams::weight).
     float frame_weight = 1.f;
+    // Artist control (docs/artist-control.md), one entry per input vertex; empty = none. Vertices at one
+    // point (wedges, welded positions) are resolved per point: the largest importance, locked if any is.
+    // importance in [0, 1]: the cost of removing a point is multiplied by 1 + importance_scale x its
+    // importance (the kept point inherits the larger importance); optimal placement also counts the kept
+    // point's. The cost is a squared distance, so the default 99 holds a fully painted region to about a
+    // tenth of the error of the rest at the same cost; the error estimates (max_error, SimplifyResult::error)
+    // are of the scaled cost. The fast geometry-only paths are skipped when importance is given.
+    std::vector<float> importance;
+    float importance_scale = 99.f;
+    // Nonzero: the vertex's point is never removed and never moves (optimal placement puts an edge with a
+    // locked end at that end); its vertices keep their input position and attributes bit for bit.
+    std::vector<std::uint8_t> lock;
+    // Cost factor per seam class (index: SeamClass, lodforge/simplify/seams.h; empty or 1 = none): removing
+    // a point on a seam of a class costs that many times more (the largest factor of its classes), as
+    // importance does; parse_seam_weights() reads them from the CLI's --seams.
+    std::vector<float> seam_weights;
 };
 
 // One point collapse: every vertex (wedge) of point `from_point` moves onto a vertex of `to_point`.
