@@ -19,7 +19,7 @@ namespace lodforge::cli {
 
 void add_pack_command(CLI::App& app, const GlobalOptions& global) {
     struct Options {
-        std::string input, preset, output_dir, method, weights;
+        std::string input, preset, output_dir, method, weights, placement;
         std::string levels, level_triangles, level_errors;
         bool lock_border = false;
         bool json = false;
@@ -37,6 +37,7 @@ void add_pack_command(CLI::App& app, const GlobalOptions& global) {
     add_level_options(cmd, options->levels, options->level_triangles, options->level_errors);
     cmd->add_option("--weights", options->weights, kWeightsHelp);
     cmd->add_flag("--lock-border", options->lock_border, "Never move border vertices");
+    add_placement_option(cmd, options->placement);
     cmd->add_flag("--json", options->json, "Print the levels and files written as JSON");
     cmd->add_flag("--image-error", options->image_error,
                   "Measure each level's image-space error and write it into pack.json (sets the preset's "
@@ -51,6 +52,7 @@ void add_pack_command(CLI::App& app, const GlobalOptions& global) {
         if (!targets.empty()) params.preset.levels = std::move(targets);
         if (!o.weights.empty()) parse_weights(o.weights, params.preset.weights);
         params.preset.lock_border = params.preset.lock_border || o.lock_border;
+        if (!o.placement.empty()) params.preset.placement = placement_from_string(o.placement);
         params.source_path = o.input;
         params.output_dir = o.output_dir;
         if (o.image_error) params.preset.exports.image_error = true;

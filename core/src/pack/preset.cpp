@@ -38,6 +38,23 @@ constexpr std::array<std::pair<LodMethod, std::string_view>, 5> method_names{{
     {LodMethod::mcoctree, "mcoctree"},
 }};
 
+constexpr std::array<std::pair<Placement, std::string_view>, 2> placement_names{{
+    {Placement::optimal, "optimal"},
+    {Placement::half_edge, "half-edge"},
+}};
+
+// The value of `name` in `names`, or Error(argument) naming `what` and the accepted names.
+template <typename T, std::size_t N>
+T from_name(const std::array<std::pair<T, std::string_view>, N>& names, std::string_view name, const char* what) {
+    std::string accepted;
+    for (auto [value, n] : names) {
+        if (n == name) return value;
+        accepted += accepted.empty() ? std::string(n) : ", " + std::string(n);
+    }
+    throw_error(Error::Kind::argument, "", std::string("unknown ") + what + " '" + std::string(name) +
+                                               "' (accepted: " + accepted + ")");
+}
+
 constexpr std::array<std::pair<LodTarget::Kind, std::string_view>, 3> target_names{{
     {LodTarget::Kind::ratio, "ratio"},
     {LodTarget::Kind::triangles, "triangles"},
@@ -147,15 +164,15 @@ std::string_view to_string(LodMethod method) {
     return "collapse";
 }
 
-LodMethod lod_method_from_string(std::string_view name) {
-    std::string accepted;
-    for (auto [m, n] : method_names) {
-        if (n == name) return m;
-        accepted += accepted.empty() ? std::string(n) : ", " + std::string(n);
-    }
-    throw_error(Error::Kind::argument, "", "unknown LOD method '" + std::string(name) +
-                                               "' (accepted: " + accepted + ")");
+LodMethod lod_method_from_string(std::string_view name) { return from_name(method_names, name, "LOD method"); }
+
+std::string_view to_string(Placement placement) {
+    for (auto [p, name] : placement_names)
+        if (p == placement) return name;
+    return "optimal";
 }
+
+Placement placement_from_string(std::string_view name) { return from_name(placement_names, name, "placement"); }
 
 Preset parse_preset(std::string_view json_text, const std::string& source) {
     ordered_json root;
@@ -205,6 +222,14 @@ Preset parse_preset(std::string_view json_text, const std::string& source) {
         wr.finish();
     }
     p.lock_border = r.flag("lock_border", p.lock_border);
+    if (const auto* m = r.find("placement")) {
+        if (!m->is_string()) r.fail("placement", "must be a string");
+        try {
+            p.placement = placement_from_string(m->get<std::string>());
+        } catch (const Error& e) {
+            r.fail("placement", e.what());
+        }
+    }
     if (const auto* o = r.find("octree")) {
         ObjectReader orr(*o, "octree", source);
         p.octree.max_triangles_per_node =
@@ -271,6 +296,7 @@ std::string preset_to_json(const Preset& p) {
     j["weights"] = {{"normal", p.weights.normal}, {"color", p.weights.color}, {"uv", p.weights.texcoord}};
     if (!p.weights.texcoord_sets.empty()) j["weights"]["uv_sets"] = p.weights.texcoord_sets;
     j["lock_border"] = p.lock_border;
+    j["placement"] = std::string(to_string(p.placement));
     j["octree"] = {{"max_triangles_per_node", p.octree.max_triangles_per_node},
                    {"max_depth", p.octree.max_depth},
                    {"memory_mb", p.octree.memory_mb}};

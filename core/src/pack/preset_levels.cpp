@@ -134,6 +134,7 @@ void collapse_levels(const Mesh& mesh, const Preset& preset, const PresetLevelsP
     }
     p.simplify.weights = preset.weights;
     p.simplify.lock_border = preset.lock_border;
+    p.simplify.placement = preset.placement;
     p.measure = params.measure;
     p.distance = measurement(params);
     LevelClock clock(progress, p.levels.size());
@@ -147,7 +148,7 @@ void collapse_levels(const Mesh& mesh, const Preset& preset, const PresetLevelsP
         out.stops.push_back(stop_of(level.reason));
         if (params.measure) out.distance.push_back(level.distance);
     }
-    out.vertices_on_input = true;
+    out.vertices_on_input = preset.placement == Placement::half_edge;
 }
 
 void cluster_levels(const Mesh& mesh, const Preset& preset, const PresetLevelsParams& params, PresetLevels& out,
