@@ -120,6 +120,20 @@ public:
         return value;
     }
 
+    // A string naming one of an enum's values; `from_string` throws Error listing the accepted names.
+    template <typename T>
+    T name(const std::string& key, T value, T (*from_string)(std::string_view)) {
+        if (const auto* j = find(key)) {
+            if (!j->is_string()) fail(key_path(key), "must be a string");
+            try {
+                value = from_string(j->get<std::string>());
+            } catch (const Error& e) {
+                fail(key_path(key), e.what());
+            }
+        }
+        return value;
+    }
+
     // Call after reading every known key.
     void finish() const {
         for (auto it = object_.begin(); it != object_.end(); ++it)
@@ -188,14 +202,7 @@ Preset parse_preset(std::string_view json_text, const std::string& source) {
         r.fail("version", "is " + std::to_string(version) + "; this LodForge reads presets up to version " +
                               std::to_string(preset_format_version));
     p.name = r.text("name", p.name);
-    if (const auto* m = r.find("method")) {
-        if (!m->is_string()) r.fail("method", "must be a string");
-        try {
-            p.method = lod_method_from_string(m->get<std::string>());
-        } catch (const Error& e) {
-            r.fail("method", e.what());
-        }
-    }
+    p.method = r.name("method", p.method, lod_method_from_string);
     if (const auto* levels = r.find("levels")) {
         if (!levels->is_array() || levels->empty()) r.fail("levels", "must be a non-empty array");
         // Each level is a full simplification of the input: a thousand of them ran for minutes.
@@ -222,14 +229,7 @@ Preset parse_preset(std::string_view json_text, const std::string& source) {
         wr.finish();
     }
     p.lock_border = r.flag("lock_border", p.lock_border);
-    if (const auto* m = r.find("placement")) {
-        if (!m->is_string()) r.fail("placement", "must be a string");
-        try {
-            p.placement = placement_from_string(m->get<std::string>());
-        } catch (const Error& e) {
-            r.fail("placement", e.what());
-        }
-    }
+    p.placement = r.name("placement", p.placement, placement_from_string);
     if (const auto* o = r.find("octree")) {
         ObjectReader orr(*o, "octree", source);
         p.octree.max_triangles_per_node =
