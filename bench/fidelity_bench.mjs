@@ -7,13 +7,15 @@
 //
 //   node bench/fidelity_bench.mjs [--lodforge build/bin/lodforge] [--data ../shared/data] [--work DIR]
 //        [--ratios 0.5,0.2,0.05] [--assets spot,duck,...] [--quick] [--markdown FILE] [--json FILE]
-//        [--placement half-edge|optimal]
+//        [--placement half-edge|optimal] [--packs]
 //
 // The comparators are pinned in bench/comparators/package-lock.json (packaging/install-deps.sh installs
 // them). Columns: geometric max / mean (symmetric, relative to the diagonal), colour RMS (0-255), UV RMS,
 // image-space error (`lodforge compare --render`, when the build has it), wall time of the simplifying
 // command (LodForge also geometry-only, for the "attribute-aware time <= 2x geometry-only" rule).
 // --placement is passed to LodForge's `simplify` runs (both of them); without it they use its default.
+// --packs measures LOD packs instead: `lodforge pack --levels RATIOS --image-error` with each placement
+// (optimal, half-edge), per level the image and mean error from pack.json, and the GLB's size.
 import { execFileSync } from 'node:child_process';
 import fs from 'node:fs';
 import os from 'node:os';
@@ -33,6 +35,7 @@ function parseArgs(argv) {
 		markdown: null,
 		json: null,
 		placement: null,
+		packs: false,
 	};
 	for (let i = 2; i < argv.length; ++i) {
 		const k = argv[i];
@@ -51,6 +54,7 @@ function parseArgs(argv) {
 		} else if (k === '--markdown') a.markdown = path.resolve(v());
 		else if (k === '--json') a.json = path.resolve(v());
 		else if (k === '--placement') a.placement = v();
+		else if (k === '--packs') a.packs = true;
 		else usage(`unknown option ${k}`);
 	}
 	if (a.ratios.some((r) => !(r > 0 && r < 1))) usage('--ratios: values in (0, 1)');
@@ -254,7 +258,7 @@ function main() {
 	const a = parseArgs(process.argv);
 	const lf = (...args) => run(a.lodforge, args);
 	const gltfpack = path.join(here, 'comparators/node_modules/gltfpack/cli.js');
-	if (!fs.existsSync(gltfpack)) usage('gltfpack missing: run packaging/install-deps.sh (npm ci in bench/comparators)');
+	if (!a.packs && !fs.existsSync(gltfpack)) usage('gltfpack missing: run packaging/install-deps.sh (npm ci in bench/comparators)');
 	const renders = lf('compare', '--help').stdout.includes('--render');
 	fs.mkdirSync(a.work, { recursive: true });
 	const d = (p) => path.join(a.data, p);
@@ -279,6 +283,8 @@ function main() {
 		const image = j.image ? j.image.mean_abs : null;
 		return { max: j.hausdorff_relative, mean: j.mean_relative, color: j.color_rms ?? null, uv: j.texcoord_rms ?? null, image, triangles: j.triangles.test };
 	};
+
+	if (a.packs) return packs(a, lf, sources, names, renders);
 
 	const cells = [];
 	for (const name of names) {
@@ -319,6 +325,48 @@ function main() {
 	console.log(md);
 	if (a.markdown) fs.writeFileSync(a.markdown, md + '\n');
 	if (a.json) fs.writeFileSync(a.json, JSON.stringify(cells, null, 1) + '\n');
+}
+
+// One pack per placement over the same levels (a chain: each level from the previous one), every level's
+// image error rendered by `pack --image-error` (the same measure as `compare --render`).
+function packs(a, lf, sources, names, renders) {
+	if (!renders) usage('--packs needs a build with the renderer (pack --image-error)');
+	const levels = [...a.ratios].sort((x, y) => y - x).join(',');
+	const placements = ['optimal', 'half-edge'];
+	const rows = [
+		'| asset | level | triangles | image: optimal / half-edge | mean: optimal / half-edge | max: optimal / half-edge |',
+		'|---|---|---|---|---|---|',
+	];
+	const sizes = [];
+	let wins = 0, count = 0;
+	for (const name of names) {
+		const ref = path.join(a.work, `${name}.glb`);
+		lf('convert', sources[name], ref);
+		const result = {};
+		for (const p of placements) {
+			const dir = path.join(a.work, `${name}.pack.${p}`);
+			fs.rmSync(dir, { recursive: true, force: true });
+			lf('-q', 'pack', ref, '-o', dir, '--levels', levels, '--placement', p, '--image-error');
+			const j = JSON.parse(fs.readFileSync(path.join(dir, 'pack.json'), 'utf8'));
+			result[p] = { levels: j.levels, bytes: fs.statSync(path.join(dir, j.glb)).size };
+		}
+		const [O, H] = placements.map((p) => result[p]);
+		for (let k = 1; k < O.levels.length && k < H.levels.length; ++k) {
+			const o = O.levels[k], h = H.levels[k];
+			count += 1;
+			wins += o.image_error.mean_abs <= h.image_error.mean_abs;
+			rows.push(`| ${name} | ${k} | ${o.triangles} / ${h.triangles} | ${f(o.image_error.mean_abs, 3)} / ${f(h.image_error.mean_abs, 3)} | ` +
+				`${e(o.error.mean_relative)} / ${e(h.error.mean_relative)} | ${e(o.error.hausdorff_relative)} / ${e(h.error.hausdorff_relative)} |`);
+		}
+		sizes.push(`${name} ${(O.bytes / 1024).toFixed(1)} / ${(H.bytes / 1024).toFixed(1)} KiB (+${((O.bytes / H.bytes - 1) * 100).toFixed(0)} %)`);
+		console.error(`${name}: packs written`);
+	}
+	rows.push('');
+	rows.push(`Levels ${levels}. Optimal image error <= half-edge in ${wins} of ${count} levels. ` +
+		`GLB size, optimal / half-edge: ${sizes.join('; ')}.`);
+	const md = rows.join('\n');
+	console.log(md);
+	if (a.markdown) fs.writeFileSync(a.markdown, md + '\n');
 }
 
 // The meshoptimizer module is an ES module with top-level await of its wasm; run it in a child so the

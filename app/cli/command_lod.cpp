@@ -43,7 +43,7 @@ void add_lod_command(CLI::App& app, const GlobalOptions& global) {
         std::string input, output_dir, preset;
         std::string levels, level_triangles, level_errors;
         std::string format = "ply";
-        std::string weights, importance, lock, seams;
+        std::string weights, importance, lock, seams, placement;
         bool lock_border = false;
         bool no_measure = false;
         long long samples = 0;
@@ -60,6 +60,7 @@ void add_lod_command(CLI::App& app, const GlobalOptions& global) {
     cmd->add_option("--weights", options->weights, kWeightsHelp);
     cmd->add_flag("--lock-border", options->lock_border, "Never move border vertices");
     add_paint_options(cmd, options->importance, options->lock, options->seams);
+    add_placement_option(cmd, options->placement);
     cmd->add_flag("--no-measure", options->no_measure, "Skip measuring each level against the input");
     cmd->add_option("--samples", options->samples, "Samples per surface for the measurements (0 = automatic)");
     cmd->callback([options, &global] {
@@ -76,6 +77,7 @@ void add_lod_command(CLI::App& app, const GlobalOptions& global) {
         if (!o.importance.empty()) preset.importance = o.importance;
         if (!o.lock.empty()) preset.lock = o.lock;
         if (!o.seams.empty()) preset.seams = o.seams;
+        if (!o.placement.empty()) preset.placement = placement_from_string(o.placement);
         if (o.samples < 0) throw Error(Error::Kind::argument, "lod: --samples must be >= 0");
         PresetLevelsParams params;
         params.source_path = o.input;
@@ -98,6 +100,9 @@ void add_lod_command(CLI::App& app, const GlobalOptions& global) {
         doc["input"] = o.input;
         doc["format"] = o.format;
         if (!chain) doc["method"] = std::string(to_string(preset.method));
+        else doc["placement"] = std::string(to_string(preset.placement));
+        // Half-edge levels index one shared vertex buffer; optimal levels each have their own.
+        const bool shared = chain && !chain->shared.levels.empty();
         doc["diagonal"] = mesh.bounds().diagonal();
         doc["measured"] = params.measure;
         nlohmann::ordered_json levels_json = nlohmann::ordered_json::array();
@@ -132,14 +137,14 @@ void add_lod_command(CLI::App& app, const GlobalOptions& global) {
                 e.update(nlohmann::ordered_json::parse(distance_json(i == 0 ? DistanceResult{} : built.distance[i - 1])));
             }
             j["error"] = e;
-            if (chain) {
+            if (shared) {
                 const LodIndexRange& r = chain->shared.levels[i];
                 j["shared"] = {{"first_index", r.first_index}, {"index_count", r.index_count}, {"vertex_count", r.vertex_count}};
             }
             levels_json.push_back(j);
         }
         doc["levels"] = levels_json;
-        if (chain) doc["shared_vertices"] = chain->shared.vertices.vertex_count();
+        if (shared) doc["shared_vertices"] = chain->shared.vertices.vertex_count();
         if (!built.notes.empty()) doc["notes"] = built.notes;
         AtomicFile file(staging.file("lods.json").string(), false);
         file.stream() << doc.dump(2) << "\n";

@@ -19,7 +19,7 @@ namespace lodforge::cli {
 
 void add_pack_command(CLI::App& app, const GlobalOptions& global) {
     struct Options {
-        std::string input, preset, output_dir, method, weights, importance, lock, seams;
+        std::string input, preset, output_dir, method, weights, importance, lock, seams, placement;
         std::string levels, level_triangles, level_errors;
         bool lock_border = false;
         bool json = false;
@@ -38,6 +38,7 @@ void add_pack_command(CLI::App& app, const GlobalOptions& global) {
     cmd->add_option("--weights", options->weights, kWeightsHelp);
     cmd->add_flag("--lock-border", options->lock_border, "Never move border vertices");
     add_paint_options(cmd, options->importance, options->lock, options->seams);
+    add_placement_option(cmd, options->placement);
     cmd->add_flag("--json", options->json, "Print the levels and files written as JSON");
     cmd->add_flag("--image-error", options->image_error,
                   "Measure each level's image-space error and write it into pack.json (sets the preset's "
@@ -55,6 +56,7 @@ void add_pack_command(CLI::App& app, const GlobalOptions& global) {
         if (!o.importance.empty()) params.preset.importance = o.importance;
         if (!o.lock.empty()) params.preset.lock = o.lock;
         if (!o.seams.empty()) params.preset.seams = o.seams;
+        if (!o.placement.empty()) params.preset.placement = placement_from_string(o.placement);
         params.source_path = o.input;
         params.output_dir = o.output_dir;
         if (o.image_error) params.preset.exports.image_error = true;

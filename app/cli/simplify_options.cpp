@@ -73,6 +73,14 @@ CLI::Option* add_preset_option(CLI::App* cmd, std::string& value) {
                            "(docs/presets.md); flags given here override its keys");
 }
 
+CLI::Option* add_placement_option(CLI::App* cmd, std::string& value) {
+    return cmd
+        ->add_option("--placement", value,
+                     "Collapse levels: optimal (the default; each level has its own vertices, moved to the "
+                     "quadric optimum) or half-edge (input vertices, one vertex buffer shared by all levels)")
+        ->check(CLI::IsMember({"optimal", "half-edge"}));
+}
+
 std::optional<Preset> preset_from_option(const std::string& value) {
     if (value.empty()) return std::nullopt;
     try {

@@ -46,4 +46,7 @@ void add_paint_options(CLI::App* cmd, std::string& importance, std::string& lock
 // Adds those three options to `cmd`.
 void add_level_options(CLI::App* cmd, std::string& ratios, std::string& triangles, std::string& errors);
 
+// Adds `--placement optimal|half-edge` (the preset's "placement" key, collapse method) to `cmd`.
+CLI::Option* add_placement_option(CLI::App* cmd, std::string& value);
+
 }  // namespace lodforge::cli

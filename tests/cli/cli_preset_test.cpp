@@ -66,7 +66,21 @@ TEST(CliPreset, LodBuildsThePresetsLevelsWithAnyMethodAndFlagsOverrideThem) {
     ASSERT_EQ(j["levels"].size(), 4u);  // the input and mobile's three levels
     EXPECT_EQ(j["levels"][1]["target_triangles"], 1464);
     EXPECT_EQ(j["levels"][3]["target_triangles"], 117);
-    EXPECT_TRUE(j["levels"][1].contains("shared"));  // the collapse chain
+    EXPECT_EQ(j["placement"], "optimal");              // the collapse chain, each level its own vertices
+    EXPECT_FALSE(j["levels"][1].contains("shared"));
+
+    // --placement half-edge: the levels index one shared vertex buffer, and lods.json gives the ranges.
+    r = run_cli("lod " + quoted(spot()) + " -o " + quoted(dir.file("half-edge")) +
+                " --preset mobile --placement half-edge --no-measure");
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    j = read_json(dir.file("half-edge/lods.json"));
+    EXPECT_EQ(j["placement"], "half-edge");
+    ASSERT_EQ(j["levels"].size(), 4u);
+    EXPECT_EQ(j["levels"][3]["shared"]["index_count"].get<int>(), 3 * j["levels"][3]["triangles"].get<int>());
+    EXPECT_GT(j["shared_vertices"].get<int>(), 0);
+    EXPECT_EQ(run_cli("lod " + quoted(spot()) + " -o " + quoted(dir.file("bad")) + " --preset mobile --placement middle")
+                  .exit_code,
+              2);
 
     const std::string file =
         write_preset(dir, "p.json", R"({"method": "cluster", "levels": [{"ratio": 0.5}, {"ratio": 0.1}]})");

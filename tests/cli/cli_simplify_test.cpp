@@ -234,8 +234,11 @@ TEST(CliLod, LodsJsonMatchesTheFilesWritten) {
             EXPECT_NEAR(double(m.triangle_count()), target, 0.01 * target + 1);
         }
         last_mean = e["mean"].get<double>();
-        EXPECT_EQ(level["shared"]["index_count"].get<std::size_t>(), 3 * m.triangle_count());
+        // Optimal placement (the default): every level has its own vertices, no shared-buffer ranges.
+        EXPECT_FALSE(level.contains("shared")) << i;
     }
+    EXPECT_EQ(j["placement"], "optimal");
+    EXPECT_FALSE(j.contains("shared_vertices"));
     EXPECT_EQ(j["levels"][0]["triangles"], 69451);
 }
 

@@ -192,7 +192,7 @@ void StudioModesTest::parametersShowWhatTheMethodAndMeshUse() {
     // An untextured, uncoloured scan: no colour or UV weight, for any method.
     choose("collapse");
     QCOMPARE(window->preset().method, lodforge::LodMethod::collapse);
-    QVERIFY(shown("normalWeight") && shown("lockBorder"));
+    QVERIFY(shown("normalWeight") && shown("lockBorder") && shown("placement"));
     QVERIFY(!shown("colorWeight") && !shown("uvWeight"));
     QVERIFY(!shown("mcResolution") && !shown("maxTrianglesPerNode") && !shown("structureBox"));
     choose("mcoctree");
@@ -204,8 +204,18 @@ void StudioModesTest::parametersShowWhatTheMethodAndMeshUse() {
     QVERIFY(shown("normalWeight") && !shown("lockBorder"));
     choose("lodstrips");
     QVERIFY(shown("primitiveRestart") && shown("lockBorder") && shown("exportLodstrips") && !shown("maxDepth"));
+    QVERIFY(!shown("placement"));  // its strips replay one half-edge collapse prefix
     choose("collapse");
     QVERIFY(!shown("exportLodstrips"));
+    // Placement: optimal by default (each level its own vertices), half-edge chosen from the keyboard.
+    auto* placement = panel->findChild<QComboBox*>(QStringLiteral("placement"));
+    QVERIFY(placement);
+    QCOMPARE(window->preset().placement, lodforge::Placement::optimal);
+    placement->setFocus();
+    QTest::keyClick(placement, Qt::Key_Down);
+    QCOMPARE(window->preset().placement, lodforge::Placement::half_edge);
+    QTest::keyClick(placement, Qt::Key_Up);
+    QCOMPARE(window->preset().placement, lodforge::Placement::optimal);
 
     // The targets preview their triangle counts, and follow a typed value.
     auto* levels = panel->findChild<QTableWidget*>(QStringLiteral("levels"));

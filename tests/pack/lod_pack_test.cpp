@@ -14,6 +14,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -113,6 +114,72 @@ TEST(LodPack, SpotPackAgreesAcrossGlbManifestAndResult) {
     const auto v = test::validate_gltf(params.output_dir + "/" + r.glb);
     ASSERT_EQ(v.exit_code, 0) << v.raw;
     EXPECT_EQ(test::unexplained_warnings(v), std::vector<std::string>{}) << v.raw;
+}
+
+// Placement (docs/pack.md, "Placement"): with optimal placement (the default) every level of the GLB has
+// its own vertex buffers, holding positions moved off the input; half-edge levels draw from one shared
+// buffer of input vertices. Optimal measures closer to the input, costs bytes, and both validate.
+TEST(LodPack, OptimalPlacementWritesPerLevelVerticesWithLowerError) {
+    ScratchDir dir("pack-placement");
+    const Mesh mesh = read_mesh(shared_data("tex-spot/spot_triangulated.obj"));
+    std::set<std::array<float, 3>> input_positions;
+    for (const Vec3f& p : mesh.positions) input_positions.insert({p.x, p.y, p.z});
+    struct Pack {
+        PackResult result;
+        test::Glb glb;
+        nlohmann::json manifest;
+        std::size_t bytes = 0;
+    };
+    auto pack = [&](Placement placement, const std::string& name) {
+        PackParams p = spot_params(dir, name);
+        p.preset.levels = lod_targets_from_ratios({0.2});
+        p.preset.exports = {.glb = true, .ply = false, .obj = false, .lodstrips = false};
+        p.preset.placement = placement;
+        Pack out;
+        out.result = write_lod_pack(mesh, p);
+        const std::string glb = p.output_dir + "/" + out.result.glb;
+        const auto v = test::validate_gltf(glb);
+        EXPECT_EQ(v.exit_code, 0) << v.raw;
+        EXPECT_TRUE(v.report.is_object() && v.report["errors"] == 0) << v.raw;
+        EXPECT_EQ(test::unexplained_warnings(v), std::vector<std::string>{}) << v.raw;
+        const auto bytes = test::read_bytes(glb);
+        out.bytes = bytes.size();
+        out.glb = test::split_glb(bytes);
+        out.manifest = nlohmann::json::parse(out.result.manifest);
+        return out;
+    };
+    const Pack optimal = pack(Placement::optimal, "optimal");
+    const Pack half = pack(Placement::half_edge, "half-edge");
+    EXPECT_EQ(PackParams{}.preset.placement, Placement::optimal);  // the default of packs and the studio
+    EXPECT_EQ(optimal.manifest["placement"], "optimal");
+    EXPECT_EQ(half.manifest["placement"], "half-edge");
+    ASSERT_EQ(optimal.result.levels.size(), 2u);
+    ASSERT_EQ(half.result.levels.size(), 2u);
+
+    // The POSITION accessors of level 0 and level 1 and the positions level 1 holds.
+    auto positions = [](const test::Glb& g, std::size_t node) {
+        const auto& mesh_json = g.json["meshes"][g.json["nodes"][node]["mesh"].get<std::size_t>()];
+        return mesh_json["primitives"][0]["attributes"]["POSITION"].get<std::size_t>();
+    };
+    auto view_of = [](const test::Glb& g, std::size_t accessor) {
+        return g.json["accessors"][accessor]["bufferView"].get<std::size_t>();
+    };
+    const std::size_t level1 = test::lod_ids(optimal.glb).at(0);
+    EXPECT_NE(view_of(optimal.glb, positions(optimal.glb, 0)), view_of(optimal.glb, positions(optimal.glb, level1)));
+    EXPECT_EQ(view_of(half.glb, positions(half.glb, 0)),
+              view_of(half.glb, positions(half.glb, test::lod_ids(half.glb).at(0))));
+    auto off_input = [&](const test::Glb& g, std::size_t node) {
+        std::size_t n = 0;
+        for (const auto& p : test::vec4_values(g, positions(g, node)))
+            if (!input_positions.count({p[0], p[1], p[2]})) ++n;
+        return n;
+    };
+    const std::size_t level1_vertices = optimal.glb.json["accessors"][positions(optimal.glb, level1)]["count"];
+    EXPECT_GT(off_input(optimal.glb, level1), level1_vertices / 4);
+    EXPECT_EQ(off_input(half.glb, test::lod_ids(half.glb).at(0)), 0u);
+
+    EXPECT_LT(optimal.result.levels[1].mean_error, half.result.levels[1].mean_error);
+    EXPECT_GT(optimal.bytes, half.bytes);
 }
 
 TEST(FileHash, KnownVectorsAndMissingFile) {

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <array>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
@@ -98,6 +99,27 @@ inline std::vector<std::uint8_t> image_bytes(const Glb& g, std::size_t image) {
     const auto& view = g.json["bufferViews"][g.json["images"][image]["bufferView"].get<std::size_t>()];
     const std::size_t at = view["byteOffset"].get<std::size_t>(), len = view["byteLength"].get<std::size_t>();
     return {g.bin.begin() + static_cast<std::ptrdiff_t>(at), g.bin.begin() + static_cast<std::ptrdiff_t>(at + len)};
+}
+
+// Values of a float or unsigned-short VEC4 (or VEC3, last component 0) accessor.
+inline std::vector<std::array<float, 4>> vec4_values(const test::Glb& g, std::size_t accessor) {
+    const auto& a = g.json["accessors"][accessor];
+    const auto& view = g.json["bufferViews"][a["bufferView"].get<std::size_t>()];
+    const std::size_t count = a["count"].get<std::size_t>();
+    const int type = a["componentType"].get<int>();
+    const std::size_t size = type == 5126 ? 4 : type == 5123 ? 2 : 1;
+    const std::size_t components = a["type"] == "VEC3" ? 3 : 4;
+    const std::size_t stride = view.contains("byteStride") ? view["byteStride"].get<std::size_t>() : components * size;
+    const std::size_t at = view["byteOffset"].get<std::size_t>() + a.value("byteOffset", std::size_t{0});
+    std::vector<std::array<float, 4>> out(count, std::array<float, 4>{0, 0, 0, 0});
+    for (std::size_t i = 0; i < count; ++i)
+        for (std::size_t c = 0; c < components; ++c) {
+            const std::uint8_t* p = g.bin.data() + at + i * stride + c * size;
+            if (size == 4) std::memcpy(&out[i][c], p, 4);
+            else if (size == 2) out[i][c] = static_cast<float>(p[0] | (p[1] << 8));
+            else out[i][c] = p[0];
+        }
+    return out;
 }
 
 }  // namespace lodforge::test

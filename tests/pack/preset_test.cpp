@@ -25,6 +25,7 @@ TEST(Preset, EmptyObjectGivesTheDefaults) {
     ASSERT_EQ(p.levels.size(), 4u);
     EXPECT_EQ(p.levels[2].value, 0.1);
     EXPECT_EQ(p.method, LodMethod::collapse);
+    EXPECT_EQ(p.placement, Placement::optimal);
 }
 
 TEST(Preset, EveryOptionSurvivesJsonRoundTrip) {
@@ -39,6 +40,7 @@ TEST(Preset, EveryOptionSurvivesJsonRoundTrip) {
     p.weights.texcoord = 2.f;
     p.weights.texcoord_sets = {1.f, 0.5f};
     p.lock_border = true;
+    p.placement = Placement::half_edge;
     p.octree = OctreeOptions{.max_triangles_per_node = 4096, .max_depth = 5, .memory_mb = 16};
     p.mcoctree.resolution = 256;
     p.strips.primitive_restart = false;
@@ -62,6 +64,8 @@ TEST(Preset, PartialPresetChangesOnlyWhatItNames) {
     const Preset p = parse_preset(R"({"method": "cluster", "octree": {"max_depth": 3}})");
     EXPECT_EQ(p.method, LodMethod::cluster);
     EXPECT_EQ(p.octree.max_depth, 3u);
+    EXPECT_EQ(p.placement, Placement::optimal);
+    EXPECT_EQ(parse_preset(R"({"placement": "half-edge"})").placement, Placement::half_edge);
     EXPECT_EQ(p.octree.max_triangles_per_node, OctreeOptions{}.max_triangles_per_node);
     EXPECT_EQ(p.levels, Preset{}.levels);
 }
@@ -81,6 +85,8 @@ TEST(Preset, BadInputNamesTheFileAndTheKey) {
     EXPECT_NE(error_of(R"({"octree": {"depth": 4}})").find("'octree.depth' is not a known"), std::string::npos);
     EXPECT_NE(error_of(R"({"weights": {"normal": -1}})").find("'weights.normal'"), std::string::npos);
     EXPECT_NE(error_of(R"({"lock_border": 1})").find("must be true or false"), std::string::npos);
+    EXPECT_NE(error_of(R"({"placement": "middle"})").find("accepted: optimal, half-edge"), std::string::npos);
+    EXPECT_NE(error_of(R"({"placement": true})").find("'placement' must be a string"), std::string::npos);
     EXPECT_NE(error_of(R"({"version": 99})").find("reads presets up to version 1"), std::string::npos);
     EXPECT_NE(error_of(R"({"export": {"lodstrips": true}})").find("needs \"method\": \"lodstrips\""), std::string::npos);
 }

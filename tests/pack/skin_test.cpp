@@ -226,27 +226,6 @@ TEST(Skin, LimitInfluencesKeepsTheHeaviestRenormalised) {
 
 // ---- the pack -------------------------------------------------------------------------------------
 
-// Values of a float or unsigned-short VEC4 (or VEC3, last component 0) accessor.
-std::vector<std::array<float, 4>> vec4_values(const test::Glb& g, std::size_t accessor) {
-    const auto& a = g.json["accessors"][accessor];
-    const auto& view = g.json["bufferViews"][a["bufferView"].get<std::size_t>()];
-    const std::size_t count = a["count"].get<std::size_t>();
-    const int type = a["componentType"].get<int>();
-    const std::size_t size = type == 5126 ? 4 : type == 5123 ? 2 : 1;
-    const std::size_t components = a["type"] == "VEC3" ? 3 : 4;
-    const std::size_t stride = view.contains("byteStride") ? view["byteStride"].get<std::size_t>() : components * size;
-    const std::size_t at = view["byteOffset"].get<std::size_t>() + a.value("byteOffset", std::size_t{0});
-    std::vector<std::array<float, 4>> out(count, std::array<float, 4>{0, 0, 0, 0});
-    for (std::size_t i = 0; i < count; ++i)
-        for (std::size_t c = 0; c < components; ++c) {
-            const std::uint8_t* p = g.bin.data() + at + i * stride + c * size;
-            if (size == 4) std::memcpy(&out[i][c], p, 4);
-            else if (size == 2) out[i][c] = static_cast<float>(p[0] | (p[1] << 8));
-            else out[i][c] = p[0];
-        }
-    return out;
-}
-
 struct PackCheck {
     std::size_t levels = 0;
     std::vector<std::size_t> most_influences;  // per level node
@@ -273,7 +252,7 @@ PackCheck check_skinned_pack(const std::string& glb_path) {
             EXPECT_TRUE(prim["attributes"].contains("JOINTS_0")) << node;
             EXPECT_TRUE(prim["attributes"].contains("WEIGHTS_0")) << node;
             if (!prim["attributes"].contains("WEIGHTS_0")) continue;
-            for (const auto& w : vec4_values(g, prim["attributes"]["WEIGHTS_0"].get<std::size_t>())) {
+            for (const auto& w : test::vec4_values(g, prim["attributes"]["WEIGHTS_0"].get<std::size_t>())) {
                 EXPECT_NEAR(w[0] + w[1] + w[2] + w[3], 1.f, 1e-3f);
                 most = std::max<std::size_t>(most, static_cast<std::size_t>(std::count_if(w.begin(), w.end(), [](float x) { return x > 0; })));
             }
@@ -355,9 +334,9 @@ TEST(Skin, LodStripsPackIsSkinned) {
     for (const auto& mesh : g.json["meshes"])
         for (const auto& prim : mesh["primitives"]) {
             const auto& at = prim["attributes"];
-            const auto p = vec4_values(g, at["POSITION"].get<std::size_t>());
-            const auto j = vec4_values(g, at["JOINTS_0"].get<std::size_t>());
-            const auto w = vec4_values(g, at["WEIGHTS_0"].get<std::size_t>());
+            const auto p = test::vec4_values(g, at["POSITION"].get<std::size_t>());
+            const auto j = test::vec4_values(g, at["JOINTS_0"].get<std::size_t>());
+            const auto w = test::vec4_values(g, at["WEIGHTS_0"].get<std::size_t>());
             for (std::size_t v = 0; v < p.size(); ++v) {
                 const auto [first, last] = input.equal_range({p[v][0], p[v][1], p[v][2]});
                 bool found = false;

@@ -51,6 +51,18 @@ void check_chain(const Mesh& in, const LodChainParams& p, const LodChainResult& 
     }
 }
 
+// Corners of level l (l >= 1) where replaying the chain's collapse sequence on the input gives another
+// input vertex than the level's own (0: the sequence reproduces the level's connectivity).
+std::size_t replay_differences(const Mesh& in, const LodChainResult& r, std::size_t l) {
+    const std::vector<std::uint32_t> replay = replay_collapses(in, r.sequence, r.levels[l].collapses_end);
+    const Mesh& m = r.levels[l].mesh;
+    if (replay.size() != m.indices.size()) return std::max(replay.size(), m.indices.size());
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i < replay.size(); ++i)
+        if (replay[i] != r.levels[l].input_vertex[m.indices[i]]) ++differ;
+    return differ;
+}
+
 // The shared buffer reproduces every level's triangles (positions and attributes of every corner), each
 // level uses a prefix of it, and the concatenated collapse sequence replays to every level.
 void check_shared(const Mesh& in, const LodChainResult& r) {
@@ -83,12 +95,7 @@ void check_shared(const Mesh& in, const LodChainResult& r) {
         }
         EXPECT_EQ(mismatches, 0u);
         if (l > 0) {
-            const std::vector<std::uint32_t> replay = replay_collapses(in, r.sequence, r.levels[l].collapses_end);
-            ASSERT_EQ(replay.size(), m.indices.size());
-            std::size_t differ = 0;
-            for (std::size_t i = 0; i < replay.size(); ++i)
-                if (replay[i] != r.levels[l].input_vertex[m.indices[i]]) ++differ;
-            EXPECT_EQ(differ, 0u);
+            EXPECT_EQ(replay_differences(in, r, l), 0u);
             EXPECT_EQ(r.levels[l].collapses_begin, r.levels[l - 1].collapses_end);
         }
     }
@@ -183,6 +190,31 @@ TEST(LodChain, ColouredScanKeepsColoursAlongTheChain) {
     EXPECT_LT(r.levels[2].distance.color_rms, 5.0);
 }
 
+// Optimal placement: every level has its own vertex data (kept points moved off the input, so no
+// shared buffer), the collapse sequence still gives every level's connectivity, and each level's mean
+// distance to the input is below the half-edge chain's.
+TEST(LodChain, OptimalPlacementGivesEveryLevelItsOwnVertices) {
+    const Mesh in = read_mesh(test::sample("spot/spot_triangulated.obj"));
+    LodChainParams p = ratios({0.5f, 0.2f, 0.05f});
+    const LodChainResult half = build_lod_chain(in, p);
+    p.simplify.placement = Placement::optimal;
+    const LodChainResult r = build_lod_chain(in, p);
+    check_chain(in, p, r, "spot optimal");
+    EXPECT_TRUE(r.shared.levels.empty());
+    EXPECT_EQ(r.shared.vertices.vertex_count(), 0u);
+    for (std::size_t l = 1; l < r.levels.size(); ++l) {
+        SCOPED_TRACE(l);
+        const Mesh& m = r.levels[l].mesh;
+        ASSERT_EQ(r.levels[l].input_vertex.size(), m.vertex_count());
+        std::size_t moved = 0;
+        for (std::size_t v = 0; v < m.vertex_count(); ++v)
+            if (!(m.positions[v] == in.positions[r.levels[l].input_vertex[v]])) ++moved;
+        EXPECT_GT(moved, m.vertex_count() / 4);  // points no collapse kept stay where they were
+        EXPECT_EQ(replay_differences(in, r, l), 0u);
+        EXPECT_LT(r.levels[l].distance.mean, half.levels[l].distance.mean);
+    }
+}
+
 TEST(LodChain, ErrorLevelsCoarsenWithTheBound) {
     LodChainParams p;
     p.levels = lod_levels_from_errors({0.0005f, 0.002f, 0.008f});
@@ -219,9 +251,6 @@ TEST(LodChain, BadLevelListsAreArgumentErrors) {
     LodChainParams errors;
     errors.levels = lod_levels_from_errors({0.01f, 0.005f});
     EXPECT_EQ(kind_of(errors), Error::Kind::argument);
-    LodChainParams optimal = ratios({0.5f});
-    optimal.simplify.placement = Placement::optimal;
-    EXPECT_EQ(kind_of(optimal), Error::Kind::argument);
     EXPECT_THROW(build_lod_chain(Mesh{}, ratios({0.5f})), Error);
 }
 

@@ -112,10 +112,17 @@ void ParametersPanel::buildUi() {
     uvWeight_ = weightBox(weightsBox, QStringLiteral("uvWeight"), tr("Cost of a unit UV change, in diagonals"));
     lockBorder_ = new QCheckBox(tr("Lock border"), weightsBox);
     lockBorder_->setObjectName(QStringLiteral("lockBorder"));
+    placement_ = new QComboBox(weightsBox);
+    placement_->setObjectName(QStringLiteral("placement"));
+    for (Placement pl : {Placement::optimal, Placement::half_edge})
+        placement_->addItem(QString::fromUtf8(to_string(pl).data(), qsizetype(to_string(pl).size())), int(pl));
+    placement_->setToolTip(tr("optimal: each level's vertices move to the quadric optimum (lower error, larger "
+                              "GLB); half-edge: levels keep input vertices and share one vertex buffer"));
     weights->addRow(tr("Normal weight"), normalWeight_);
     weights->addRow(tr("Colour weight"), colorWeight_);
     weights->addRow(tr("UV weight"), uvWeight_);
     weights->addRow(lockBorder_);
+    weights->addRow(tr("Placement"), placement_);
     layout->addWidget(weightsBox);
 
     auto* octreeBox = new QGroupBox(tr("Structure"), this);
@@ -168,6 +175,10 @@ void ParametersPanel::buildUi() {
     weight(colorWeight_, &SimplifyWeights::color);
     weight(uvWeight_, &SimplifyWeights::texcoord);
     connect(lockBorder_, &QCheckBox::toggled, this, [this](bool on) { edit([&](Preset& p) { p.lock_border = on; }); });
+    connect(placement_, &QComboBox::currentIndexChanged, this, [this](int index) {
+        if (index < 0) return;
+        edit([&](Preset& p) { p.placement = Placement(placement_->itemData(index).toInt()); });
+    });
     connect(maxTrianglesPerNode_, &QSpinBox::valueChanged, this,
             [this](int v) { edit([&](Preset& p) { p.octree.max_triangles_per_node = std::uint32_t(v); }); });
     connect(maxDepth_, &QSpinBox::valueChanged, this,
@@ -214,6 +225,7 @@ void ParametersPanel::updateRelevance() {
     weightsForm_->setRowVisible(colorWeight_, weighted && meshColors_);
     weightsForm_->setRowVisible(uvWeight_, weighted && meshTexcoords_);
     weightsForm_->setRowVisible(lockBorder_, m == LodMethod::collapse || m == LodMethod::lodstrips);
+    weightsForm_->setRowVisible(placement_, m == LodMethod::collapse);  // lodstrips needs half-edge
     weightsBox_->setVisible(weighted);
     const bool octree = m == LodMethod::octree;
     structureForm_->setRowVisible(maxTrianglesPerNode_, octree);
@@ -354,6 +366,7 @@ void ParametersPanel::setPreset(const Preset& preset) {
     colorWeight_->setValue(preset.weights.color);
     uvWeight_->setValue(preset.weights.texcoord);
     lockBorder_->setChecked(preset.lock_border);
+    placement_->setCurrentIndex(placement_->findData(int(preset.placement)));
     maxTrianglesPerNode_->setValue(int(preset.octree.max_triangles_per_node));
     maxDepth_->setValue(int(preset.octree.max_depth));
     memoryMb_->setValue(int(preset.octree.memory_mb));

@@ -53,8 +53,9 @@ struct BuiltLevels {
     std::vector<DistanceResult> distance;   // per level kept (level 0: zero)
     std::vector<std::size_t> dropped;       // preset levels (1-based) equal to the level before them
     std::optional<Mesh> input;              // level 0 when it differs from the input (skin renormalised)
-    bool shared_buffer = true;              // false: the GLB takes the levels one by one (skinned levels
-                                            // whose influence counts differ cannot share vertices)
+    bool shared_buffer = false;             // false: the GLB takes the levels one by one (optimal placement,
+                                            // methods other than collapse, or skinned levels whose
+                                            // influence counts differ cannot share vertices)
 };
 
 // Every level of a skinned input bound to its skeleton (docs/skinning.md): level 0 keeps all its
@@ -93,8 +94,8 @@ void bind_skins(const Mesh& mesh, const Preset& preset, const std::vector<std::s
         all_kept = all_kept && limit >= most;
         limit_influences(out.built.levels[preset_level], std::min(limit, std::max<std::size_t>(most, 1)));
     }
-    out.shared_buffer = all_kept;
-    if (out.built.chain && all_kept) limit_influences(out.built.chain->shared.vertices, most);
+    out.shared_buffer = out.shared_buffer && all_kept;
+    if (out.shared_buffer) limit_influences(out.built.chain->shared.vertices, most);
 }
 
 BuiltLevels make_levels(const Mesh& mesh, const PackParams& params, Progress* progress) {
@@ -120,7 +121,9 @@ BuiltLevels make_levels(const Mesh& mesh, const PackParams& params, Progress* pr
         out.distance.push_back(out.built.distance[k]);
         kept_ranges.push_back(k + 1);
     }
-    if (out.built.chain && !out.dropped.empty()) {
+    // Optimal placement gives every level its own vertices: the chain has no shared buffer to write.
+    out.shared_buffer = out.built.chain && !out.built.chain->shared.levels.empty();
+    if (out.shared_buffer && !out.dropped.empty()) {
         std::vector<LodIndexRange> ranges;
         for (std::size_t k : kept_ranges) ranges.push_back(out.built.chain->shared.levels[k]);
         out.built.chain->shared.levels = std::move(ranges);
@@ -154,6 +157,12 @@ std::string manifest(const Mesh& mesh, const PackParams& params, const BuiltLeve
                    {"vertices", mesh.point_count()},
                    {"diagonal", mesh.bounds().diagonal()}};
     j["method"] = std::string(to_string(params.preset.method));
+    // Where the levels' vertices come from: collapse follows the preset (half-edge with pose sampling),
+    // lodstrips always keeps input vertices; the other methods build new surfaces (null).
+    if (params.preset.method == LodMethod::collapse)
+        j["placement"] = std::string(to_string(built.built.vertices_on_input ? Placement::half_edge : Placement::optimal));
+    else if (params.preset.method == LodMethod::lodstrips) j["placement"] = std::string(to_string(Placement::half_edge));
+    else j["placement"] = nullptr;
     j["screen_reference"] = {{"width", pack_reference_width}, {"height", pack_reference_height}};
     j["glb"] = r.glb.empty() ? ordered_json(nullptr) : ordered_json(r.glb);
     ordered_json levels = ordered_json::array();
@@ -255,7 +264,7 @@ PackResult write_lod_pack(const Mesh& mesh, const PackParams& params, Progress* 
         for (const PackLevel& level : result.levels) o.screen_coverage.push_back(level.screen_coverage);
         result.glb = stem + ".glb";
         const std::string path = staging.file(result.glb).string();
-        if (built.built.chain && built.shared_buffer) {
+        if (built.shared_buffer) {
             write_glb(built.built.chain->shared, o, path, progress);
         } else {
             std::vector<Mesh> copies;  // the writer takes the levels by value-list; the input is level 0

@@ -38,6 +38,23 @@ constexpr std::array<std::pair<LodMethod, std::string_view>, 5> method_names{{
     {LodMethod::mcoctree, "mcoctree"},
 }};
 
+constexpr std::array<std::pair<Placement, std::string_view>, 2> placement_names{{
+    {Placement::optimal, "optimal"},
+    {Placement::half_edge, "half-edge"},
+}};
+
+// The value of `name` in `names`, or Error(argument) naming `what` and the accepted names.
+template <typename T, std::size_t N>
+T from_name(const std::array<std::pair<T, std::string_view>, N>& names, std::string_view name, const char* what) {
+    std::string accepted;
+    for (auto [value, n] : names) {
+        if (n == name) return value;
+        accepted += accepted.empty() ? std::string(n) : ", " + std::string(n);
+    }
+    throw_error(Error::Kind::argument, "", std::string("unknown ") + what + " '" + std::string(name) +
+                                               "' (accepted: " + accepted + ")");
+}
+
 constexpr std::array<std::pair<LodTarget::Kind, std::string_view>, 3> target_names{{
     {LodTarget::Kind::ratio, "ratio"},
     {LodTarget::Kind::triangles, "triangles"},
@@ -103,6 +120,20 @@ public:
         return value;
     }
 
+    // A string naming one of an enum's values; `from_string` throws Error listing the accepted names.
+    template <typename T>
+    T name(const std::string& key, T value, T (*from_string)(std::string_view)) {
+        if (const auto* j = find(key)) {
+            if (!j->is_string()) fail(key_path(key), "must be a string");
+            try {
+                value = from_string(j->get<std::string>());
+            } catch (const Error& e) {
+                fail(key_path(key), e.what());
+            }
+        }
+        return value;
+    }
+
     // Call after reading every known key.
     void finish() const {
         for (auto it = object_.begin(); it != object_.end(); ++it)
@@ -147,15 +178,15 @@ std::string_view to_string(LodMethod method) {
     return "collapse";
 }
 
-LodMethod lod_method_from_string(std::string_view name) {
-    std::string accepted;
-    for (auto [m, n] : method_names) {
-        if (n == name) return m;
-        accepted += accepted.empty() ? std::string(n) : ", " + std::string(n);
-    }
-    throw_error(Error::Kind::argument, "", "unknown LOD method '" + std::string(name) +
-                                               "' (accepted: " + accepted + ")");
+LodMethod lod_method_from_string(std::string_view name) { return from_name(method_names, name, "LOD method"); }
+
+std::string_view to_string(Placement placement) {
+    for (auto [p, name] : placement_names)
+        if (p == placement) return name;
+    return "optimal";
 }
+
+Placement placement_from_string(std::string_view name) { return from_name(placement_names, name, "placement"); }
 
 Preset parse_preset(std::string_view json_text, const std::string& source) {
     ordered_json root;
@@ -171,14 +202,7 @@ Preset parse_preset(std::string_view json_text, const std::string& source) {
         r.fail("version", "is " + std::to_string(version) + "; this LodForge reads presets up to version " +
                               std::to_string(preset_format_version));
     p.name = r.text("name", p.name);
-    if (const auto* m = r.find("method")) {
-        if (!m->is_string()) r.fail("method", "must be a string");
-        try {
-            p.method = lod_method_from_string(m->get<std::string>());
-        } catch (const Error& e) {
-            r.fail("method", e.what());
-        }
-    }
+    p.method = r.name("method", p.method, lod_method_from_string);
     if (const auto* levels = r.find("levels")) {
         if (!levels->is_array() || levels->empty()) r.fail("levels", "must be a non-empty array");
         // Each level is a full simplification of the input: a thousand of them ran for minutes.
@@ -208,6 +232,7 @@ Preset parse_preset(std::string_view json_text, const std::string& source) {
     p.importance = r.text("importance", p.importance);
     p.lock = r.text("lock", p.lock);
     p.seams = r.text("seams", p.seams);
+    p.placement = r.name("placement", p.placement, placement_from_string);
     if (const auto* o = r.find("octree")) {
         ObjectReader orr(*o, "octree", source);
         p.octree.max_triangles_per_node =
@@ -280,6 +305,7 @@ std::string preset_to_json(const Preset& p) {
     if (!p.importance.empty()) j["importance"] = p.importance;
     if (!p.lock.empty()) j["lock"] = p.lock;
     if (!p.seams.empty()) j["seams"] = p.seams;
+    j["placement"] = std::string(to_string(p.placement));
     j["octree"] = {{"max_triangles_per_node", p.octree.max_triangles_per_node},
                    {"max_depth", p.octree.max_depth},
                    {"memory_mb", p.octree.memory_mb}};

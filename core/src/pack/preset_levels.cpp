@@ -144,6 +144,10 @@ void collapse_levels(const Mesh& mesh, const Preset& preset, const PresetLevelsP
     poses.attach(p.simplify);
     read_paint_sources(preset.importance, preset.lock, mesh, params.source_path, p.simplify.importance, p.simplify.lock);
     if (!preset.seams.empty()) p.simplify.seam_weights = parse_seam_weights(preset.seams);
+    // Pose sampling checks one collapse order against every pose's positions of the input vertices, so
+    // its levels keep input vertices (half-edge), whatever the preset's placement says.
+    const Placement placement = poses.frames.empty() ? preset.placement : Placement::half_edge;
+    p.simplify.placement = placement;
     p.measure = params.measure;
     p.distance = measurement(params);
     LevelClock clock(progress, p.levels.size());
@@ -157,7 +161,7 @@ void collapse_levels(const Mesh& mesh, const Preset& preset, const PresetLevelsP
         out.stops.push_back(stop_of(level.reason));
         if (params.measure) out.distance.push_back(level.distance);
     }
-    out.vertices_on_input = true;
+    out.vertices_on_input = placement == Placement::half_edge;
 }
 
 void cluster_levels(const Mesh& mesh, const Preset& preset, const PresetLevelsParams& params, PresetLevels& out,

@@ -1,7 +1,9 @@
 // LOD chains by successive half-edge collapse, with one shared vertex buffer (the layout of
 // meshoptimizer's LOD chains: Kapoulkine, "meshoptimizer", simplification and "LOD chains" in its README)
 // and the collapse sequences of all steps concatenated into one progressive-mesh sequence on the input
-// (Hoppe, "Progressive Meshes", SIGGRAPH 1996).
+// (Hoppe, "Progressive Meshes", SIGGRAPH 1996). With optimal placement (Hoppe, "New Quadric Metric for
+// Simplifying Meshes with Appearance Attributes", 1999) each level has its own vertex data; the steps
+// still run level by level, each on the previous level's output (docs/pack.md, "Placement").
 #include "lodforge/simplify/lod_chain.h"
 
 #include "lodforge/error.h"
@@ -144,9 +146,6 @@ std::vector<LodLevelTarget> lod_levels_from_errors(const std::vector<float>& max
 
 LodChainResult build_lod_chain(const Mesh& mesh, const LodChainParams& params, Progress* progress) {
     if (mesh.triangle_count() == 0) throw Error(Error::Kind::invalid, "build_lod_chain: the mesh has no triangles");
-    if (params.simplify.placement != Placement::half_edge)
-        throw Error(Error::Kind::argument,
-                    "build_lod_chain: levels share one vertex buffer, which needs half-edge placement");
     const std::vector<std::size_t> targets = triangle_targets(params.levels, mesh.triangle_count());
     const double diagonal = mesh.bounds().diagonal();
 
@@ -248,7 +247,8 @@ LodChainResult build_lod_chain(const Mesh& mesh, const LodChainParams& params, P
     seq.error = last.accumulated_error;
     seq.error_relative = last.accumulated_error_relative;
     seq.vertex_map = last.input_vertex;
-    build_shared(mesh, out);
+    // Optimal placement moves the kept vertices of every step: no two levels hold the same vertex data.
+    if (params.simplify.placement == Placement::half_edge) build_shared(mesh, out);
     check_progress(progress, 1.0, "LOD chain");
     return out;
 }

@@ -107,12 +107,12 @@ void Simplifier::setup() {
     // deviation of kAttributeScale * weight * d (see combine()); kAttributeScale keeps the weights on the
     // scale the clustering and octree methods read them on (docs/simplification.md, "Attribute fidelity").
     const auto& w = params_.weights;
-    struct Channel { const float* base; std::size_t stride, count; double weight; };
+    struct Channel { const float* base; std::size_t stride, count; double weight; bool unit; };
     std::vector<Channel> channels;
     attr_channels_.clear();
     using AK = AttrChannel::Kind;
     auto add_channel = [&](const float* base, std::size_t count, double weight, AK kind, std::size_t set) {
-        channels.push_back({base, count, count, weight});
+        channels.push_back({base, count, count, weight, kind == AK::normal});
         attr_channels_.push_back({kind, set, dims_, count, kAttributeScale * weight});
         dims_ += count;
     };
@@ -134,8 +134,18 @@ void Simplifier::setup() {
     if (dims_ > 0) {
         for (std::size_t v = 0; v < nv; ++v) {
             std::size_t j = 0;
-            for (const Channel& c : channels)
-                for (std::size_t k = 0; k < c.count; ++k) attrs_[v * dims_ + j++] = kAttributeScale * c.weight * c.base[v * c.stride + k];
+            for (const Channel& c : channels) {
+                // Normals are directions: PLY scans carry unnormalised ones (color.ply's are up to 6.3 long),
+                // which would weigh their normal differences up to 40x (docs/simplification.md, "Attribute
+                // fidelity"). A zero normal stays zero.
+                double scale = kAttributeScale * c.weight;
+                if (c.unit) {
+                    double len2 = 0;
+                    for (std::size_t k = 0; k < c.count; ++k) len2 += double(c.base[v * c.stride + k]) * c.base[v * c.stride + k];
+                    if (len2 > 0 && std::isfinite(len2)) scale /= std::sqrt(len2);
+                }
+                for (std::size_t k = 0; k < c.count; ++k) attrs_[v * dims_ + j++] = scale * c.base[v * c.stride + k];
+            }
         }
     }
     // Geometry only: no attribute quadrics at all (AttributeQuadrics of dimension 0 still holds 11 doubles a

@@ -97,6 +97,10 @@ struct Preset {
     // Seam class weights for the collapse method, as the CLI's --seams ("weight=crease:4,border:2";
     // parse_seam_weights()); "" = none.
     std::string seams;
+    // Where the collapse method's kept vertices go (docs/presets.md, "placement"): optimal gives every
+    // level its own vertex data (lower error, larger GLB); half-edge keeps input vertices, so the levels
+    // share one vertex buffer. lodstrips always uses half-edge (its strips replay one collapse prefix).
+    Placement placement = Placement::optimal;
     OctreeOptions octree;
     McOctreeOptions mcoctree;
     StripOptions strips;
@@ -122,5 +126,9 @@ void save_preset(const std::string& path, const Preset& preset);  // atomic writ
 std::string_view to_string(LodMethod method);
 // Throws lodforge::Error(argument) listing the accepted names.
 LodMethod lod_method_from_string(std::string_view name);
+
+std::string_view to_string(Placement placement);   // "optimal" or "half-edge"
+// Throws lodforge::Error(argument) listing the accepted names.
+Placement placement_from_string(std::string_view name);
 
 }  // namespace lodforge

@@ -58,10 +58,11 @@ struct PresetLevels {
     std::vector<DistanceResult> distance;       // per level, against the input (empty without measure)
     std::vector<std::string> notes;             // for the user: targets a method could not meet, ...
     // Every vertex of every level is a vertex of the input at its place (half-edge collapses: collapse
-    // and lodstrips); the others are new surfaces.
+    // with Preset::placement half-edge, and lodstrips); the others move vertices or make new surfaces.
     bool vertices_on_input = false;
-    // collapse: the chain's step errors, collapse sequence and all levels over one vertex buffer (for
-    // the GLB); its level meshes are moved into `levels` (chain->levels[k].mesh is empty for k >= 1).
+    // collapse: the chain's step errors, collapse sequence and, with half-edge placement, all levels
+    // over one vertex buffer (for the GLB; empty with optimal placement); its level meshes are moved
+    // into `levels` (chain->levels[k].mesh is empty for k >= 1).
     std::optional<LodChainResult> chain;
     std::vector<std::uint8_t> lodstrips_file;   // the encoded .lodstrips (lodstrips only)
     // The structure's cells: every node of the out-of-core octree; the cut of the finest level of the

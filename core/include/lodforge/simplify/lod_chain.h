@@ -5,10 +5,12 @@
 //   LodChainResult r = build_lod_chain(mesh, p);   // r.levels[0] is the input, r.levels[k] level k
 //
 // Level k is simplified from level k-1 (cheaper than from the input, and nested: every vertex of level k
-// is a vertex of level k-1). Half-edge collapses never create vertices, so every level indexes the
-// input's vertex array: `r.shared` holds the vertices once and one index range per level, as
-// meshoptimizer's LOD chains do, and `r.sequence` is one collapse sequence on the input covering the
-// whole chain (replay_collapses(input, r.sequence, r.levels[k].collapses_end) gives level k).
+// descends from a vertex of level k-1). With half-edge placement (the default) collapses never create
+// vertices, so every level indexes the input's vertex array: `r.shared` holds the vertices once and one
+// index range per level, as meshoptimizer's LOD chains do. With optimal placement every level has its
+// own positions and attributes (lower error, more bytes) and `r.shared` is empty. Either way
+// `r.sequence` is one collapse sequence on the input covering the whole chain
+// (replay_collapses(input, r.sequence, r.levels[k].collapses_end) gives level k's connectivity).
 #pragma once
 
 #include "lodforge/mesh.h"
@@ -40,10 +42,10 @@ struct LodChainParams {
     // Levels from fine to coarse: ratios and triangle counts strictly decreasing, max errors strictly
     // increasing (kinds may be mixed; then each must still be coarser than the previous target).
     std::vector<LodLevelTarget> levels;
-    // Weights, border locking, seams, welding and the normal limit of every step. Its targets are
-    // ignored (each level sets its own); placement must be Placement::half_edge (levels share vertices).
+    // Weights, border locking, seams, welding, placement and the normal limit of every step. Its targets
+    // are ignored (each level sets its own). Placement::optimal leaves LodChainResult::shared empty.
     // Its extra_frames, when given, hold positions of the chain's input vertices; each step gets them
-    // for its own vertices.
+    // for its own vertices (they need Placement::half_edge).
     SimplifyParams simplify;
     bool measure = true;        // measure every level against the input with compare()
     DistanceParams distance;    // sampling of those measurements (vertex_errors is not filled)
@@ -64,7 +66,8 @@ struct LodLevel {
     DistanceResult distance;
     // This level's step in LodChainResult::sequence.collapses; replaying [0, collapses_end) gives it.
     std::size_t collapses_begin = 0, collapses_end = 0;
-    // Level vertex → input vertex.
+    // Level vertex → the input vertex it descends from (the same vertex, at the same place, with
+    // half-edge placement; moved, with re-solved attributes, with optimal placement).
     std::vector<std::uint32_t> input_vertex;
 };
 
@@ -89,15 +92,15 @@ struct SharedLodBuffers {
 
 struct LodChainResult {
     std::vector<LodLevel> levels;  // levels[0] is the input, then one per LodChainParams::levels entry
-    SharedLodBuffers shared;
+    SharedLodBuffers shared;       // half-edge placement only: empty (no levels) with optimal placement
     // The collapses of every step expressed on the input (vertices and points as welded by the first
     // step): replay_collapses(input, sequence, levels[k].collapses_end) gives level k's faces in input
     // vertex indices. `sequence.mesh` is left empty; sequence.input_points is filled.
     SimplifyResult sequence;
 };
 
-// Throws Error(argument) for an empty or non-decreasing level list, a target out of range or optimal
-// placement; Error(invalid) when the input has no triangles; Error(cancelled) when progress asks to stop
+// Throws Error(argument) for an empty or non-decreasing level list or a target out of range;
+// Error(invalid) when the input has no triangles; Error(cancelled) when progress asks to stop
 // (progress covers all levels: each step's simplification and measurement).
 LodChainResult build_lod_chain(const Mesh& mesh, const LodChainParams& params, Progress* progress = nullptr);
 

@@ -79,6 +79,7 @@ private:
     QDoubleSpinBox* colorWeight_ = nullptr;
     QDoubleSpinBox* uvWeight_ = nullptr;
     QCheckBox* lockBorder_ = nullptr;
+    QComboBox* placement_ = nullptr;   // Preset::placement (collapse only)
     QGroupBox* weightsBox_ = nullptr;
     QFormLayout* weightsForm_ = nullptr;
     QGroupBox* structureBox_ = nullptr;
