@@ -39,6 +39,10 @@ std::optional<Preset> preset_from_option(const std::string& value);
 // names the command).
 std::vector<LodTarget> parse_level_targets(const std::string& ratios, const std::string& triangles,
                                            const std::string& errors, const std::string& command);
+// The same options applied to `preset`: `--levels auto` sets "levels": "auto" (alone), other levels
+// replace the preset's list. Returns whether any was given.
+bool apply_level_options(Preset& preset, const std::string& ratios, const std::string& triangles,
+                         const std::string& errors, const std::string& command);
 // Adds those three options to `cmd`.
 void add_level_options(CLI::App* cmd, std::string& ratios, std::string& triangles, std::string& errors);
 
