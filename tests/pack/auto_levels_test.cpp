@@ -79,6 +79,24 @@ TEST(AutoLevels, ASmallerMinimumGivesAtLeastAsManyLevels) {
         EXPECT_NEAR(c.error_target, 1.0 / c.screen_pixels, 1e-15);
 }
 
+// The studio builds without measuring; its automatic levels must still be the pack's.
+TEST(AutoLevels, SameLevelsWithoutTheMeasurements) {
+    const std::string path = shared_data("tex-spot/spot_triangulated.obj");
+    const Mesh mesh = read_placed(path);
+    Preset preset;
+    preset.auto_levels = true;
+    preset.min_screen_pixels = 40;
+    PresetLevelsParams params;
+    params.source_path = path;
+    const PresetLevels measured = build_preset_levels(mesh, preset, params);
+    params.measure = false;
+    const PresetLevels quick = build_preset_levels(mesh, preset, params);
+    EXPECT_TRUE(quick.distance.empty());
+    ASSERT_EQ(quick.levels.size(), measured.levels.size());
+    for (std::size_t k = 0; k < quick.levels.size(); ++k)
+        EXPECT_EQ(quick.levels[k].triangle_count(), measured.levels[k].triangle_count()) << k;
+}
+
 TEST(AutoLevels, PackValidatesAndRecordsTheRule) {
     ScratchDir dir("auto-pack");
     PackParams params;

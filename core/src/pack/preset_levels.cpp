@@ -402,7 +402,10 @@ PresetLevels auto_preset_levels(const Mesh& mesh, const Preset& preset, const Pr
     for (;;) {
         ProgressRange build_progress(progress, 0.5, 1.0);
         PresetLevels out = listed_levels(mesh, listed, params, &build_progress, stats);
-        const double last = params.measure ? out.distance.back().hausdorff_relative : 0.0;
+        // Measured here when the caller does not measure (the studio), so every front end keeps the
+        // same levels.
+        const double last = params.measure ? out.distance.back().hausdorff_relative
+                                           : compare(mesh, out.levels.back(), measurement(params)).hausdorff_relative;
         if (listed.levels.size() == 1 || !(last > 0) || preset.switching.pixels / last >= preset.min_screen_pixels) {
             std::string sizes;
             for (const AutoLevelCandidate& c : chosen.candidates)

@@ -77,8 +77,8 @@ struct PresetLevelsStats {
 };
 
 // A preset with "levels": "auto" (collapse only) gets its targets from choose_auto_levels
-// (lodforge/pack/auto_levels.h); with `measure`, a last level that measures too coarse for the preset's
-// min_screen_pixels is left out.
+// (lodforge/pack/auto_levels.h), measured whatever `measure` says; a last level that measures too
+// coarse for the preset's min_screen_pixels is left out.
 // Throws Error(argument) for a preset without levels or with targets the method cannot take (naming
 // source_path and the level), Error(invalid) for an input without triangles or a level the method
 // cannot make, Error(cancelled) when `progress` asks to stop.
