@@ -167,9 +167,8 @@ void StudioMeasureTest::fullPrecisionMeasureIsCompareWithItsDefaults() {
     // and the camera distance, as pack.json's switch points give them (two pixels, 45 degrees).
     std::vector<double> errors;
     for (const auto& l : data) errors.push_back(l.errorRelative);
-    const lodforge::Bounds box = data[0].mesh->bounds();
-    const double largest = std::min<double>(box.diagonal(), std::max({box.size().x, box.size().y, box.size().z}));
-    const lodforge::SwitchPoints s = lodforge::switch_points(errors, box.diagonal(), largest, preset.switching);
+    const lodforge::SwitchPoints s = lodforge::switch_points(errors, data[0].mesh->bounds(), preset.switching);
+    QCOMPARE(s.levels.size(), data.size());
     for (std::size_t k = 1; k < data.size(); ++k) {
         const double pixels = 2 / data[k].errorRelative;  // level k's error is 2 px at this diameter
         QVERIFY(std::abs(s.levels[k - 1].screen_size * 1080 - pixels) < 1e-6 * pixels);

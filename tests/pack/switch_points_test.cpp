@@ -124,6 +124,18 @@ TEST(SwitchPoints, BadParametersAreRefused) {
     EXPECT_TRUE(refused(p));
 }
 
+TEST(SwitchPoints, FromABoundingBox) {
+    Bounds box;
+    box.add({0, 0, 0});
+    box.add({3, 4, 0});  // diagonal 5, largest side 4
+    const SwitchPoints a = switch_points({0, 0.01}, box, SwitchParams{});
+    const SwitchPoints b = switch_points({0, 0.01}, 5.0, 4.0, SwitchParams{});
+    ASSERT_EQ(a.levels.size(), 2u);
+    EXPECT_DOUBLE_EQ(a.levels[0].unity_transition_height, b.levels[0].unity_transition_height);
+    EXPECT_DOUBLE_EQ(a.levels[0].godot.range_end, b.levels[0].godot.range_end);
+    EXPECT_TRUE(switch_points({0, 0.01}, Bounds{}, SwitchParams{}).levels.empty());  // no extent
+}
+
 TEST(SwitchPoints, JsonKeysInTheirFixedOrder) {
     const SwitchPoints s = switch_points({0, 0.01}, 2.0, 1.5, SwitchParams{});
     const auto j = nlohmann::ordered_json::parse(level_switch_json(s.levels[1]));

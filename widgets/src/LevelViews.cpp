@@ -282,12 +282,8 @@ QString LevelViews::takeOverText(int level) const {
         if (k > 0 && l.measured == Measured::no) return {};
         errors.push_back(k == 0 ? 0.0 : l.errorRelative);
     }
-    const lodforge::Bounds box = levels_[0].mesh->bounds();
-    const lodforge::Vec3f size = box.size();
-    const double diagonal = box.diagonal();
-    const double largest = std::min<double>(diagonal, std::max({size.x, size.y, size.z}));
-    if (!(diagonal > 0)) return {};
-    const lodforge::SwitchPoints s = lodforge::switch_points(errors, diagonal, largest, switching_);
+    const lodforge::SwitchPoints s = lodforge::switch_points(errors, levels_[0].mesh->bounds(), switching_);
+    if (s.levels.size() <= std::size_t(level)) return {};
     const lodforge::LevelSwitch& before = s.levels[std::size_t(level) - 1];
     return tr(" · takes over at %1 px (distance %2)")
         .arg(before.screen_size * switching_.height, 0, 'f', 0)

@@ -215,11 +215,7 @@ PackResult write_lod_pack(const Mesh& mesh, const PackParams& params, Progress* 
     // is never culled (switch_points.h).
     std::vector<double> errors;
     for (const DistanceResult& d : built.distance) errors.push_back(d.hausdorff_relative);
-    const Bounds box = mesh.bounds();
-    const double diagonal = box.diagonal();
-    const double largest = std::min<double>(diagonal, std::max({box.size().x, box.size().y, box.size().z}));
-    const SwitchPoints switches =
-        diagonal > 0 ? switch_points(errors, diagonal, largest, params.preset.switching) : SwitchPoints{};
+    const SwitchPoints switches = switch_points(errors, mesh.bounds(), params.preset.switching);
     result.levels.resize(n);
     for (std::size_t k = 0; k < n; ++k) {
         PackLevel& level = result.levels[k];

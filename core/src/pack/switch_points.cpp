@@ -73,6 +73,15 @@ SwitchPoints switch_points(const std::vector<double>& error_relative, double dia
     return out;
 }
 
+SwitchPoints switch_points(const std::vector<double>& error_relative, const Bounds& box, const SwitchParams& params) {
+    const double diagonal = box.diagonal();
+    if (!(diagonal > 0)) return {};
+    const Vec3f size = box.size();
+    // In float the diagonal of a box flat in two axes can round below its one side.
+    const double largest = std::min<double>(diagonal, std::max({size.x, size.y, size.z}));
+    return switch_points(error_relative, diagonal, largest, params);
+}
+
 std::string level_switch_json(const LevelSwitch& s) {
     nlohmann::ordered_json j;
     j["coverage"] = s.coverage;

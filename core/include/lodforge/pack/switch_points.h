@@ -9,6 +9,8 @@
 // bounding sphere (radius = half the bounding-box diagonal). Every form below is that one switch point.
 #pragma once
 
+#include "lodforge/types.h"
+
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -59,6 +61,8 @@ double coverage_for_error(double error_relative, const SwitchParams& params);
 // Throws Error(argument) for parameters out of the ranges above or a non-positive diagonal.
 SwitchPoints switch_points(const std::vector<double>& error_relative, double diagonal, double largest_side,
                            const SwitchParams& params);
+// The same for the input's bounding box (an empty or flat-to-a-point box gives no levels).
+SwitchPoints switch_points(const std::vector<double>& error_relative, const Bounds& box, const SwitchParams& params);
 
 // One level's switch points as pack.json writes them (docs/formats/pack-json.md), keys in a fixed order:
 // coverage, screen_size, unity_transition_height, unreal_screen_size, godot {visibility_range_begin,
