@@ -68,9 +68,8 @@ void add_lod_command(CLI::App& app, const GlobalOptions& global) {
         // Without a preset: the edge-collapse chain with the default weights; the flags say the levels.
         Preset preset = preset_from_option(o.preset).value_or(Preset{});
         if (o.preset.empty()) preset.levels.clear();
-        std::vector<LodTarget> levels = parse_level_targets(o.levels, o.level_triangles, o.level_errors, "lod");
-        if (!levels.empty()) preset.levels = std::move(levels);
-        if (preset.levels.empty())
+        apply_level_options(preset, o.levels, o.level_triangles, o.level_errors, "lod");
+        if (preset.levels.empty() && !preset.auto_levels)
             throw Error(Error::Kind::argument, "lod: give one of --levels, --level-triangles and --level-errors (or --preset)");
         if (!o.weights.empty()) parse_weights(o.weights, preset.weights);
         preset.lock_border = preset.lock_border || o.lock_border;
@@ -120,7 +119,7 @@ void add_lod_command(CLI::App& app, const GlobalOptions& global) {
             if (i == 0) {
                 j["stop_reason"] = "input";
             } else {
-                const LodTarget& t = preset.levels[i - 1];
+                const LodTarget& t = built.targets[i - 1];
                 if (built.target_triangles[i - 1]) j["target_triangles"] = built.target_triangles[i - 1];
                 else j["target_max_error"] = float_as_written(static_cast<float>(t.value));
                 j["stop_reason"] = stop_key(built.stops[i - 1]);

@@ -14,8 +14,28 @@
 
 #include <cstdio>
 #include <memory>
+#include <optional>
 
 namespace lodforge::cli {
+
+namespace {
+
+template <class Options>
+void apply_switch_options(const Options& o, SwitchParams& s) {
+    if (o.pixels) s.pixels = *o.pixels;
+    if (o.fov) s.fov_deg = *o.fov;
+    if (o.hysteresis) s.hysteresis = *o.hysteresis;
+    if (o.screen.empty()) return;
+    unsigned w = 0, h = 0;
+    char x = 0, extra = 0;
+    if (std::sscanf(o.screen.c_str(), "%u%c%u%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X') || w < 1 ||
+        h < 1 || w > 65536 || h > 65536)
+        throw Error(Error::Kind::argument, "--switch-screen: '" + o.screen + "' is not WIDTHxHEIGHT (e.g. 1920x1080)");
+    s.width = w;
+    s.height = h;
+}
+
+}  // namespace
 
 void add_pack_command(CLI::App& app, const GlobalOptions& global) {
     struct Options {
@@ -24,6 +44,8 @@ void add_pack_command(CLI::App& app, const GlobalOptions& global) {
         bool lock_border = false;
         bool json = false;
         bool image_error = false;
+        std::optional<double> pixels, fov, hysteresis, min_screen_pixels;
+        std::string screen;
     };
     auto options = std::make_shared<Options>();
     CLI::App* cmd = app.add_subcommand(
@@ -43,14 +65,27 @@ void add_pack_command(CLI::App& app, const GlobalOptions& global) {
     cmd->add_flag("--image-error", options->image_error,
                   "Measure each level's image-space error and write it into pack.json (sets the preset's "
                   "export.image_error; docs/image-compare.md)");
+    cmd->add_option("--switch-pixels", options->pixels,
+                    "Pixel tolerance of the switch points (sets the preset's switch.pixels)")
+        ->check(CLI::Range(0.01, 1e4));
+    cmd->add_option("--switch-screen", options->screen, "Reference screen WIDTHxHEIGHT of the switch points, e.g. 1920x1080");
+    cmd->add_option("--switch-fov", options->fov, "Vertical field of view in degrees, for the switch distances")
+        ->check(CLI::Range(1.0, 179.0));
+    cmd->add_option("--switch-hysteresis", options->hysteresis,
+                    "Margin of the switch distances, a fraction of each (Godot's visibility range margins)")
+        ->check(CLI::Range(0.0, 0.99));
+    cmd->add_option("--min-screen-pixels", options->min_screen_pixels,
+                    "Smallest on-screen size that matters, pixels (--levels auto stops there)")
+        ->check(CLI::Range(1.0, 1e5));
     cmd->callback([options, &global] {
         const Options& o = *options;
         PackParams params;
         // Without --preset: the studio's default preset.
         params.preset = preset_from_option(o.preset).value_or(Preset{});
         if (!o.method.empty()) params.preset.method = lod_method_from_string(o.method);
-        std::vector<LodTarget> targets = parse_level_targets(o.levels, o.level_triangles, o.level_errors, "pack");
-        if (!targets.empty()) params.preset.levels = std::move(targets);
+        apply_level_options(params.preset, o.levels, o.level_triangles, o.level_errors, "pack");
+        apply_switch_options(o, params.preset.switching);
+        if (o.min_screen_pixels) params.preset.min_screen_pixels = *o.min_screen_pixels;
         if (!o.weights.empty()) parse_weights(o.weights, params.preset.weights);
         params.preset.lock_border = params.preset.lock_border || o.lock_border;
         if (!o.importance.empty()) params.preset.importance = o.importance;
@@ -92,6 +127,7 @@ void add_pack_command(CLI::App& app, const GlobalOptions& global) {
                 levels.push_back({{"triangles", l.triangles}, {"vertices", l.vertices}, {"wedges", l.wedges},
                                   {"error", l.error}, {"error_relative", l.error_relative},
                                   {"screen_coverage", l.screen_coverage}, {"screen_size", l.screen_size},
+                                  {"switch", nlohmann::ordered_json::parse(level_switch_json(l.switching))},
                                   {"files", l.files}});
             for (std::size_t k = 0; k < r.levels.size(); ++k)
                 if (r.levels[k].image_error)
@@ -107,6 +143,10 @@ void add_pack_command(CLI::App& app, const GlobalOptions& global) {
             const PackLevel& l = r.levels[k];
             std::printf("lod%zu: %zu triangles, %zu vertices, hausdorff %.3g of the diagonal, screen coverage %.4g", k,
                         l.triangles, l.vertices, l.error_relative, l.screen_coverage);
+            const LevelSwitch& s = l.switching;
+            if (k > 0) std::printf(", takes over at distance %.4g (Unreal screen size %.4g)", s.godot.range_begin, s.unreal_screen_size);
+            if (k + 1 < r.levels.size())
+                std::printf(", gives way at distance %.4g (Unity height %.4g)", s.godot.range_end, s.unity_transition_height);
             if (l.image_error)
                 std::printf(", image error %.3f (over threshold %.4f, silhouette %.4f)", l.image_error->mean_abs,
                             l.image_error->over_threshold, l.image_error->silhouette);

@@ -125,8 +125,26 @@ std::vector<LodTarget> parse_level_targets(const std::string& ratios, const std:
     return levels;
 }
 
+bool apply_level_options(Preset& preset, const std::string& ratios, const std::string& triangles,
+                         const std::string& errors, const std::string& command) {
+    if (ratios == "auto") {
+        if (!triangles.empty() || !errors.empty())
+            throw Error(Error::Kind::argument,
+                        command + ": --levels auto chooses the levels; drop --level-triangles and --level-errors");
+        preset.auto_levels = true;
+        return true;
+    }
+    std::vector<LodTarget> levels = parse_level_targets(ratios, triangles, errors, command);
+    if (levels.empty()) return false;
+    preset.levels = std::move(levels);
+    preset.auto_levels = false;
+    return true;
+}
+
 void add_level_options(CLI::App* cmd, std::string& ratios, std::string& triangles, std::string& errors) {
-    cmd->add_option("--levels", ratios, "Triangle ratios of the input, decreasing, e.g. 0.5,0.25,0.1,0.03");
+    cmd->add_option("--levels", ratios,
+                    "Triangle ratios of the input, decreasing, e.g. 0.5,0.25,0.1,0.03; or 'auto' (levels chosen "
+                    "from the pixel tolerance and the smallest on-screen size, collapse method)");
     cmd->add_option("--level-triangles", triangles, "Triangle counts, decreasing, e.g. 20000,5000,1000");
     cmd->add_option("--level-errors", errors,
                     "Error bounds per step (fraction of the diagonal), increasing, e.g. 0.001,0.004");

@@ -43,6 +43,10 @@ std::vector<LodTarget> parse_level_targets(const std::string& ratios, const std:
 // docs/artist-control.md) to `cmd`.
 void add_paint_options(CLI::App* cmd, std::string& importance, std::string& lock, std::string& seams);
 
+// The same options applied to `preset`: `--levels auto` sets "levels": "auto" (alone), other levels
+// replace the preset's list. Returns whether any was given.
+bool apply_level_options(Preset& preset, const std::string& ratios, const std::string& triangles,
+                         const std::string& errors, const std::string& command);
 // Adds those three options to `cmd`.
 void add_level_options(CLI::App* cmd, std::string& ratios, std::string& triangles, std::string& errors);
 

@@ -903,6 +903,7 @@ void MainWindow::buildLodChain() {
             const QSignalBlocker block(heatmapAction_);
             heatmapAction_->setChecked(false);
         }
+        levels_->setSwitchParams(preset.switching);
         levels_->setLevels(out->levels, false);
         builtPreset_ = preset;
         updateStale();  // the parameters may have moved on while it built
@@ -1031,11 +1032,12 @@ void MainWindow::exportPack(const QString& directory) {
         for (const std::string& f : result->files) lastPackFiles_ << QString::fromStdString(f);
         for (std::size_t k = 0; k < result->levels.size(); ++k) {
             const lodforge::PackLevel& l = result->levels[k];
-            appendLog(tr("  lod%1: %2 triangles, error %3 % of the diagonal, screen coverage %4")
+            appendLog(tr("  lod%1: %2 triangles, error %3 % of the diagonal, screen coverage %4, until distance %5")
                           .arg(k)
                           .arg(l.triangles)
                           .arg(100.0 * l.error_relative, 0, 'f', 4)
-                          .arg(l.screen_coverage, 0, 'g', 4));
+                          .arg(l.screen_coverage, 0, 'g', 4)
+                          .arg(l.switching.godot.range_end, 0, 'g', 4));
         }
         // Levels identical to the one before them are left out (same_surface, the rule the labels' "same
         // as LOD" flag follows): the notes say which.

@@ -134,6 +134,17 @@ try {
       const drawn = triangles(await page.evaluate((d) => window.probe.drawsAt(d), distance(a)));
       check(same(drawn, expected[k]), `${name}: coverage ${a.toPrecision(4)} (${why}) draws level ${k} [${expected[k]}] — drew [${drawn}]`);
     }
+    if (engine === 'three') {
+      // The runtime's distances for the pack's switch screen and field of view are pack.json's Godot
+      // visibility ranges: the same switch points, computed apart (lodforge-three.mjs, switch_points.cpp).
+      const sw = manifest.switch;
+      const got = await page.evaluate((f, a) => window.probe.lodDistances(f, a), sw.fov_deg, sw.screen[0] / sw.screen[1]);
+      for (let k = 1; k < got.length; ++k) {
+        const want = manifest.levels[k].switch.godot.visibility_range_begin;
+        check(Math.abs(got[k] - want) <= 1e-5 * want,
+              `${name}: three.js switches to level ${k} at distance ${got[k].toPrecision(6)}, pack.json's Godot visibility_range_begin ${want.toPrecision(6)}`);
+      }
+    }
     // Close-ups, one level at a time (forced), the object covering about a third of the view.
     const close = distance(0.35);
     for (const k of shown) {

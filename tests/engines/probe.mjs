@@ -105,6 +105,18 @@ async function three(packUrl) {
     async frame() { renderer.render(scene, camera); },
     render() { renderer.render(scene, camera); },
     pixels: () => readPixels(gl),
+    // The THREE.LOD's level distances for a camera with this field of view (degrees) and aspect.
+    lodDistances(fovDeg, aspect) {
+      const saved = [camera.fov, camera.aspect];
+      [camera.fov, camera.aspect] = [fovDeg, aspect];
+      camera.updateProjectionMatrix();
+      pack.lod.update(camera);
+      const distances = pack.lod.levels.map((l) => l.distance);
+      [camera.fov, camera.aspect] = saved;
+      camera.updateProjectionMatrix();
+      pack.lod.update(camera);
+      return distances;
+    },
     force(k) { pack.lod.autoUpdate = false; pack.levels.forEach((o, i) => { o.visible = i === k; }); },
     untextured() {
       scene.traverse((o) => { if (o.isMesh) { o.material.map = null; o.material.emissiveMap = null; o.material.needsUpdate = true; } });
@@ -144,6 +156,7 @@ window.probe = {
     view = engineName.startsWith('babylon') ? await babylon(packUrl) : await three(packUrl);
     return { fov: view.fov, aspect: view.aspect };
   },
+  lodDistances: (fovDeg, aspect) => view.lodDistances(fovDeg, aspect),
   // The draw calls of a frame with the camera `distance` from the sphere centre.
   async drawsAt(distance) { look(distance); return drawnFrame(); },
   // Pixels of level k (forced) seen from `distance`; untextured: with the textures taken off.

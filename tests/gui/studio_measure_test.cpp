@@ -7,6 +7,7 @@
 #include "StudioSession.h"
 
 #include "lodforge/metrics/metrics.h"
+#include "lodforge/pack/switch_points.h"
 #include "lodforge/widgets/LevelViews.h"
 #include "lodforge/widgets/ReportPanel.h"
 
@@ -23,6 +24,8 @@
 #include <QTest>
 #include <QTimer>
 
+#include <algorithm>
+#include <cmath>
 #include <memory>
 
 using lodforge::studio::MainWindow;
@@ -140,6 +143,8 @@ void StudioMeasureTest::fullPrecisionMeasureIsCompareWithItsDefaults() {
     QVERIFY(lodforge::testing::loadInStudio(*window_, spotPath));
     lodforge::Preset preset = window_->preset();
     preset.levels = lodforge::lod_targets_from_ratios({0.3, 0.05});
+    preset.switching.pixels = 2;
+    preset.switching.fov_deg = 45;
     QString message;
     QVERIFY2(lodforge::testing::buildInStudio(*window_, preset, &message), qPrintable(message));
     auto* full = window_->findChild<QAction*>(QStringLiteral("actionMeasureFull"));
@@ -158,6 +163,25 @@ void StudioMeasureTest::fullPrecisionMeasureIsCompareWithItsDefaults() {
         const QString text = window_->levelViews()->levelLabelText(int(k));
         QVERIFY2(text.contains(QStringLiteral(" · error ")) && !text.contains(QStringLiteral("≈")), qPrintable(text));
     }
+    // Each level says where it takes over on the preset's switch screen: the sphere's diameter in pixels
+    // and the camera distance, as pack.json's switch points give them (two pixels, 45 degrees).
+    std::vector<double> errors;
+    for (const auto& l : data) errors.push_back(l.errorRelative);
+    const lodforge::SwitchPoints s = lodforge::switch_points(errors, data[0].mesh->bounds(), preset.switching);
+    QCOMPARE(s.levels.size(), data.size());
+    for (std::size_t k = 1; k < data.size(); ++k) {
+        const double pixels = 2 / data[k].errorRelative;  // level k's error is 2 px at this diameter
+        QVERIFY(std::abs(s.levels[k - 1].screen_size * 1080 - pixels) < 1e-6 * pixels);
+        const QString expected = QStringLiteral(" · takes over at %1 px (distance %2)")
+                                     .arg(pixels, 0, 'f', 0)
+                                     .arg(QString::number(s.levels[k - 1].godot.range_end, 'g', 3));
+        const QString text = window_->levelViews()->levelLabelText(int(k));
+        QVERIFY2(text.contains(expected), qPrintable(text + QStringLiteral(" lacks") + expected));
+    }
+    QVERIFY(!window_->levelViews()->levelLabelText(0).contains(QStringLiteral("takes over")));
+    window_->levelViews()->setCurrentLevel(1);
+    QVERIFY2(window_->levelViews()->singleLabel()->text().contains(QStringLiteral("takes over at")),
+             qPrintable(window_->levelViews()->singleLabel()->text()));
 }
 
 void StudioMeasureTest::dragonStaysResponsiveWhileMeasuredAndCancels() {

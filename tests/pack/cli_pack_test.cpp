@@ -147,3 +147,63 @@ TEST(CliPack, BadPresetMissingInputAndUnwritableOutputFailCleanly) {
 }
 
 }  // namespace
+
+namespace {
+
+// `pack --levels auto` with the switch flags: the flags reach pack.json's switch block, every level's
+// switch points are printed and written, the chosen levels halve, and `lod --levels auto` picks the same.
+TEST(CliPack, AutoLevelsAndSwitchFlags) {
+    ScratchDir dir("cli-pack-auto");
+    const std::string input = quoted(shared_data("tex-duck/glTF_Binary/Duck.glb"));
+    CliRun r = run_cli("pack " + input + " -o " + quoted(dir.file("duck")) +
+                       " --levels auto --switch-pixels 2 --switch-screen 1280x720 --switch-fov 45"
+                       " --switch-hysteresis 0.2 --min-screen-pixels 24");
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    EXPECT_NE(r.out.find("automatic levels"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("takes over at distance"), std::string::npos) << r.out;
+    const auto j = nlohmann::json::parse(test::read_bytes(dir.file("duck/pack.json")));
+    EXPECT_EQ(j["switch"]["pixels"], 2.0);
+    EXPECT_EQ(j["switch"]["screen"], nlohmann::json::array({1280, 720}));
+    EXPECT_EQ(j["switch"]["fov_deg"], 45.0);
+    EXPECT_EQ(j["switch"]["hysteresis"], 0.2);
+    EXPECT_EQ(j["screen_reference"]["width"], 1280);
+    EXPECT_EQ(j["preset"]["levels"], "auto");
+    EXPECT_EQ(j["preset"]["min_screen_pixels"], 24.0);
+    const auto& levels = j["levels"];
+    ASSERT_GE(levels.size(), 2u);
+    for (std::size_t k = 1; k < levels.size(); ++k) {
+        EXPECT_LE(2 * levels[k]["triangles"].get<std::size_t>(), levels[k - 1]["triangles"].get<std::size_t>());
+        const auto& s = levels[k]["switch"];
+        const auto& before = levels[k - 1]["switch"];
+        EXPECT_EQ(s["godot"]["visibility_range_begin"], before["godot"]["visibility_range_end"]);
+        EXPECT_NEAR(s["godot"]["visibility_range_begin_margin"].get<double>(),
+                    0.2 * s["godot"]["visibility_range_begin"].get<double>(), 1e-12);
+        EXPECT_EQ(s["unreal_screen_size"], before["screen_size"]);
+        // Level k takes over where its error is 2 px: a sphere of 2 / error pixels across, >= 24.
+        EXPECT_NEAR(before["screen_size"].get<double>() * 720,
+                    2 / levels[k]["error"]["hausdorff_relative"].get<double>(), 1e-6);
+    }
+    EXPECT_GE(levels[levels.size() - 2]["switch"]["screen_size"].get<double>() * 720, 24 * (1 - 1e-9));
+    EXPECT_EQ(levels.back()["switch"]["godot"]["visibility_range_end"], 0.0);
+
+    // `lod` chooses the same levels from the same preset.
+    std::ofstream(dir.file("auto.json")) << R"({"levels": "auto", "min_screen_pixels": 24,
+        "switch": {"pixels": 2, "screen": [1280, 720]}})";
+    r = run_cli("lod " + input + " --preset " + quoted(dir.file("auto.json")) + " -o " + quoted(dir.file("lods")));
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    const auto lods = nlohmann::json::parse(test::read_bytes(dir.file("lods/lods.json")));
+    ASSERT_EQ(lods["levels"].size(), levels.size());
+    for (std::size_t k = 0; k < levels.size(); ++k) EXPECT_EQ(lods["levels"][k]["triangles"], levels[k]["triangles"]);
+
+    r = run_cli("pack " + input + " -o " + quoted(dir.file("bad")) + " --switch-screen 1280by720");
+    EXPECT_EQ(r.exit_code, 2) << r.out;  // a usage error
+    EXPECT_NE(r.out.find("--switch-screen"), std::string::npos) << r.out;
+    r = run_cli("pack " + input + " -o " + quoted(dir.file("bad")) + " --levels auto --level-triangles 100");
+    EXPECT_EQ(r.exit_code, 2) << r.out;
+    r = run_cli("pack " + input + " -o " + quoted(dir.file("bad")) + " --levels auto --method cluster");
+    EXPECT_EQ(r.exit_code, 1) << r.out;
+    EXPECT_NE(r.out.find("collapse"), std::string::npos) << r.out;
+    EXPECT_FALSE(fs::exists(dir.file("bad")));
+}
+
+}  // namespace

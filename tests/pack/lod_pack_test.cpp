@@ -109,7 +109,7 @@ TEST(LodPack, SpotPackAgreesAcrossGlbManifestAndResult) {
     EXPECT_EQ(r.levels[3].screen_coverage, 0.0);  // the coarsest level is never culled
     EXPECT_GT(r.levels[0].screen_coverage, 0.0);
     // The hint is the coverage at which the next level's error is a pixel on the reference screen.
-    EXPECT_DOUBLE_EQ(r.levels[0].screen_coverage, screen_coverage_for_error(r.levels[1].error_relative));
+    EXPECT_DOUBLE_EQ(r.levels[0].screen_coverage, coverage_for_error(r.levels[1].error_relative, SwitchParams{}));
 
     const auto v = test::validate_gltf(params.output_dir + "/" + r.glb);
     ASSERT_EQ(v.exit_code, 0) << v.raw;
@@ -199,11 +199,11 @@ TEST(FileHash, KnownVectorsAndMissingFile) {
 }
 
 TEST(LodPack, ScreenCoverageFormula) {
-    EXPECT_EQ(screen_coverage_for_error(0), 1.0);
-    EXPECT_EQ(screen_coverage_for_error(1e-9), 1.0);
+    EXPECT_EQ(coverage_for_error(0, SwitchParams{}), 1.0);
+    EXPECT_EQ(coverage_for_error(1e-9, SwitchParams{}), 1.0);
     // e = 0.01: the sphere may be 50 px in radius, pi 2500 / (1920 1080).
-    EXPECT_NEAR(screen_coverage_for_error(0.01), 3.14159265358979 * 2500 / (1920.0 * 1080.0), 1e-12);
-    EXPECT_GT(screen_coverage_for_error(0.001), screen_coverage_for_error(0.002));
+    EXPECT_NEAR(coverage_for_error(0.01, SwitchParams{}), 3.14159265358979 * 2500 / (1920.0 * 1080.0), 1e-12);
+    EXPECT_GT(coverage_for_error(0.001, SwitchParams{}), coverage_for_error(0.002, SwitchParams{}));
 }
 
 // A closed sphere cannot lose triangles below a tetrahedron's four, so targets of 3 and 2 triangles

@@ -45,6 +45,8 @@ TEST(Preset, EveryOptionSurvivesJsonRoundTrip) {
     p.mcoctree.resolution = 256;
     p.strips.primitive_restart = false;
     p.exports = ExportOptions{.glb = false, .ply = true, .obj = true, .lodstrips = true, .image_error = true};
+    p.min_screen_pixels = 32.5;
+    p.switching = SwitchParams{.pixels = 0.5, .width = 2560, .height = 1440, .fov_deg = 70, .hysteresis = 0.25};
     const std::string text = preset_to_json(p);
     const Preset back = parse_preset(text);
     EXPECT_EQ(back, p) << text;
@@ -89,6 +91,35 @@ TEST(Preset, BadInputNamesTheFileAndTheKey) {
     EXPECT_NE(error_of(R"({"placement": true})").find("'placement' must be a string"), std::string::npos);
     EXPECT_NE(error_of(R"({"version": 99})").find("reads presets up to version 1"), std::string::npos);
     EXPECT_NE(error_of(R"({"export": {"lodstrips": true}})").find("needs \"method\": \"lodstrips\""), std::string::npos);
+}
+
+TEST(Preset, AutoLevelsAndSwitchBlock) {
+    const Preset p = parse_preset(R"({"levels": "auto", "min_screen_pixels": 24,
+        "switch": {"pixels": 2, "screen": [1280, 720], "fov_deg": 45, "hysteresis": 0.2}})");
+    EXPECT_TRUE(p.auto_levels);
+    EXPECT_EQ(p.levels, Preset{}.levels);  // kept for when auto is switched off
+    EXPECT_EQ(p.min_screen_pixels, 24);
+    EXPECT_EQ(p.switching.pixels, 2);
+    EXPECT_EQ(p.switching.width, 1280u);
+    EXPECT_EQ(p.switching.height, 720u);
+    EXPECT_EQ(p.switching.fov_deg, 45);
+    EXPECT_EQ(p.switching.hysteresis, 0.2);
+    const std::string text = preset_to_json(p);
+    EXPECT_NE(text.find("\"levels\": \"auto\""), std::string::npos) << text;
+    EXPECT_EQ(parse_preset(text), p);
+    // The defaults: one pixel on 1920 x 1080, 60 degrees, 10 % margins, 16 pixels.
+    const Preset d = parse_preset("{}");
+    EXPECT_FALSE(d.auto_levels);
+    EXPECT_EQ(d.switching, SwitchParams{});
+    EXPECT_EQ(d.min_screen_pixels, 16);
+
+    EXPECT_NE(error_of(R"({"levels": "some"})").find("'levels' must be a non-empty array or \"auto\""), std::string::npos);
+    EXPECT_NE(error_of(R"({"switch": {"screen": [1920]}})").find("'switch.screen' must be [width, height]"), std::string::npos);
+    EXPECT_NE(error_of(R"({"switch": {"screen": [0, 10]}})").find("'switch.screen'"), std::string::npos);
+    EXPECT_NE(error_of(R"({"switch": {"fov_deg": 180}})").find("'switch.fov_deg' must be between"), std::string::npos);
+    EXPECT_NE(error_of(R"({"switch": {"hysteresis": 1}})").find("'switch.hysteresis'"), std::string::npos);
+    EXPECT_NE(error_of(R"({"switch": {"pixel": 1}})").find("'switch.pixel' is not a known"), std::string::npos);
+    EXPECT_NE(error_of(R"({"min_screen_pixels": 0})").find("'min_screen_pixels'"), std::string::npos);
 }
 
 TEST(Preset, MissingFileIsAnIoError) {

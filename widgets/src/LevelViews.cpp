@@ -273,6 +273,29 @@ void LevelViews::connectView(VtkView* view, int level) {
     connect(view, &VtkView::hoverLeft, this, [this] { emit hoverText(QString()); });
 }
 
+// Where `level` takes over from the level before it, once it and every finer level are measured.
+QString LevelViews::takeOverText(int level) const {
+    if (level < 1 || !levels_[0].mesh) return {};
+    std::vector<double> errors;
+    for (int k = 0; k <= level; ++k) {
+        const LevelData& l = levels_[std::size_t(k)];
+        if (k > 0 && l.measured == Measured::no) return {};
+        errors.push_back(k == 0 ? 0.0 : l.errorRelative);
+    }
+    const lodforge::SwitchPoints s = lodforge::switch_points(errors, levels_[0].mesh->bounds(), switching_);
+    if (s.levels.size() <= std::size_t(level)) return {};
+    const lodforge::LevelSwitch& before = s.levels[std::size_t(level) - 1];
+    return tr(" · takes over at %1 px (distance %2)")
+        .arg(before.screen_size * switching_.height, 0, 'f', 0)
+        .arg(formatDistance(before.godot.range_end));
+}
+
+void LevelViews::setSwitchParams(const lodforge::SwitchParams& params) {
+    if (params == switching_) return;
+    switching_ = params;
+    refreshLabels();
+}
+
 QString LevelViews::levelLabelText(int level) const {
     if (level < 0 || level >= levelCount()) return {};
     const LevelData& l = levels_[std::size_t(level)];
@@ -294,6 +317,7 @@ QString LevelViews::levelLabelText(int level) const {
                     .arg(l.measured == Measured::sampled ? QStringLiteral("≈ ") : QString())
                     .arg(100.0 * l.errorRelative, 0, 'f', 3)
                     .arg(formatDistance(l.error));
+        text += takeOverText(level);
     }
     return stale_ ? tr("Stale · %1").arg(text) : text;
 }

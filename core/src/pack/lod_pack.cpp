@@ -20,6 +20,7 @@
 #include "lodforge/io/staged_directory.h"
 #include "lodforge/metrics/distance_json.h"
 #include "lodforge/pack/preset_levels.h"
+#include "lodforge/pack/switch_points.h"
 
 #include <nlohmann/json.hpp>
 
@@ -32,15 +33,6 @@
 
 namespace lodforge {
 namespace fs = std::filesystem;
-
-double screen_coverage_for_error(double error_relative) {
-    if (!(error_relative > 0)) return 1.0;
-    // Bounding sphere of radius r = diagonal / 2 projected to rho pixels: the error then spans
-    // error_relative * 2 * rho pixels, one pixel at rho = 1 / (2 e); the sphere covers pi rho^2 of W H.
-    const double rho = 1.0 / (2.0 * error_relative);
-    const double coverage = std::numbers::pi * rho * rho / (double(pack_reference_width) * pack_reference_height);
-    return std::min(1.0, coverage);
-}
 
 namespace {
 
@@ -163,7 +155,10 @@ std::string manifest(const Mesh& mesh, const PackParams& params, const BuiltLeve
         j["placement"] = std::string(to_string(built.built.vertices_on_input ? Placement::half_edge : Placement::optimal));
     else if (params.preset.method == LodMethod::lodstrips) j["placement"] = std::string(to_string(Placement::half_edge));
     else j["placement"] = nullptr;
-    j["screen_reference"] = {{"width", pack_reference_width}, {"height", pack_reference_height}};
+    const SwitchParams& sw = params.preset.switching;
+    j["screen_reference"] = {{"width", sw.width}, {"height", sw.height}};
+    j["switch"] = {{"pixels", sw.pixels}, {"screen", {sw.width, sw.height}}, {"fov_deg", sw.fov_deg},
+                   {"hysteresis", sw.hysteresis}};
     j["glb"] = r.glb.empty() ? ordered_json(nullptr) : ordered_json(r.glb);
     ordered_json levels = ordered_json::array();
     for (std::size_t k = 0; k < r.levels.size(); ++k) {
@@ -178,6 +173,7 @@ std::string manifest(const Mesh& mesh, const PackParams& params, const BuiltLeve
         if (level.image_error) l["image_error"] = ordered_json::parse(image_error_json(*level.image_error, true));
         l["screen_coverage"] = level.screen_coverage;
         l["screen_size"] = level.screen_size;
+        l["switch"] = ordered_json::parse(level_switch_json(level.switching));
         l["files"] = level.files;
         levels.push_back(l);
     }
@@ -210,7 +206,7 @@ PackResult write_lod_pack(const Mesh& mesh, const PackParams& params, Progress* 
         throw Error(Error::Kind::argument, "pack: no source path given (it names the outputs and is hashed)");
     if (params.output_dir.empty()) throw Error(Error::Kind::argument, "pack: no output directory given");
     if (mesh.triangle_count() == 0) throw_error(Error::Kind::invalid, params.source_path, "the mesh has no triangles");
-    if (params.preset.levels.empty()) throw_error(Error::Kind::argument, params.source_path, "the preset has no levels");
+    if (params.preset.levels.empty() && !params.preset.auto_levels) throw_error(Error::Kind::argument, params.source_path, "the preset has no levels");
 
     PackResult result;
     check_progress(progress, 0.0, "hashing source");
@@ -224,8 +220,11 @@ PackResult write_lod_pack(const Mesh& mesh, const PackParams& params, Progress* 
     result.dropped_levels = built.dropped;
     const std::size_t n = built.meshes.size();
 
-    // Level k is shown down to the coverage at which level k+1's error is one pixel; the coarsest
-    // is never culled (0). Non-increasing even when a finer level measured worse than a coarser one.
+    // Level k is shown down to the coverage at which level k+1's error is `pixels` pixels; the coarsest
+    // is never culled (switch_points.h).
+    std::vector<double> errors;
+    for (const DistanceResult& d : built.distance) errors.push_back(d.hausdorff_relative);
+    const SwitchPoints switches = switch_points(errors, mesh.bounds(), params.preset.switching);
     result.levels.resize(n);
     for (std::size_t k = 0; k < n; ++k) {
         PackLevel& level = result.levels[k];
@@ -237,11 +236,9 @@ PackResult write_lod_pack(const Mesh& mesh, const PackParams& params, Progress* 
         level.error_relative = built.distance[k].hausdorff_relative;
         level.mean_error = built.distance[k].mean;
         level.mean_error_relative = built.distance[k].mean_relative;
-        double c = k + 1 < n ? screen_coverage_for_error(built.distance[k + 1].hausdorff_relative) : 0.0;
-        if (k > 0) c = std::min(c, result.levels[k - 1].screen_coverage);
-        level.screen_coverage = c;
-        level.screen_size = 2.0 * std::sqrt(c * pack_reference_width * pack_reference_height / std::numbers::pi) /
-                            pack_reference_height;
+        if (k < switches.levels.size()) level.switching = switches.levels[k];
+        level.screen_coverage = level.switching.coverage;
+        level.screen_size = level.switching.screen_size;
     }
 
     if (params.preset.exports.image_error && !params.image_error)

@@ -203,8 +203,11 @@ Preset parse_preset(std::string_view json_text, const std::string& source) {
                               std::to_string(preset_format_version));
     p.name = r.text("name", p.name);
     p.method = r.name("method", p.method, lod_method_from_string);
-    if (const auto* levels = r.find("levels")) {
-        if (!levels->is_array() || levels->empty()) r.fail("levels", "must be a non-empty array");
+    if (const auto* levels = r.find("levels"); levels && levels->is_string()) {
+        if (levels->get<std::string>() != "auto") r.fail("levels", "must be a non-empty array or \"auto\"");
+        p.auto_levels = true;
+    } else if (levels) {
+        if (!levels->is_array() || levels->empty()) r.fail("levels", "must be a non-empty array or \"auto\"");
         // Each level is a full simplification of the input: a thousand of them ran for minutes.
         if (levels->size() > kMaxPresetLevels)
             r.fail("levels", "has " + std::to_string(levels->size()) + " levels; at most " +
@@ -227,6 +230,25 @@ Preset parse_preset(std::string_view json_text, const std::string& source) {
             }
         }
         wr.finish();
+    }
+    p.min_screen_pixels = r.number("min_screen_pixels", p.min_screen_pixels, 1, 1e5);
+    if (const auto* o = r.find("switch")) {
+        ObjectReader sr(*o, "switch", source);
+        SwitchParams& sw = p.switching;
+        sw.pixels = sr.number("pixels", sw.pixels, 0.01, 1e4);
+        if (const auto* screen = sr.find("screen")) {
+            if (!screen->is_array() || screen->size() != 2 || !(*screen)[0].is_number_integer() ||
+                !(*screen)[1].is_number_integer() || (*screen)[0].get<long long>() < 1 ||
+                (*screen)[1].get<long long>() < 1 || (*screen)[0].get<long long>() > 65536 ||
+                (*screen)[1].get<long long>() > 65536)
+                sr.fail("switch.screen", "must be [width, height] in whole pixels from 1 to 65536 (got " +
+                                             screen->dump() + ")");
+            sw.width = (*screen)[0].get<std::uint32_t>();
+            sw.height = (*screen)[1].get<std::uint32_t>();
+        }
+        sw.fov_deg = sr.number("fov_deg", sw.fov_deg, 1, 179);
+        sw.hysteresis = sr.number("hysteresis", sw.hysteresis, 0, 0.99);
+        sr.finish();
     }
     p.lock_border = r.flag("lock_border", p.lock_border);
     p.importance = r.text("importance", p.importance);
@@ -287,7 +309,7 @@ std::string preset_to_json(const Preset& p) {
     j["name"] = p.name;
     j["method"] = std::string(to_string(p.method));
     j["levels"] = ordered_json::array();
-    for (const auto& t : p.levels) {
+    for (const auto& t : p.auto_levels ? std::vector<LodTarget>{} : p.levels) {
         ordered_json level;
         for (auto [kind, name] : target_names)
             if (kind == t.kind) {
@@ -298,6 +320,12 @@ std::string preset_to_json(const Preset& p) {
             }
         j["levels"].push_back(level);
     }
+    if (p.auto_levels) j["levels"] = "auto";
+    j["min_screen_pixels"] = p.min_screen_pixels;
+    j["switch"] = {{"pixels", p.switching.pixels},
+                   {"screen", {p.switching.width, p.switching.height}},
+                   {"fov_deg", p.switching.fov_deg},
+                   {"hysteresis", p.switching.hysteresis}};
     j["weights"] = {{"normal", p.weights.normal}, {"color", p.weights.color}, {"uv", p.weights.texcoord}};
     if (!p.weights.texcoord_sets.empty()) j["weights"]["uv_sets"] = p.weights.texcoord_sets;
     j["lock_border"] = p.lock_border;

@@ -16,6 +16,7 @@
 #include "lodforge/simplify/seams.h"
 #include "lodforge/io/mesh_io.h"
 #include "lodforge/mcoctree/mc_octree.h"
+#include "lodforge/pack/auto_levels.h"
 #include "lodforge/octree/octree_build.h"
 #include "lodforge/octree/octree_store.h"
 #include "lodforge/io/temp_directory.h"
@@ -356,11 +357,9 @@ void octree_levels(const Mesh& mesh, const Preset& preset, const PresetLevelsPar
     }
 }
 
-}  // namespace
 
-PresetLevels build_preset_levels(const Mesh& mesh, const Preset& preset, const PresetLevelsParams& params,
-                                 Progress* progress, PresetLevelsStats* stats) {
-    if (mesh.triangle_count() == 0) throw_error(Error::Kind::invalid, params.source_path, "the mesh has no triangles");
+PresetLevels listed_levels(const Mesh& mesh, const Preset& preset, const PresetLevelsParams& params,
+                           Progress* progress, PresetLevelsStats* stats) {
     if (preset.levels.empty()) throw_error(Error::Kind::argument, params.source_path, "the preset has no LOD levels");
     if (stats) stats->level_seconds.clear();
     PresetLevels out;
@@ -368,6 +367,7 @@ PresetLevels build_preset_levels(const Mesh& mesh, const Preset& preset, const P
         throw_error(Error::Kind::argument, params.source_path,
                     "importance, lock and seams need the collapse method (the preset's is " +
                         std::string(to_string(preset.method)) + ")");
+    out.targets = preset.levels;
     if (preset.method == LodMethod::collapse) {
         collapse_levels(mesh, preset, params, out, progress, stats);
         return out;
@@ -394,6 +394,56 @@ PresetLevels build_preset_levels(const Mesh& mesh, const Preset& preset, const P
         }
     if (stats) stats->level_seconds.assign(out.levels.size(), seconds_since(start) / n);
     return out;
+}
+
+// "levels": "auto": the targets from choose_auto_levels, then the chain they name. A chain without the
+// candidates auto dropped may measure a little worse than the candidates did, so a last level that no
+// longer switches in at min_screen_pixels is left out (the rule's promise holds for the levels built).
+PresetLevels auto_preset_levels(const Mesh& mesh, const Preset& preset, const PresetLevelsParams& params,
+                                Progress* progress, PresetLevelsStats* stats) {
+    if (preset.method != LodMethod::collapse)
+        throw_error(Error::Kind::argument, params.source_path,
+                    "\"levels\": \"auto\" needs the collapse method (the preset's method is '" +
+                        std::string(to_string(preset.method)) + "'): its levels are chosen by their error");
+    AutoLevelsParams a;
+    a.switching = preset.switching;
+    a.min_screen_pixels = preset.min_screen_pixels;
+    a.weights = preset.weights;
+    a.lock_border = preset.lock_border;
+    a.distance = params.distance;
+    a.source_path = params.source_path;
+    ProgressRange choose_progress(progress, 0.0, 0.5);
+    const AutoLevelsResult chosen = choose_auto_levels(mesh, a, &choose_progress);
+    Preset listed = preset;
+    listed.auto_levels = false;
+    listed.levels = chosen.targets;
+    for (;;) {
+        ProgressRange build_progress(progress, 0.5, 1.0);
+        PresetLevels out = listed_levels(mesh, listed, params, &build_progress, stats);
+        // Measured here when the caller does not measure (the studio), so every front end keeps the
+        // same levels.
+        const double last = params.measure ? out.distance.back().hausdorff_relative
+                                           : compare(mesh, out.levels.back(), measurement(params)).hausdorff_relative;
+        if (listed.levels.size() == 1 || !(last > 0) || preset.switching.pixels / last >= preset.min_screen_pixels) {
+            std::string sizes;
+            for (const AutoLevelCandidate& c : chosen.candidates)
+                sizes += (sizes.empty() ? "" : ", ") + std::to_string(c.triangles) + (c.kept ? "" : " (dropped)");
+            out.notes.push_back("automatic levels: " + std::to_string(listed.levels.size()) + " of " +
+                                std::to_string(chosen.candidates.size()) + " candidates kept (triangles " + sizes +
+                                ")");
+            return out;
+        }
+        listed.levels.pop_back();
+    }
+}
+
+}  // namespace
+
+PresetLevels build_preset_levels(const Mesh& mesh, const Preset& preset, const PresetLevelsParams& params,
+                                 Progress* progress, PresetLevelsStats* stats) {
+    if (mesh.triangle_count() == 0) throw_error(Error::Kind::invalid, params.source_path, "the mesh has no triangles");
+    if (preset.auto_levels) return auto_preset_levels(mesh, preset, params, progress, stats);
+    return listed_levels(mesh, preset, params, progress, stats);
 }
 
 }  // namespace lodforge

@@ -16,6 +16,7 @@
 #include "lodforge/metrics/image_error.h"
 #include "lodforge/metrics/metrics.h"
 #include "lodforge/pack/preset.h"
+#include "lodforge/pack/switch_points.h"
 #include "lodforge/progress.h"
 
 #include <cstddef>
@@ -51,6 +52,8 @@ struct PackLevel {
     double screen_coverage = 0;
     // The same switch point as an engine "screen size": projected bounding-sphere diameter / screen height.
     double screen_size = 0;
+    // Every engine's form of the level's switch points, for the preset's `switch` block (switch_points.h).
+    LevelSwitch switching;
     std::vector<std::string> files;         // per-level files written (PLY/OBJ), relative to output_dir
     std::optional<ImageError> image_error;  // PackParams::image_error's result (levels after the first)
 };
@@ -81,12 +84,6 @@ PackResult write_lod_pack(const Mesh& mesh, const PackParams& params, Progress* 
 // which moves them by an ulp). The pack leaves such a level out; the studio flags it.
 bool same_surface(const Mesh& a, const Mesh& b);
 
-// The reference screen of the coverage hints (docs/pack.md).
-inline constexpr int pack_reference_width = 1920;
-inline constexpr int pack_reference_height = 1080;
-// Screen-area fraction at which a relative error (of the bounding-box diagonal) projects to one pixel
-// on the reference screen; 1 for errors too small to ever show.
-double screen_coverage_for_error(double error_relative);
 // The pack.json format version written by this build.
 inline constexpr int pack_format_version = 1;
 

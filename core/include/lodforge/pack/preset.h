@@ -10,6 +10,7 @@
 // silently ignored); missing keys take the defaults below, so a preset may name only what it changes.
 #pragma once
 
+#include "lodforge/pack/switch_points.h"
 #include "lodforge/simplify/simplify.h"
 
 #include <cstddef>
@@ -88,6 +89,14 @@ struct Preset {
     std::string name = "default";
     LodMethod method = LodMethod::collapse;
     std::vector<LodTarget> levels = lod_targets_from_ratios({0.5, 0.25, 0.1, 0.03});
+    // "levels": "auto": the levels are chosen from `switching` and `min_screen_pixels` (auto_levels.h);
+    // `levels` is then ignored (and kept, so switching auto off restores the list).
+    bool auto_levels = false;
+    // The smallest on-screen size that matters, in pixels (the bounding sphere's projected diameter):
+    // automatic chains stop at the level that takes over at this size.
+    double min_screen_pixels = 16;
+    // The screen the switch points are computed for (pack.json, the GLB's MSFT_screencoverage).
+    SwitchParams switching;
     SimplifyWeights weights;
     bool lock_border = false;
     // Artist paint (docs/artist-control.md), method collapse only: a paint file or "color:r|g|b|a" for

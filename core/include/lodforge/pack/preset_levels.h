@@ -53,6 +53,7 @@ struct PresetLevelsParams {
 
 struct PresetLevels {
     std::vector<Mesh> levels;                   // levels 1..N, fine to coarse (level 0 is the input)
+    std::vector<LodTarget> targets;             // per level: the preset's, or those "levels": "auto" chose
     std::vector<std::size_t> target_triangles;  // per level; 0 for error targets
     std::vector<LevelStop> stops;               // per level
     std::vector<DistanceResult> distance;       // per level, against the input (empty without measure)
@@ -76,6 +77,9 @@ struct PresetLevelsStats {
     std::vector<double> level_seconds;  // per level: its build and measurement (structures: shared evenly)
 };
 
+// A preset with "levels": "auto" (collapse only) gets its targets from choose_auto_levels
+// (lodforge/pack/auto_levels.h), measured whatever `measure` says; a last level that measures too
+// coarse for the preset's min_screen_pixels is left out.
 // Throws Error(argument) for a preset without levels or with targets the method cannot take (naming
 // source_path and the level), Error(invalid) for an input without triangles or a level the method
 // cannot make, Error(cancelled) when `progress` asks to stop.

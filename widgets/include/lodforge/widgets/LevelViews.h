@@ -3,6 +3,7 @@
 // triangle count and error; optionally as error heat maps, or split between the original and a level.
 #pragma once
 
+#include "lodforge/pack/switch_points.h"
 #include "lodforge/widgets/LodLevels.h"
 #include "lodforge/widgets/ViewOptions.h"
 
@@ -112,8 +113,13 @@ public:
     // adds "target missed: <stop reason>", an identical earlier level "same as LOD 1", stale levels
     // start with "Stale ·"; "Original · 5,856 triangles". Until measured the error reads "error
     // measuring…" (or "error not measured" when no measure runs), "error ≈ 0.420 % (0.0061)" when
-    // measured with the quick sample budget.
+    // measured with the quick sample budget. Once it and every finer level are measured, a level after
+    // the original adds where it takes over on the switch screen (setSwitchParams; docs/pack.md, "Switch
+    // points"): "takes over at 26 px (distance 90.7)", the sphere's projected diameter and the camera
+    // distance.
     QString levelLabelText(int level) const;
+    // The screen the switch points in the labels are for (the preset's `switch` block).
+    void setSwitchParams(const lodforge::SwitchParams& params);
 
     // The levels no longer match the parameters (they changed since the build): every label says so
     // and a bar above the views offers Rebuild (rebuildRequested). New levels (setLevels) are fresh.
@@ -147,6 +153,7 @@ private:
     void refreshSingle();
     void refreshSingleLabel();
     void refreshLabels();
+    QString takeOverText(int level) const;
     void refreshTiles();
     void connectView(VtkView* view, int levelOrCurrent);
     void setupContinuous();
@@ -165,6 +172,7 @@ private:
     QWidget* staleBar_ = nullptr;
     bool stale_ = false;
     bool measuring_ = false;
+    lodforge::SwitchParams switching_;
     QWidget* singlePage_ = nullptr;
     QWidget* tilesPage_ = nullptr;
     QGridLayout* grid_ = nullptr;
