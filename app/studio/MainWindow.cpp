@@ -769,6 +769,7 @@ void MainWindow::onLoadFinished(widgets::LoadJob* job, const widgets::LoadResult
     switch (result.status) {
     case widgets::LoadResult::Status::ok: {
         imageErrors_->cancel();  // the old mesh's levels
+        imageErrorsAfterMeasure_ = false;
         stopMeasuring();
         model_ = result.model;
         widgets::LevelData original;
@@ -923,8 +924,10 @@ void MainWindow::buildLodChain() {
         if (!out->levels.empty() && !out->levels.front().structureSummary.isEmpty())
             appendLog(QStringLiteral("  ") + out->levels.front().structureSummary);
         explainMissingCells();
-        imageErrors_->requestNow();
+        // The measure first (the labels wait for it), the image errors once it ends: both want both cores.
+        imageErrorsAfterMeasure_ = true;
         measureLevels(false);
+        if (!measure_) requestImageErrors();
     });
 }
 
@@ -984,6 +987,7 @@ void MainWindow::measureLevels(bool full) {
             appendLog(tr("%1 cancelled after %2 ms").arg(r.name).arg(r.elapsedMs));
             statusBar()->showMessage(tr("%1 cancelled").arg(r.name), 5000);
         }
+        requestImageErrors();
         emit measuringFinished(ok);
     });
     appendLog(tr("%1 started").arg(job->name()));
@@ -1175,6 +1179,11 @@ bool MainWindow::exportReport(const QString& path, QString* error) {
 }
 
 bool MainWindow::isComputingImageErrors() const { return imageErrors_->isBusy(); }
+
+void MainWindow::requestImageErrors() {
+    if (!std::exchange(imageErrorsAfterMeasure_, false)) return;
+    imageErrors_->requestNow();
+}
 
 void MainWindow::showExportReportDialog() {
     // Qt's own dialog (the same on every desktop, and driven by the GUI tests; New Folder included), in

@@ -207,6 +207,9 @@ private:
     widgets::ReportPanel* report_ = nullptr;
     // The report's image-space errors, rendered beside the main task (they need no job slot).
     widgets::LatestJob* imageErrors_ = nullptr;
+    // A chain was built: its image errors follow the end of its measure (requestImageErrors).
+    bool imageErrorsAfterMeasure_ = false;
+    void requestImageErrors();
     QPlainTextEdit* log_ = nullptr;
     QDockWidget* statsDock_ = nullptr;
     QDockWidget* paramsDock_ = nullptr;

@@ -34,6 +34,15 @@ inline bool loadInStudio(studio::MainWindow& window, const QString& path) {
     return finished.wait(120000) && finished.at(0).at(0).toBool();
 }
 
+// Shown, active (so the window's keys reach it) and with `path` loaded, or null.
+inline std::unique_ptr<studio::MainWindow> openStudioWith(const QString& path) {
+    auto window = openStudioWindow();
+    if (!window) return nullptr;
+    window->activateWindow();
+    if (!QTest::qWaitForWindowActive(window.get()) || !loadInStudio(*window, path)) return nullptr;
+    return window;
+}
+
 // The levels' measure (started by every built chain) has ended.
 inline bool measuredInStudio(const studio::MainWindow& window, int timeoutMs = 120000) {
     return QTest::qWaitFor([&] { return !window.isMeasuring(); }, timeoutMs);

@@ -84,11 +84,8 @@ long checkerEdges(const QImage& image) {
 }  // namespace
 
 void StudioModesTest::splitCompareAndHeatmapComposeWithSideBySide() {
-    auto window = lodforge::testing::openStudioWindow();
+    auto window = lodforge::testing::openStudioWith(spotPath);
     QVERIFY(window);
-    window->activateWindow();
-    QVERIFY(QTest::qWaitForWindowActive(window.get()));
-    QVERIFY(lodforge::testing::loadInStudio(*window, spotPath));
     lodforge::Preset preset = window->preset();
     preset.levels = lodforge::lod_targets_from_ratios({0.3, 0.02});
     QString message;
@@ -167,11 +164,8 @@ void StudioModesTest::splitCompareAndHeatmapComposeWithSideBySide() {
 }
 
 void StudioModesTest::parametersShowWhatTheMethodAndMeshUse() {
-    auto window = lodforge::testing::openStudioWindow();
+    auto window = lodforge::testing::openStudioWith(bunnyPath);
     QVERIFY(window);
-    window->activateWindow();
-    QVERIFY(QTest::qWaitForWindowActive(window.get()));
-    QVERIFY(lodforge::testing::loadInStudio(*window, bunnyPath));
     const std::size_t triangles = window->model()->mesh.triangle_count();
     QVERIFY(!window->model()->mesh.has_colors() && !window->model()->mesh.has_texcoords());
     ParametersPanel* panel = window->parametersPanel();
@@ -242,11 +236,8 @@ void StudioModesTest::parametersShowWhatTheMethodAndMeshUse() {
 }
 
 void StudioModesTest::uvCheckerDensityFollowsTheKeys() {
-    auto window = lodforge::testing::openStudioWindow();
+    auto window = lodforge::testing::openStudioWith(spotPath);
     QVERIFY(window);
-    window->activateWindow();
-    QVERIFY(QTest::qWaitForWindowActive(window.get()));
-    QVERIFY(lodforge::testing::loadInStudio(*window, spotPath));
     VtkView* view = window->view();
     QTest::keyClick(window.get(), Qt::Key_U);
     QVERIFY(window->viewOptions().uvChecker);
@@ -271,11 +262,8 @@ void StudioModesTest::uvCheckerDensityFollowsTheKeys() {
 }
 
 void StudioModesTest::heatmapOutlineShowsTheOriginalsSilhouette() {
-    auto window = lodforge::testing::openStudioWindow();
+    auto window = lodforge::testing::openStudioWith(spotPath);
     QVERIFY(window);
-    window->activateWindow();
-    QVERIFY(QTest::qWaitForWindowActive(window.get()));
-    QVERIFY(lodforge::testing::loadInStudio(*window, spotPath));
     lodforge::Preset preset = window->preset();
     preset.levels = lodforge::lod_targets_from_ratios({0.02});
     QString message;
