@@ -15,7 +15,9 @@
 
 #include <QAction>
 #include <QApplication>
+#include <QCheckBox>
 #include <QComboBox>
+#include <QLabel>
 #include <QDoubleSpinBox>
 #include <QLocale>
 #include <QTableWidget>
@@ -54,6 +56,7 @@ private slots:
     void parametersShowWhatTheMethodAndMeshUse();
     void uvCheckerDensityFollowsTheKeys();
     void heatmapOutlineShowsTheOriginalsSilhouette();
+    void automaticLevelsReplaceTheListAndBuild();
 };
 
 namespace {
@@ -297,6 +300,42 @@ void StudioModesTest::heatmapOutlineShowsTheOriginalsSilhouette() {
     QTest::keyClick(window.get(), Qt::Key_H);
     QVERIFY(!levels->heatmapVisible());
     QVERIFY(view->outlineScene() == nullptr);
+}
+
+void StudioModesTest::automaticLevelsReplaceTheListAndBuild() {
+    auto window = lodforge::testing::openStudioWith(spotPath);
+    QVERIFY(window);
+    ParametersPanel* panel = window->parametersPanel();
+    auto* box = panel->findChild<QCheckBox*>(QStringLiteral("autoLevels"));
+    auto* table = panel->findChild<QTableWidget*>(QStringLiteral("levels"));
+    auto* note = panel->findChild<QLabel*>(QStringLiteral("autoLevelsNote"));
+    QVERIFY(box && table && note);
+    QVERIFY(box->isVisibleTo(panel) && !box->isChecked() && table->isEnabled() && !note->isVisibleTo(panel));
+    QTest::mouseClick(box, Qt::LeftButton, {}, QPoint(8, box->height() / 2));
+    QVERIFY(window->preset().auto_levels);
+    QVERIFY(!table->isEnabled());
+    QVERIFY2(note->isVisibleTo(panel) && note->text().contains(QStringLiteral("halves")), qPrintable(note->text()));
+
+    // Ctrl+B builds the automatic chain: every level at least halves the one before.
+    QSignalSpy finished(window.get(), &MainWindow::jobFinished);
+    QTest::keyClick(window.get(), Qt::Key_B, Qt::ControlModifier);
+    QVERIFY(finished.wait(120000));
+    QVERIFY2(finished.at(0).at(1).toBool(), qPrintable(finished.at(0).at(2).toString()));
+    const auto& built = window->levelViews()->levels();
+    QVERIFY(built.size() >= 3);
+    for (std::size_t k = 1; k < built.size(); ++k)
+        QVERIFY2(2 * built[k].triangles <= built[k - 1].triangles,
+                 qPrintable(QStringLiteral("LOD %1: %2 after %3").arg(k).arg(built[k].triangles).arg(built[k - 1].triangles)));
+    QVERIFY(lodforge::testing::measuredInStudio(*window));
+
+    // Undo gives the list back; the box shows only for the method that can choose levels.
+    QTest::keyClick(window.get(), Qt::Key_Z, Qt::ControlModifier);
+    QVERIFY(!window->preset().auto_levels && !box->isChecked() && table->isEnabled());
+    auto* method = panel->findChild<QComboBox*>(QStringLiteral("method"));
+    method->setFocus();
+    QTest::keyClick(method, Qt::Key_Down);
+    QVERIFY(window->preset().method != lodforge::LodMethod::collapse);
+    QVERIFY(!box->isVisibleTo(panel));
 }
 
 int main(int argc, char* argv[]) {

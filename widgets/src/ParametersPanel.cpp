@@ -90,6 +90,15 @@ void ParametersPanel::buildUi() {
     levels_->setSelectionBehavior(QAbstractItemView::SelectRows);
     levels_->setSelectionMode(QAbstractItemView::SingleSelection);
     levels_->setMinimumHeight(150);
+    autoLevels_ = new QCheckBox(tr("Choose the levels automatically"), levelsBox);
+    autoLevels_->setObjectName(QStringLiteral("autoLevels"));
+    autoLevels_->setToolTip(tr("The number of levels and their targets from the pixel tolerance and the smallest "
+                               "on-screen size (preset \"levels\": \"auto\", docs/pack.md)"));
+    levelsLayout->addWidget(autoLevels_);
+    autoNote_ = new QLabel(levelsBox);
+    autoNote_->setObjectName(QStringLiteral("autoLevelsNote"));
+    autoNote_->setWordWrap(true);
+    levelsLayout->addWidget(autoNote_);
     levelsLayout->addWidget(levels_);
     auto* levelButtons = new QHBoxLayout;
     addLevel_ = new QPushButton(tr("Add level"), levelsBox);
@@ -175,6 +184,10 @@ void ParametersPanel::buildUi() {
     weight(colorWeight_, &SimplifyWeights::color);
     weight(uvWeight_, &SimplifyWeights::texcoord);
     connect(lockBorder_, &QCheckBox::toggled, this, [this](bool on) { edit([&](Preset& p) { p.lock_border = on; }); });
+    connect(autoLevels_, &QCheckBox::toggled, this, [this](bool on) {
+        edit([&](Preset& p) { p.auto_levels = on; });
+        updateRelevance();
+    });
     connect(placement_, &QComboBox::currentIndexChanged, this, [this](int index) {
         if (index < 0) return;
         edit([&](Preset& p) { p.placement = Placement(placement_->itemData(index).toInt()); });
@@ -236,6 +249,24 @@ void ParametersPanel::updateRelevance() {
     structureBox_->setVisible(octree || m == LodMethod::mcoctree || m == LodMethod::lodstrips);
     // Only the lodstrips method writes a .lodstrips; a box ticked for another stays, to be unticked.
     exportLodstrips_->setVisible(m == LodMethod::lodstrips || preset_.exports.lodstrips);
+    // Automatic levels need the collapse method (their targets come from its errors); a box ticked for
+    // another method stays, to be unticked. The list is kept, unused, so unticking restores it.
+    const bool automatic = m == LodMethod::collapse && preset_.auto_levels;
+    autoLevels_->setVisible(m == LodMethod::collapse || preset_.auto_levels);
+    levels_->setEnabled(!automatic);
+    addLevel_->setEnabled(!automatic);
+    removeLevel_->setEnabled(!automatic);
+    autoNote_->setVisible(preset_.auto_levels);
+    const SwitchParams& s = preset_.switching;
+    autoNote_->setText(m == LodMethod::collapse
+                           ? tr("Chosen when built: each level at least halves the triangles of the one before, "
+                                "switching at %1 px of error on %2×%3, down to %4 px on screen. The list below is "
+                                "kept for when this is off.")
+                                 .arg(s.pixels)
+                                 .arg(s.width)
+                                 .arg(s.height)
+                                 .arg(preset_.min_screen_pixels)
+                           : tr("Automatic levels need the Edge collapse method."));
 }
 
 QString ParametersPanel::previewText(int row) const {
@@ -366,6 +397,7 @@ void ParametersPanel::setPreset(const Preset& preset) {
     colorWeight_->setValue(preset.weights.color);
     uvWeight_->setValue(preset.weights.texcoord);
     lockBorder_->setChecked(preset.lock_border);
+    autoLevels_->setChecked(preset.auto_levels);
     placement_->setCurrentIndex(placement_->findData(int(preset.placement)));
     maxTrianglesPerNode_->setValue(int(preset.octree.max_triangles_per_node));
     maxDepth_->setValue(int(preset.octree.max_depth));

@@ -73,6 +73,8 @@ private:
     QComboBox* library_ = nullptr;  // the shipped presets (lodforge/pack/preset_library.h)
     QComboBox* method_ = nullptr;
     QTableWidget* levels_ = nullptr;
+    QCheckBox* autoLevels_ = nullptr;  // Preset::auto_levels (collapse only)
+    QLabel* autoNote_ = nullptr;       // what the automatic choice does, with the preset's values
     QPushButton* addLevel_ = nullptr;
     QPushButton* removeLevel_ = nullptr;
     QDoubleSpinBox* normalWeight_ = nullptr;
