@@ -630,15 +630,15 @@ void LodStudioTest::reportExportsHtmlAndPdf() {
     run(QStringLiteral(LODFORGE_PDFTOPPM), {QStringLiteral("-r"), QStringLiteral("40"), QStringLiteral("-f"),
                                              QStringLiteral("1"), QStringLiteral("-l"), QStringLiteral("1"),
                                              QStringLiteral("-png"), pdf, prefix});
-    const QImage page(prefix + QStringLiteral("-1.png"));
-    QVERIFY2(!page.isNull(), qPrintable(prefix));
+    const QImage firstPage(prefix + QStringLiteral("-1.png"));
+    QVERIFY2(!firstPage.isNull(), qPrintable(prefix));
     long coloured = 0;
-    for (int y = 0; y < page.height(); ++y)
-        for (int x = 0; x < page.width(); ++x) {
-            const QColor c = page.pixelColor(x, y);
+    for (int y = 0; y < firstPage.height(); ++y)
+        for (int x = 0; x < firstPage.width(); ++x) {
+            const QColor c = firstPage.pixelColor(x, y);
             if (c.saturation() > 60 || c.value() < 90) ++coloured;  // the views' dark background, heat colours
         }
-    QVERIFY2(coloured > page.width() * page.height() / 20, qPrintable(QString::number(coloured)));
+    QVERIFY2(coloured > firstPage.width() * firstPage.height() / 20, qPrintable(QString::number(coloured)));
     for (std::size_t page = 0; page < rowsOnPage.size(); ++page) {
         const int extra = imagesOnPage[page] - 2 * rowsOnPage[page];
         QVERIFY2(extra == 0 || extra == 1, qPrintable(QStringLiteral("page %1: %2 pictures for %3 rows")
